@@ -1,0 +1,66 @@
+#include <REngineMath/RQuaternion.h>
+
+#include <cmath>
+
+namespace REngine {
+
+RQuat QuatExp(const RVec3& theta) {
+  const RScalar angle = theta.norm();
+  const RScalar half = RScalar(0.5) * angle;
+  // sin(half)/angle; below 1e-4 rad the Taylor series to x^4 is exact to rounding
+  // (the next term is x^6/5040 ~ 2e-28 relative).
+  RScalar s;
+  if (angle < RScalar(1e-4)) {
+    const RScalar h2 = half * half;
+    s = RScalar(0.5) * (1 - h2 / 6 * (1 - h2 / 20));
+  } else {
+    s = std::sin(half) / angle;
+  }
+  return RQuat(std::cos(half), s * theta.x(), s * theta.y(), s * theta.z());
+}
+
+RVec3 QuatLog(const RQuat& q) {
+  RQuat p = q;
+  if (p.w() < 0) p.coeffs() = -p.coeffs();
+  const RVec3 v = p.vec();
+  const RScalar sinHalf = v.norm();
+  if (sinHalf == 0) return RVec3::Zero();
+  const RScalar angle = 2 * std::atan2(sinHalf, p.w());
+  return v * (angle / sinHalf);
+}
+
+RQuat QuatAxisAngle(const RVec3& axis, RScalar angle) {
+  const RScalar half = RScalar(0.5) * angle;
+  const RScalar s = std::sin(half);
+  return RQuat(std::cos(half), s * axis.x(), s * axis.y(), s * axis.z());
+}
+
+RScalar QuatAngleBetween(const RQuat& a, const RQuat& b) {
+  const RQuat d = a.conjugate() * b;
+  return 2 * std::atan2(d.vec().norm(), std::abs(d.w()));
+}
+
+RQuat QuatFromTo(const RVec3& from, const RVec3& to) {
+  // q = (1 + c, from x to) / norm: the half-angle construction, exact for small angles.
+  const RScalar c = from.dot(to);
+  if (c < RScalar(-1) + RScalar(1e-12)) {
+    RVec3 b, d;
+    OrthonormalBasis(from, b, d);
+    return RQuat(0, b.x(), b.y(), b.z());
+  }
+  const RVec3 axis = from.cross(to);
+  RQuat q(1 + c, axis.x(), axis.y(), axis.z());
+  q.normalize();
+  return q;
+}
+
+std::optional<RQuat> QuatNormalized(const RQuat& q) {
+  if (!AllFinite(q)) return std::nullopt;
+  const RScalar n2 = q.squaredNorm();
+  if (!(n2 >= RTol::kMinQuatNormSq)) return std::nullopt;
+  RQuat r = q;
+  r.coeffs() /= std::sqrt(n2);
+  return r;
+}
+
+}  // namespace REngine

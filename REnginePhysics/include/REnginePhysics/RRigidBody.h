@@ -1,0 +1,123 @@
+// A rigid body: mass properties, pose, velocities and the accumulators that collision
+// response and game code fill during a step.
+//
+// Frames. W: world. S: the shape's own frame, in which the scene gives sizes, points and
+// the body's pose. B: the body frame, origin at the centre of mass, axes along the principal
+// axes, so the inertia tensor is diagonal in B. The offset X_BS between B and S is fixed at
+// creation; the body stores the pose of B (the physics state) and converts S poses in and
+// out, so a scene's pose goes in and comes out unchanged.
+#pragma once
+
+#include <REngineMath/RMath.h>
+#include <REnginePhysics/RFreeRotation.h>
+#include <REnginePhysics/RShape.h>
+
+#include <optional>
+#include <string>
+
+namespace REngine {
+
+// What a game or a scene file says about a body; RRigidBody copies it.
+struct RBodyDef {
+  std::string name;
+  RShape shape;
+  bool isStatic = false;
+  std::optional<RScalar> mass;  // kg; when unset, density * volume
+  RScalar density = 1;          // kg/m^3, used when mass is unset
+  RVec3 position_W = RVec3::Zero();           // origin of S in the world, m
+  RQuat q_WS = RQuat::Identity();             // orientation of S in the world
+  RVec3 velocity_W = RVec3::Zero();           // centre-of-mass velocity, world, m/s
+  RVec3 angularVelocity_W = RVec3::Zero();    // world frame, rad/s
+  RScalar restitution = RScalar(0.5);         // coefficient of restitution, [0, 1]
+  RScalar friction = RScalar(0.5);            // Coulomb coefficient, >= 0
+  bool responds = true;  // false: collisions are reported, not resolved (missiles, sensors)
+};
+
+class RRigidBody {
+ public:
+  // Computes the mass properties. Throws std::invalid_argument on a definition that would
+  // give a non-finite or non-positive mass, size or inertia, naming the field.
+  explicit RRigidBody(const RBodyDef& def);
+
+  const std::string& Name() const { return m_name; }
+  const RShape& Shape() const { return m_shape; }
+  bool IsStatic() const { return m_isStatic; }
+  bool Responds() const { return m_responds; }
+  RScalar Restitution() const { return m_restitution; }
+  RScalar Friction() const { return m_friction; }
+
+  // Mass, kg (0 for a static body), and its inverse, 1/kg (0 for a static body).
+  RScalar Mass() const { return m_mass; }
+  RScalar InvMass() const { return m_invMass; }
+  // Principal moments about the centre of mass, body frame, kg m^2 (0 when static), and
+  // their inverses, 1/(kg m^2) (0 when static: never infinity arithmetic).
+  const RVec3& Inertia_B() const { return m_I_B; }
+  const RVec3& InvInertia_B() const { return m_invI_B; }
+  RInertiaSymmetry Symmetry() const { return m_rotation.Symmetry(); }
+
+  // Physics state: centre of mass (world, m), orientation of B, velocity of the centre of
+  // mass (world, m/s), angular velocity (body frame, rad/s).
+  const RVec3& Position_W() const { return m_x_W; }
+  const RQuat& Orientation_WB() const { return m_q_WB; }
+  const RVec3& Velocity_W() const { return m_v_W; }
+  const RVec3& AngularVelocity_B() const { return m_w_B; }
+  RVec3 AngularVelocity_W() const { return m_q_WB * m_w_B; }
+  // Angular momentum about the centre of mass, world frame, kg m^2/s.
+  RVec3 AngularMomentum_W() const { return m_q_WB * m_I_B.cwiseProduct(m_w_B); }
+  // Kinetic energy, J: translational and rotational.
+  RScalar LinearKineticEnergy() const { return RScalar(0.5) * m_mass * m_v_W.squaredNorm(); }
+  RScalar RotationalKineticEnergy() const {
+    return RScalar(0.5) * m_w_B.dot(m_I_B.cwiseProduct(m_w_B));
+  }
+
+  // Pose of the shape frame S: the scene's position and orientation.
+  RVec3 ShapePosition_W() const { return m_x_W + m_q_WB * m_p_BS; }
+  RQuat ShapeOrientation_WS() const { return m_q_WB * m_q_BS; }
+  // Fixed offset of S in B: origin of S (body frame, m) and rotation S -> B.
+  const RVec3& ShapeOffset_B() const { return m_p_BS; }
+  const RQuat& ShapeRotation_BS() const { return m_q_BS; }
+
+  // Setters for game code between steps. Velocities are ignored on static bodies.
+  void SetShapePose(const RVec3& position_W, const RQuat& q_WS);
+  void SetVelocity_W(const RVec3& v_W);
+  void SetAngularVelocity_W(const RVec3& w_W);
+
+  // Accumulators, cleared by each step after use. Forces and torques act over the whole
+  // next step (N, N m, world frame); impulses act at its start (N s, N m s, world frame).
+  void AddForce_W(const RVec3& f_W) { m_force_W += f_W; }
+  void AddTorque_W(const RVec3& t_W) { m_torque_W += t_W; }
+  // Force at a world point: the force plus its torque about the centre of mass.
+  void AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W);
+  void AddImpulse_W(const RVec3& j_W) { m_linearImpulse_W += j_W; }
+  void AddAngularImpulse_W(const RVec3& h_W) { m_angularImpulse_W += h_W; }
+  void AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W);
+
+ private:
+  friend class RIntegrator;
+
+  std::string m_name;
+  RShape m_shape;
+  bool m_isStatic = false;
+  bool m_responds = true;
+  RScalar m_restitution = 0;
+  RScalar m_friction = 0;
+
+  RScalar m_mass = 0, m_invMass = 0;
+  RVec3 m_I_B = RVec3::Zero(), m_invI_B = RVec3::Zero();
+  RVec3 m_p_BS = RVec3::Zero();
+  RQuat m_q_BS = RQuat::Identity();
+
+  RVec3 m_x_W = RVec3::Zero();
+  RQuat m_q_WB = RQuat::Identity();
+  RVec3 m_v_W = RVec3::Zero();
+  RVec3 m_w_B = RVec3::Zero();
+
+  RVec3 m_force_W = RVec3::Zero();
+  RVec3 m_torque_W = RVec3::Zero();
+  RVec3 m_linearImpulse_W = RVec3::Zero();
+  RVec3 m_angularImpulse_W = RVec3::Zero();
+
+  RFreeRotation m_rotation;
+};
+
+}  // namespace REngine

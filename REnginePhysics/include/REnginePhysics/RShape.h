@@ -1,0 +1,35 @@
+// Collision shapes and their mass properties.
+#pragma once
+
+#include <REngineMath/RMath.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace REngine {
+
+enum class RShapeType : std::uint8_t { kSphere, kBox, kHull };
+
+// A shape in its own frame S (the frame the scene gives sizes and points in), metres.
+struct RShape {
+  RShapeType type = RShapeType::kSphere;
+  RScalar radius = 0.5;                           // kSphere, m
+  RVec3 halfExtents = RVec3::Constant(0.5);       // kBox, m, along S's axes
+  std::vector<RVec3> points;                      // kHull: the hull of these points, S frame, m
+};
+
+// Mass properties of a solid of uniform density 1 kg/m^3 (scale by density or by
+// mass / volume), in the shape frame S.
+struct RMassProperties {
+  RScalar volume = 0;                       // m^3
+  RVec3 com_S = RVec3::Zero();              // centre of mass, S frame, m
+  RVec3 principalMoments = RVec3::Ones();   // about the centre of mass, kg m^2 per kg/m^3
+  RQuat q_SB = RQuat::Identity();           // principal (body) frame B to S: columns are axes
+};
+
+// Exact mass properties. Sphere and box in closed form; the body frame of a box is its own
+// frame (no rotation) so that the scene's orientation passes through untouched.
+// Throws std::invalid_argument for a shape this build cannot yet compute.
+RMassProperties ComputeMassProperties(const RShape& shape);
+
+}  // namespace REngine

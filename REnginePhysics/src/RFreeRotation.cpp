@@ -1,0 +1,193 @@
+#include <REnginePhysics/RFreeRotation.h>
+
+#include <REngineMath/REllipticFunctions.h>
+#include <REngineMath/RQuaternion.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace REngine {
+
+namespace {
+
+// 3-point Gauss-Legendre on [0, 1]: nodes and weights.
+constexpr RScalar kGaussNode[3] = {
+    RScalar(0.5) - RScalar(0.3872983346207416885179265399782400),  // (1 - sqrt(3/5)) / 2
+    RScalar(0.5),
+    RScalar(0.5) + RScalar(0.3872983346207416885179265399782400)};
+constexpr RScalar kGaussWeight[3] = {RScalar(5) / 18, RScalar(8) / 18, RScalar(5) / 18};
+
+bool NearlyEqual(RScalar x, RScalar y) {
+  return std::abs(x - y) <= RTol::kEqualMoments * std::max(x, y);
+}
+
+}  // namespace
+
+void RFreeRotation::SetInertia(const RVec3& I_B) {
+  m_I_B = I_B;
+  m_cacheValid = false;
+  const bool e01 = NearlyEqual(I_B[0], I_B[1]);
+  const bool e12 = NearlyEqual(I_B[1], I_B[2]);
+  const bool e02 = NearlyEqual(I_B[0], I_B[2]);
+  if (e01 && e12) {
+    m_symmetry = RInertiaSymmetry::kSpherical;
+  } else if (e01 || e12 || e02) {
+    m_symmetry = RInertiaSymmetry::kSymmetric;
+    m_axisUnique = e01 ? 2 : (e12 ? 0 : 1);
+  } else {
+    m_symmetry = RInertiaSymmetry::kGeneral;
+    std::sort(m_sorted, m_sorted + 3, [&](int i, int j) { return I_B[i] < I_B[j]; });
+  }
+}
+
+// Constants of the elliptic solution (Landau and Lifshitz, Mechanics, section 37), written
+// for either side of the separatrix by naming the axes (a, b, c): c is the axis the polhode
+// circles, b the intermediate one. With I_a < I_b < I_c, or I_a > I_b > I_c:
+//   omega_a = A_a cn(tau), omega_b = A_b sn(tau), omega_c = s A_c dn(tau),
+//   tau = lambda t, lambda = s sqrt((I_c - I_b)(M^2 - 2E I_a) / (I_a I_b I_c)),
+//   k^2 = (I_b - I_a)(2E I_c - M^2) / ((I_c - I_b)(M^2 - 2E I_a)).
+// Each of 2E I_c - M^2, M^2 - 2E I_a and M^2 - 2E I_b is summed from the components of L
+// (terms of one sign, but for the last, whose sign is the side of the separatrix), never as
+// the difference of two large numbers, so nothing cancels that the physics does not make
+// sensitive. 1 - k^2 is computed on its own for the same reason.
+void RFreeRotation::ComputeConstants(RScalar h, const RVec3& w_B) {
+  const RVec3& I = m_I_B;
+  const RVec3 L = I.cwiseProduct(w_B);
+  const int i1 = m_sorted[0], i2 = m_sorted[1], i3 = m_sorted[2];
+  // M^2 - 2 E I_2: positive when the polhode circles the axis of largest moment.
+  const RScalar dSep = L[i1] * L[i1] * ((I[i1] - I[i2]) / I[i1]) +
+                       L[i3] * L[i3] * ((I[i3] - I[i2]) / I[i3]);
+  if (dSep >= 0) {
+    m_a = i1, m_b = i2, m_c = i3;
+  } else {
+    m_a = i3, m_b = i2, m_c = i1;
+  }
+  const int a = m_a, b = m_b, c = m_c;
+  const RScalar P = L[a] * L[a] * ((I[c] - I[a]) / I[a]) + L[b] * L[b] * ((I[c] - I[b]) / I[b]);
+  const RScalar Q = L[b] * L[b] * ((I[b] - I[a]) / I[b]) + L[c] * L[c] * ((I[c] - I[a]) / I[c]);
+  m_signC = w_B[c] < 0 ? RScalar(-1) : RScalar(1);
+  m_amp[0] = std::sqrt(P / (I[a] * (I[c] - I[a])));
+  m_amp[1] = std::sqrt(P / (I[b] * (I[c] - I[b])));
+  m_amp[2] = std::sqrt(Q / (I[c] * (I[c] - I[a])));
+  const RScalar denom = (I[c] - I[b]) * Q;
+  m_m = std::clamp((I[b] - I[a]) * P / denom, RScalar(0), RScalar(1));
+  const RScalar mc = std::clamp((I[c] - I[a]) * dSep / denom, RScalar(0), RScalar(1));
+  // Euler's equations change sign under an odd permutation of the axes, and so does the
+  // direction the phase runs in.
+  const bool evenOrder = (i2 - i1 + 3) % 3 == 1;
+  const RScalar lambda =
+      (evenOrder ? m_signC : -m_signC) * std::sqrt(denom / (I[a] * I[b] * I[c]));
+
+  // Phase of the current state. The three ratios satisfy sn^2 + cn^2 = 1 and
+  // dn^2 + k^2 sn^2 = 1 to rounding because the amplitudes came from this same state.
+  m_cn = w_B[a] / m_amp[0];
+  m_sn = w_B[b] / m_amp[1];
+  m_dn = std::abs(w_B[c]) / m_amp[2];
+
+  for (int j = 0; j < 4; ++j) {
+    const RScalar t = j < 3 ? kGaussNode[j] * h : h;
+    const RJacobiSnCnDn v = JacobiSnCnDn(lambda * t, m_m, mc);
+    m_nodeSn[j] = v.sn, m_nodeCn[j] = v.cn, m_nodeDn[j] = v.dn;
+  }
+  m_cacheH = h;
+}
+
+void RFreeRotation::Advance(RScalar h, RVec3& w_B, RQuat& q_WB) {
+  if (w_B.isZero(0)) return;
+  switch (m_symmetry) {
+    case RInertiaSymmetry::kSpherical:
+      q_WB = q_WB * QuatExp(h * w_B);
+      return;
+    case RInertiaSymmetry::kSymmetric: {
+      // H = |L|^2 / (2 I_t) + L_s^2 (1/I_s - 1/I_t) / 2: the two parts commute, so the
+      // exact flow is the product of their flows. The first spins the body about L itself
+      // (L_B unchanged); the second spins it about the symmetry axis e_s while L_B
+      // precesses the other way about e_s.
+      const int s = m_axisUnique;
+      const int t = (s + 1) % 3;
+      const RScalar Is = m_I_B[s], It = m_I_B[t];
+      RVec3 spin = w_B;  // L_B / I_t
+      spin[s] *= Is / It;
+      const RScalar rate = w_B[s] * (1 - Is / It);  // L_s (1/I_s - 1/I_t)
+      RVec3 axis = RVec3::Zero();
+      axis[s] = 1;
+      q_WB = q_WB * QuatExp(h * spin) * QuatAxisAngle(axis, h * rate);
+      // omega_perp rotates by -h*rate about e_s (equal moments: omega_perp is L_perp / I_t).
+      const int u = (s + 1) % 3, v = (s + 2) % 3;
+      const RScalar cs = std::cos(h * rate), sn = std::sin(h * rate);
+      const RScalar wu = w_B[u], wv = w_B[v];
+      w_B[u] = cs * wu + sn * wv;
+      w_B[v] = -sn * wu + cs * wv;
+      q_WB.normalize();
+      return;
+    }
+    case RInertiaSymmetry::kGeneral:
+      break;
+  }
+
+  const RVec3& I = m_I_B;
+  if (!(m_cacheValid && m_cacheH == h && m_cacheW_B == w_B)) {
+    const int i1 = m_sorted[0], i3 = m_sorted[2];
+    const RVec3 L = I.cwiseProduct(w_B);
+    // A rotation about the axis of largest or smallest moment exactly: a stable steady
+    // spin, omega constant. (The elliptic amplitudes would be 0/0 there.)
+    const bool aboutI1 = L[m_sorted[1]] == 0 && L[i3] == 0;
+    const bool aboutI3 = L[m_sorted[1]] == 0 && L[i1] == 0;
+    if (aboutI1 || aboutI3) {
+      q_WB = q_WB * QuatExp(h * w_B);
+      m_cacheValid = false;
+      return;
+    }
+    ComputeConstants(h, w_B);
+  }
+  const int a = m_a, b = m_b, c = m_c;
+  const RScalar m = m_m;
+  const RScalar sn0 = m_sn, cn0 = m_cn, dn0 = m_dn;
+
+  // omega and the unit angular momentum direction l at the phase tau0 + lambda t, by the
+  // addition theorems. The denominator 1 - m sn0^2 sv^2 is written dn0^2 + m sn0^2 cv^2:
+  // a sum of non-negative terms, with no cancellation near the separatrix.
+  auto at = [&](int j, RScalar& sn, RScalar& cn, RScalar& dn) {
+    const RScalar sv = m_nodeSn[j], cv = m_nodeCn[j], dv = m_nodeDn[j];
+    const RScalar inv = 1 / (dn0 * dn0 + m * sn0 * sn0 * cv * cv);
+    sn = (sn0 * cv * dv + sv * cn0 * dn0) * inv;
+    cn = (cn0 * cv - sn0 * dn0 * sv * dv) * inv;
+    dn = (dn0 * dv - m * sn0 * cn0 * sv * cv) * inv;
+  };
+  auto omegaOf = [&](RScalar sn, RScalar cn, RScalar dn) {
+    RVec3 w;
+    w[a] = m_amp[0] * cn;
+    w[b] = m_amp[1] * sn;
+    w[c] = m_signC * m_amp[2] * dn;
+    return w;
+  };
+  RVec3 e = RVec3::Zero();
+  e[c] = m_signC;
+
+  // psi' = omega . (l + e) / (1 + l . e), integrated by Gauss-Legendre.
+  RScalar dPsi = 0;
+  for (int j = 0; j < 3; ++j) {
+    RScalar sn, cn, dn;
+    at(j, sn, cn, dn);
+    const RVec3 w = omegaOf(sn, cn, dn);
+    const RVec3 l = I.cwiseProduct(w).normalized();
+    dPsi += kGaussWeight[j] * (w.dot(l + e) / (1 + l.dot(e)));
+  }
+  dPsi *= h;
+
+  RScalar sn1, cn1, dn1;
+  at(3, sn1, cn1, dn1);
+  const RVec3 w1 = omegaOf(sn1, cn1, dn1);
+  const RVec3 l0 = I.cwiseProduct(w_B).normalized();
+  const RVec3 l1 = I.cwiseProduct(w1).normalized();
+  // q1 = q0 m(l0)^-1 Rot(e, dPsi) m(l1): maps l1 to where q0 mapped l0, so L_W is fixed.
+  q_WB = q_WB * QuatFromTo(l0, e).conjugate() * QuatAxisAngle(e, dPsi) * QuatFromTo(l1, e);
+  q_WB.normalize();
+
+  w_B = w1;
+  m_sn = sn1, m_cn = cn1, m_dn = dn1;
+  m_cacheW_B = w_B;
+  m_cacheValid = true;
+}
+
+}  // namespace REngine

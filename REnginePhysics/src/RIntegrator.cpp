@@ -1,0 +1,90 @@
+#include <REnginePhysics/RIntegrator.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+namespace REngine {
+
+std::uint64_t NextCacheStamp() {
+  static std::atomic<std::uint64_t> s_stamp{0};
+  return ++s_stamp;
+}
+
+RScalar Combine(RCombineMode mode, RScalar a, RScalar b) {
+  switch (mode) {
+    case RCombineMode::kMin: return std::min(a, b);
+    case RCombineMode::kMax: return std::max(a, b);
+    case RCombineMode::kProduct: return a * b;
+    case RCombineMode::kAverage: return RScalar(0.5) * (a + b);
+    case RCombineMode::kGeometric: return std::sqrt(a * b);
+  }
+  return a;
+}
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+}  // namespace
+
+void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
+  const auto t0 = Clock::now();
+  m_cacheStamp = NextCacheStamp();
+  ++m_stepCount;
+  CollisionDetection(bodies, dt);
+  const auto t1 = Clock::now();
+  UpdateObjects(bodies, dt);
+  const auto t2 = Clock::now();
+  m_profile.collisionDetection = Ms(t1 - t0);
+  m_profile.updateObjects = Ms(t2 - t1);
+  m_profile.total = Ms(t2 - t0);
+}
+
+void RIntegrator::CollisionDetection(std::vector<RRigidBody>& /*bodies*/, RScalar /*dt*/) {
+  // Pairs, contacts and FindImpulse arrive with the collision issues.
+}
+
+void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
+  const RScalar halfDt = RScalar(0.5) * dt;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    RRigidBody& b = bodies[i];
+    if (b.m_isStatic) {
+      b.m_force_W.setZero(), b.m_torque_W.setZero();
+      b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+      continue;
+    }
+    const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
+    const RQuat q0 = b.m_q_WB;
+
+    // Linear: impulse, then kick-drift-kick with constant acceleration.
+    const RVec3 accel = b.m_force_W * b.m_invMass + m_settings.gravity_W;
+    const RVec3 vHalf = b.m_v_W + b.m_linearImpulse_W * b.m_invMass + accel * halfDt;
+    b.m_x_W += vHalf * dt;
+    b.m_v_W = vHalf + accel * halfDt;
+
+    // Angular: impulse and half the torque's impulse, exact free flow, other half. A kick
+    // is applied only when non-zero so that a free body's omega passes through bit for bit
+    // (which is what lets RFreeRotation reuse its cached elliptic constants).
+    const bool torque = !b.m_torque_W.isZero(0);
+    const RVec3 kick0_W = b.m_angularImpulse_W + b.m_torque_W * halfDt;
+    if (!kick0_W.isZero(0)) {
+      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
+    }
+    b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
+    if (torque) {
+      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * (b.m_torque_W * halfDt));
+    }
+
+    b.m_force_W.setZero(), b.m_torque_W.setZero();
+    b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+
+    if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
+          AllFinite(b.m_q_WB))) {
+      b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0;
+      if (!m_nonFinite) m_nonFinite = RNonFiniteBody{i, b.m_name, m_stepCount};
+    }
+  }
+}
+
+}  // namespace REngine

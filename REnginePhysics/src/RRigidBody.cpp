@@ -1,0 +1,92 @@
+#include <REnginePhysics/RRigidBody.h>
+
+#include <REngineMath/RQuaternion.h>
+
+#include <stdexcept>
+
+namespace REngine {
+
+namespace {
+void Require(bool ok, const char* field, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string(field) + ": " + what);
+}
+bool PositiveFinite(RScalar x) { return std::isfinite(x) && x > 0; }
+}  // namespace
+
+RRigidBody::RRigidBody(const RBodyDef& def)
+    : m_name(def.name),
+      m_shape(def.shape),
+      m_isStatic(def.isStatic),
+      m_responds(def.responds),
+      m_restitution(def.restitution),
+      m_friction(def.friction) {
+  Require(std::isfinite(def.restitution) && def.restitution >= 0, "restitution",
+          "must be a finite number >= 0");
+  Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
+          "must be a finite number >= 0");
+  switch (def.shape.type) {
+    case RShapeType::kSphere:
+      Require(PositiveFinite(def.shape.radius), "shape.radius", "must be finite and > 0");
+      break;
+    case RShapeType::kBox:
+      Require(AllFinite(def.shape.halfExtents) && (def.shape.halfExtents.array() > 0).all(),
+              "shape.half_extents", "must be finite and > 0");
+      break;
+    case RShapeType::kHull:
+      break;
+  }
+  Require(AllFinite(def.position_W), "position", "must be finite");
+  Require(AllFinite(def.velocity_W), "velocity", "must be finite");
+  Require(AllFinite(def.angularVelocity_W), "angular_velocity", "must be finite");
+  const std::optional<RQuat> q_WS = QuatNormalized(def.q_WS);
+  Require(q_WS.has_value(), "orientation", "must be a finite quaternion of non-zero length");
+
+  const RMassProperties mp = ComputeMassProperties(def.shape);
+  m_q_BS = mp.q_SB.conjugate();
+  m_p_BS = -(m_q_BS * mp.com_S);
+  if (!m_isStatic) {
+    if (def.mass) {
+      Require(PositiveFinite(*def.mass), "mass", "must be finite and > 0");
+      m_mass = *def.mass;
+    } else {
+      Require(PositiveFinite(def.density), "density", "must be finite and > 0");
+      m_mass = def.density * mp.volume;
+    }
+    Require(PositiveFinite(m_mass), "mass", "density * volume is not a positive finite mass");
+    m_invMass = 1 / m_mass;
+    m_I_B = mp.principalMoments * (m_mass / mp.volume);
+    Require(AllFinite(m_I_B) && (m_I_B.array() > 0).all(), "shape",
+            "gives a non-positive or non-finite inertia");
+    m_invI_B = m_I_B.cwiseInverse();
+    m_rotation.SetInertia(m_I_B);
+  }
+  SetShapePose(def.position_W, *q_WS);
+  SetVelocity_W(def.velocity_W);
+  SetAngularVelocity_W(def.angularVelocity_W);
+}
+
+void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q_WS) {
+  m_q_WB = q_WS * m_q_BS.conjugate();
+  m_q_WB.normalize();
+  m_x_W = position_W - m_q_WB * m_p_BS;
+}
+
+void RRigidBody::SetVelocity_W(const RVec3& v_W) {
+  if (!m_isStatic) m_v_W = v_W;
+}
+
+void RRigidBody::SetAngularVelocity_W(const RVec3& w_W) {
+  if (!m_isStatic) m_w_B = m_q_WB.conjugate() * w_W;
+}
+
+void RRigidBody::AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W) {
+  m_force_W += f_W;
+  m_torque_W += (p_W - m_x_W).cross(f_W);
+}
+
+void RRigidBody::AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W) {
+  m_linearImpulse_W += j_W;
+  m_angularImpulse_W += (p_W - m_x_W).cross(j_W);
+}
+
+}  // namespace REngine

@@ -1,0 +1,215 @@
+// Torque-free rotation against closed forms, conservation laws and an independent RK4
+// reference; the Dzhanibekov bounds of the shared reference scene.
+#include <REngineMath/REllipticFunctions.h>
+#include <REngineMath/RQuaternion.h>
+#include <REnginePhysics/RIntegrator.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "support/RigidBodyReference.h"
+
+using namespace REngine;
+using test::RK4Step;
+using test::RotState;
+
+namespace {
+
+RRigidBody MakeBox(const RVec3& halfExtents, RScalar mass, const RVec3& w_W,
+                   const RQuat& q = RQuat::Identity()) {
+  RBodyDef def;
+  def.name = "box";
+  def.shape.type = RShapeType::kBox;
+  def.shape.halfExtents = halfExtents;
+  def.mass = mass;
+  def.q_WS = q;
+  def.angularVelocity_W = w_W;
+  return RRigidBody(def);
+}
+
+// Runs the engine for `steps` steps of h and the RK4 reference at h / refSub, returns the
+// orientation difference (rad) and the body-frame angular velocity difference (rad/s).
+struct Diff {
+  RScalar angle;
+  RScalar omega;
+};
+Diff CompareWithReference(RRigidBody body, RScalar h, int steps, int refSub) {
+  std::vector<RRigidBody> bodies{body};
+  RIntegrator integrator;
+  RotState ref{body.AngularVelocity_B(), body.Orientation_WB()};
+  for (int i = 0; i < steps; ++i) {
+    integrator.Update(bodies, h);
+    for (int j = 0; j < refSub; ++j) ref = RK4Step(body.Inertia_B(), ref, h / refSub);
+  }
+  return {QuatAngleBetween(bodies[0].Orientation_WB(), ref.q_WB),
+          (bodies[0].AngularVelocity_B() - ref.w_B).norm()};
+}
+
+}  // namespace
+
+TEST(FreeRotation, SphereSpinsAtConstantOmega) {
+  RBodyDef def;
+  def.shape.type = RShapeType::kSphere;
+  def.shape.radius = 0.3;
+  def.angularVelocity_W = RVec3(1, -2, 0.5);
+  std::vector<RRigidBody> bodies{RRigidBody(def)};
+  ASSERT_EQ(bodies[0].Symmetry(), RInertiaSymmetry::kSpherical);
+  RIntegrator integrator;
+  const RScalar h = 0.01;
+  for (int i = 0; i < 1000; ++i) integrator.Update(bodies, h);
+  // Exact: q(t) = exp(omega t) with omega fixed in both frames.
+  const RQuat expected = QuatExp(RVec3(1, -2, 0.5) * 10.0);
+  EXPECT_LT(QuatAngleBetween(bodies[0].Orientation_WB(), expected), 1e-12);
+  EXPECT_LT((bodies[0].AngularVelocity_W() - RVec3(1, -2, 0.5)).norm(), 1e-13);
+}
+
+// A symmetric body (two equal moments) has a closed form: omega_B precesses about the
+// symmetry axis at Omega = w_s (1 - I_s / I_t) with |omega_B| constant. Compare that and the
+// orientation with RK4 at 1/100 of the step (RK4 error ~ (w h/100)^4 ~ 1e-13 per unit time).
+TEST(FreeRotation, SymmetricBodyPrecessesAsTheClosedForm) {
+  RRigidBody body = MakeBox(RVec3(0.2, 0.2, 1.0), 2.0, RVec3(3, 1, 2));
+  ASSERT_EQ(body.Symmetry(), RInertiaSymmetry::kSymmetric);
+  const RVec3 I = body.Inertia_B();
+  const RVec3 w0 = body.AngularVelocity_B();
+  const RScalar h = 1.0 / 60;
+  const int steps = 600;
+  std::vector<RRigidBody> bodies{body};
+  RIntegrator integrator;
+  for (int i = 0; i < steps; ++i) integrator.Update(bodies, h);
+  const RScalar t = h * steps;
+  const RScalar Omega = w0.z() * (1 - I.z() / I.x());
+  // omega_perp rotates by -Omega t about z.
+  const RScalar c = std::cos(Omega * t), s = std::sin(Omega * t);
+  const RVec3 expected(c * w0.x() + s * w0.y(), -s * w0.x() + c * w0.y(), w0.z());
+  EXPECT_LT((bodies[0].AngularVelocity_B() - expected).norm(), 1e-12);
+  const Diff d = CompareWithReference(body, h, steps, 100);
+  EXPECT_LT(d.angle, 1e-10);
+}
+
+// Three distinct moments: the elliptic solution against RK4 at 1/200 of the step, for random
+// bodies and spins on both sides of the separatrix. The engine's step error (O(h^6) in the
+// orientation, none in omega) and RK4's (~(w h / 200)^4 w t) are both below 1e-9 here.
+TEST(FreeRotation, GeneralBodyMatchesReference) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<RScalar> ext(0.1, 2.0), spin(-4, 4);
+  for (int trial = 0; trial < 20; ++trial) {
+    const RVec3 he(ext(rng), ext(rng), ext(rng));
+    const RVec3 w(spin(rng), spin(rng), spin(rng));
+    const RQuat q = QuatExp(RVec3(spin(rng), spin(rng), spin(rng)));
+    RRigidBody body = MakeBox(he, 1.5, w, q);
+    ASSERT_EQ(body.Symmetry(), RInertiaSymmetry::kGeneral);
+    const Diff d = CompareWithReference(body, 1.0 / 60, 300, 200);
+    EXPECT_LT(d.angle, 1e-9) << "trial " << trial << " he " << he.transpose() << " w "
+                             << w.transpose();
+    EXPECT_LT(d.omega, 1e-9 * w.norm()) << "trial " << trial;
+  }
+}
+
+// Energy, |L| and the world L are invariants of the exact flow: they must hold to rounding
+// at any step size, even a step of several radians of rotation where any approximate
+// integrator would be wrong.
+TEST(FreeRotation, ConservesInvariantsAtHugeSteps) {
+  RRigidBody body = MakeBox(RVec3(0.3, 0.7, 1.1), 3.0, RVec3(7, -11, 5));
+  const RVec3 L0 = body.AngularMomentum_W();
+  const RScalar E0 = body.RotationalKineticEnergy();
+  std::vector<RRigidBody> bodies{body};
+  RIntegrator integrator;
+  RScalar worstE = 0, worstL = 0;
+  for (int i = 0; i < 2000; ++i) {
+    integrator.Update(bodies, 0.5);
+    worstE = std::max(worstE, std::abs(bodies[0].RotationalKineticEnergy() / E0 - 1));
+    worstL = std::max(worstL, (bodies[0].AngularMomentum_W() - L0).norm() / L0.norm());
+  }
+  EXPECT_LT(worstE, 1e-12);
+  EXPECT_LT(worstL, 1e-12);
+}
+
+// Steady spins about a principal axis: the axes of largest and smallest moment are stable
+// equilibria, the intermediate one an unstable one; all three must stay put exactly.
+TEST(FreeRotation, SteadySpinsAboutPrincipalAxesStay) {
+  for (int axis = 0; axis < 3; ++axis) {
+    RVec3 w = RVec3::Zero();
+    w[axis] = 2.0;
+    std::vector<RRigidBody> bodies{MakeBox(RVec3(0.5, 1.0, 1.5), 1.0, w)};
+    RIntegrator integrator;
+    for (int i = 0; i < 600; ++i) integrator.Update(bodies, 1.0 / 60);
+    EXPECT_LT((bodies[0].AngularVelocity_B() - w).norm(), 1e-12) << axis;
+    const RQuat expected = QuatExp(w * 10.0);
+    EXPECT_LT(QuatAngleBetween(bodies[0].Orientation_WB(), expected), 1e-11) << axis;
+  }
+}
+
+// The reversibility of the exact flow: forward then backward returns to the start.
+TEST(FreeRotation, TimeReversible) {
+  RRigidBody body = MakeBox(RVec3(0.5, 1.0, 1.5), 1.0, RVec3(0.01, 5, 0.01));
+  RFreeRotation rot;
+  rot.SetInertia(body.Inertia_B());
+  RVec3 w = body.AngularVelocity_B();
+  RQuat q = body.Orientation_WB();
+  for (int i = 0; i < 600; ++i) rot.Advance(1.0 / 60, w, q);
+  for (int i = 0; i < 600; ++i) rot.Advance(-1.0 / 60, w, q);
+  EXPECT_LT((w - body.AngularVelocity_B()).norm(), 1e-11);
+  EXPECT_LT(QuatAngleBetween(q, body.Orientation_WB()), 1e-11);
+}
+
+// ../shared/scenes/dzhanibekov.json: box with half extents (0.5, 1, 1.5), mass 1, spun at
+// (0.01, 5, 0.01) rad/s about its intermediate axis (y) for 36000 steps of 1/60 s.
+// Required: rotational energy and world angular momentum within 1e-6 relative at every
+// step; final orientation within 0.1 degree of the converged solution; the flips present.
+// The exact flow keeps the invariants to rounding, so the test holds them to 1e-12.
+TEST(Dzhanibekov, ReferenceSceneBounds) {
+  const RVec3 w0(0.01, 5.0, 0.01);
+  const RRigidBody body = MakeBox(RVec3(0.5, 1.0, 1.5), 1.0, w0);
+  const RScalar h = 1.0 / 60;
+  const int steps = 36000;
+  std::vector<RRigidBody> bodies{body};
+  RIntegrator integrator;
+  const RScalar E0 = body.RotationalKineticEnergy();
+  const RVec3 L0 = body.AngularMomentum_W();
+  RScalar worstE = 0, worstL = 0;
+  int flips = 0;
+  RScalar prevWy = w0.y();
+  for (int i = 0; i < steps; ++i) {
+    integrator.Update(bodies, h);
+    worstE = std::max(worstE, std::abs(bodies[0].RotationalKineticEnergy() / E0 - 1));
+    worstL = std::max(worstL, (bodies[0].AngularMomentum_W() - L0).norm() / L0.norm());
+    const RScalar wy = bodies[0].AngularVelocity_B().y();
+    if ((wy < 0) != (prevWy < 0)) ++flips;
+    prevWy = wy;
+  }
+  EXPECT_LT(worstE, 1e-12);
+  EXPECT_LT(worstL, 1e-12);
+
+  // Expected flips from the closed form (Landau): omega_y = A sn(lambda t), which changes
+  // sign twice per period 4K/lambda. The polhode circles the axis of largest moment (x).
+  const RVec3 I = body.Inertia_B();
+  const RVec3 L = I.cwiseProduct(w0);
+  const RScalar M2 = L.squaredNorm(), E2 = 2 * E0;
+  const RScalar Ia = I.z(), Ib = I.y(), Ic = I.x();  // a, b, c: smallest, middle, largest
+  ASSERT_GT(M2 - E2 * Ib, 0);
+  const RScalar lambda = std::sqrt((Ic - Ib) * (M2 - E2 * Ia) / (Ia * Ib * Ic));
+  const RScalar mc = (Ic - Ia) * (M2 - E2 * Ib) / ((Ic - Ib) * (M2 - E2 * Ia));
+  const RScalar K = EllipticK(mc);
+  const RScalar expectedFlips = steps * h * lambda / (2 * K);
+  EXPECT_NEAR(flips, expectedFlips, 1.0) << "expected " << expectedFlips;
+  EXPECT_GT(flips, 10);
+
+  // Converged solution: RK4 at h/50 (error (5 h/50)^4 ~ 1e-11 per radian, amplified by
+  // the separatrix's sensitivity; checked against h/100 below to be far inside 0.1 deg).
+  RotState ref{body.AngularVelocity_B(), body.Orientation_WB()};
+  RotState ref2 = ref;
+  for (int i = 0; i < steps * 50; ++i) ref = RK4Step(I, ref, h / 50);
+  for (int i = 0; i < steps * 100; ++i) ref2 = RK4Step(I, ref2, h / 100);
+  const RScalar refSpread = QuatAngleBetween(ref.q_WB, ref2.q_WB);
+  const RScalar err = QuatAngleBetween(bodies[0].Orientation_WB(), ref2.q_WB);
+  RecordProperty("energy_rel_err_max", std::to_string(worstE));
+  RecordProperty("angmom_rel_err_max", std::to_string(worstL));
+  RecordProperty("final_orientation_err_deg", std::to_string(err * 180 / kPi));
+  std::printf("dzhanibekov: max |dE/E| %.3g, max |dL|/|L| %.3g, final orientation error "
+              "%.3g deg (reference spread %.3g deg), flips %d (closed form %.2f)\n",
+              worstE, worstL, err * 180 / kPi, refSpread * 180 / kPi, flips, expectedFlips);
+  EXPECT_LT(refSpread, 1e-4 * kPi / 180);
+  EXPECT_LT(err, 0.1 * kPi / 180);
+}

@@ -1,0 +1,34 @@
+# Sourced by tools/test.sh and tools/demo.sh: installs the Debian packages REngine needs,
+# only those missing, so a ready machine never calls apt.
+#   rengine_install_deps [extra packages...]
+REngine_BUILD_PACKAGES=(
+  cmake ninja-build g++         # toolchain
+  libeigen3-dev                 # REngineMath
+  nlohmann-json3-dev            # scene files (REngine::Scene)
+  libcli11-dev                  # rengine-sim's command line
+  libgtest-dev                  # tests
+)
+
+rengine_install_deps() {
+  local wanted=("${REngine_BUILD_PACKAGES[@]}" "$@") missing=() p
+  for p in "${wanted[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
+      missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "installing: ${missing[*]}" >&2
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq && $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+# Configures build/ (Release, Ninja) once and builds everything.
+rengine_build() {
+  local root
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  if [ ! -f "$root/build/build.ninja" ]; then
+    cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+  fi
+  cmake --build "$root/build"
+}
