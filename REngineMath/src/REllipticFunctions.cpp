@@ -6,10 +6,38 @@ namespace REngine {
 
 namespace {
 constexpr int kMaxAgmIterations = 16;
+constexpr RScalar kSeriesMaxU = RScalar(0.05);
 }  // namespace
 
 RJacobiSnCnDn JacobiSnCnDn(RScalar u, RScalar m, RScalar mc) {
   RJacobiSnCnDn r;
+  if (std::abs(u) <= kSeriesMaxU) {
+    // Maclaurin series (Abramowitz and Stegun 16.22) through u^11 / u^10. The poles of
+    // sn, cn, dn nearest the origin are at distance K(mc) >= pi/2, so the first omitted
+    // term is below (0.05 / (pi/2))^12 ~ 1e-18 for |u| <= 0.05 and any m in [0, 1].
+    const RScalar m2 = m * m, m3 = m2 * m, m4 = m3 * m, m5 = m4 * m;
+    const RScalar u2 = u * u;
+    r.sn = u * (1 + u2 * (-(1 + m) / 6 +
+                          u2 * ((1 + 14 * m + m2) / 120 +
+                                u2 * (-(1 + 135 * m + 135 * m2 + m3) / 5040 +
+                                      u2 * ((1 + 1228 * m + 5478 * m2 + 1228 * m3 + m4) / 362880 -
+                                            u2 * (1 + 11069 * m + 165826 * m2 + 165826 * m3 +
+                                                  11069 * m4 + m5) /
+                                                39916800)))));
+    r.cn = 1 + u2 * (RScalar(-0.5) +
+                     u2 * ((1 + 4 * m) / 24 +
+                           u2 * (-(1 + 44 * m + 16 * m2) / 720 +
+                                 u2 * ((1 + 408 * m + 912 * m2 + 64 * m3) / 40320 -
+                                       u2 * (1 + 3688 * m + 30768 * m2 + 15808 * m3 + 256 * m4) /
+                                           3628800))));
+    r.dn = 1 + m * u2 * (RScalar(-0.5) +
+                         u2 * ((4 + m) / 24 +
+                               u2 * (-(16 + 44 * m + m2) / 720 +
+                                     u2 * ((64 + 912 * m + 408 * m2 + m3) / 40320 -
+                                           u2 * (256 + 15808 * m + 30768 * m2 + 3688 * m3 + m4) /
+                                               3628800))));
+    return r;
+  }
   if (m <= 0) {
     r.sn = std::sin(u);
     r.cn = std::cos(u);

@@ -16,11 +16,12 @@
 // conservation of L_W is untouched by it (Rot(e, psi) fixes e, whatever psi is).
 //
 // Cost per body-step. A symmetric or spherical body: two or one quaternion exponentials.
-// A general body: four Jacobi evaluations when its angular momentum changed this step
+// A general body: two Jacobi evaluations when its angular momentum changed this step
 // (a collision, a torque), none when it did not (they are cached), plus four addition
-// formulas and three quaternion products.
+// formulas and three quaternion products. Measured by tools/bench/bench_motion.
 #pragma once
 
+#include <REngineMath/REllipticFunctions.h>
 #include <REngineMath/RMath.h>
 
 #include <cstdint>
@@ -46,6 +47,12 @@ class RFreeRotation {
 
  private:
   void ComputeConstants(RScalar h, const RVec3& w_B);
+  // The body axis the polhode circles, signed to the side the angular momentum is on.
+  RVec3 PoleAxis() const {
+    RVec3 e = RVec3::Zero();
+    e[m_c] = m_signC;
+    return e;
+  }
 
   RVec3 m_I_B = RVec3::Ones();
   RInertiaSymmetry m_symmetry = RInertiaSymmetry::kSpherical;
@@ -60,10 +67,12 @@ class RFreeRotation {
   RVec3 m_cacheW_B = RVec3::Zero();  // omega the last step produced
   int m_a = 0, m_b = 1, m_c = 2;     // body axes in the roles of the solution
   RScalar m_signC = 1;               // sign of omega_c, constant on the polhode
+  RScalar m_invM = 0;                // 1 / |L|, 1/(kg m^2/s)
+  RQuat m_align0 = RQuat::Identity();  // minimal rotation taking l of the last output to e
   RScalar m_amp[3] = {0, 0, 0};      // amplitudes of omega_a, omega_b, omega_c, rad/s
   RScalar m_m = 0;                   // elliptic parameter k^2
-  RScalar m_sn = 0, m_cn = 1, m_dn = 1;  // phase of the last output
-  RScalar m_nodeSn[4], m_nodeCn[4], m_nodeDn[4];  // at 3 Gauss nodes and at h
+  RJacobiSnCnDn m_phase;             // Jacobi functions at the last output's phase
+  RJacobiSnCnDn m_node[4];           // at the phase offsets of the 3 Gauss nodes and of h
 };
 
 }  // namespace REngine
