@@ -6,7 +6,9 @@ REngine_BUILD_PACKAGES=(
   libeigen3-dev                 # REngineMath
   nlohmann-json3-dev            # scene files (REngine::Scene)
   libcli11-dev                  # rengine-sim's command line
+  libqhull-dev                  # convex hulls (RConvexPolyhedron::Hull)
   libgtest-dev                  # tests
+  libbenchmark-dev              # tools/bench (Google Benchmark)
 )
 
 rengine_install_deps() {

@@ -41,9 +41,33 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   const std::optional<RQuat> q_WS = QuatNormalized(def.q_WS);
   Require(q_WS.has_value(), "orientation", "must be a finite quaternion of non-zero length");
 
-  const RMassProperties mp = ComputeMassProperties(def.shape);
-  m_q_BS = mp.q_SB.conjugate();
-  m_p_BS = -(m_q_BS * mp.com_S);
+  RMassProperties mp;
+  if (def.shape.type == RShapeType::kHull) {
+    RConvexPolyhedron hull_S;
+    try {
+      hull_S = RConvexPolyhedron::Hull(def.shape.points);
+    } catch (const RHullError& e) {
+      throw std::invalid_argument(std::string("shape.points: ") + e.what());
+    }
+    mp = ComputeMassProperties(hull_S);
+    m_q_BS = mp.q_SB.conjugate();
+    m_p_BS = -(m_q_BS * mp.com_S);
+    m_polyhedron_B = std::make_shared<const RConvexPolyhedron>(
+        hull_S.Transformed(m_q_BS.toRotationMatrix(), m_p_BS));
+  } else {
+    mp = ComputeMassProperties(def.shape);
+    m_q_BS = mp.q_SB.conjugate();
+    m_p_BS = -(m_q_BS * mp.com_S);
+    if (def.shape.type == RShapeType::kBox) {
+      m_polyhedron_B = std::make_shared<const RConvexPolyhedron>(
+          RConvexPolyhedron::Box(def.shape.halfExtents));
+    }
+  }
+  m_boundingRadius = m_polyhedron_B ? m_polyhedron_B->MaxRadius() : def.shape.radius;
+  if (m_polyhedron_B) {
+    m_worldForm.vertices_W.resize(m_polyhedron_B->Vertices().size());
+    m_worldForm.planes_W.resize(m_polyhedron_B->Faces().size());
+  }
   if (!m_isStatic) {
     if (def.mass) {
       Require(PositiveFinite(*def.mass), "mass", "must be finite and > 0");
@@ -69,6 +93,39 @@ void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q_WS) {
   m_q_WB = q_WS * m_q_BS.conjugate();
   m_q_WB.normalize();
   m_x_W = position_W - m_q_WB * m_p_BS;
+  m_worldForm.stamp = 0;  // moved outside a step: the cached world form is stale
+}
+
+void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
+  RWorldForm& wf = m_worldForm;
+  wf.stamp = stamp;
+  ++m_worldFormComputations;
+  wf.sphereCenter_W = m_x_W;
+  wf.sphereRadius = m_boundingRadius;
+  if (!m_polyhedron_B) {
+    wf.aabbMin_W = m_x_W.array() - m_boundingRadius;
+    wf.aabbMax_W = m_x_W.array() + m_boundingRadius;
+    return;
+  }
+  // Rotate about the centre of mass, then translate: the body-frame vertices are small
+  // numbers, so a body 1e7 m out loses nothing but the final addition's rounding.
+  const RMat3 R = m_q_WB.toRotationMatrix();
+  const std::vector<RVec3>& v_B = m_polyhedron_B->Vertices();
+  RVec3 lo = RVec3::Constant(std::numeric_limits<RScalar>::infinity());
+  RVec3 hi = -lo;
+  for (std::size_t i = 0; i < v_B.size(); ++i) {
+    const RVec3 v = R * v_B[i] + m_x_W;
+    wf.vertices_W[i] = v;
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  wf.aabbMin_W = lo;
+  wf.aabbMax_W = hi;
+  const std::vector<RFace>& faces = m_polyhedron_B->Faces();
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const RVec3 n = R * faces[f].plane.normal;
+    wf.planes_W[f] = RPlane{n, faces[f].plane.offset + n.dot(m_x_W)};
+  }
 }
 
 void RRigidBody::SetVelocity_W(const RVec3& v_W) {

@@ -1,5 +1,7 @@
 #include <REnginePhysics/RShape.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <stdexcept>
 
 namespace REngine {
@@ -27,7 +29,21 @@ RMassProperties ComputeMassProperties(const RShape& shape) {
     case RShapeType::kHull:
       break;
   }
-  throw std::invalid_argument("hull mass properties are not implemented yet");
+  return ComputeMassProperties(RConvexPolyhedron::Hull(shape.points));
+}
+
+RMassProperties ComputeMassProperties(const RConvexPolyhedron& polyhedron) {
+  const RPolyhedronMass pm = polyhedron.MassProperties();
+  RMassProperties mp;
+  mp.volume = pm.volume;
+  mp.com_S = pm.centroid;
+  const Eigen::SelfAdjointEigenSolver<RMat3> eig(pm.inertia);
+  mp.principalMoments = eig.eigenvalues();  // ascending
+  RMat3 axes = eig.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);  // a rotation, not a reflection
+  mp.q_SB = RQuat(axes);
+  mp.q_SB.normalize();
+  return mp;
 }
 
 }  // namespace REngine

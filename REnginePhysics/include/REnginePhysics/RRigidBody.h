@@ -12,10 +12,25 @@
 #include <REnginePhysics/RFreeRotation.h>
 #include <REnginePhysics/RShape.h>
 
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace REngine {
+
+// World-space form of a body's collision shape, computed lazily and cached against the
+// integrator's stamp: at most once per body per step, however many pairs ask.
+struct RWorldForm {
+  std::uint64_t stamp = 0;           // stamp it was computed at; 0: never
+  std::vector<RVec3> vertices_W;     // polyhedron vertices, world, m (empty for a sphere)
+  std::vector<RPlane> planes_W;      // face planes, world (unit normal, offset in m)
+  RVec3 aabbMin_W = RVec3::Zero();   // axis-aligned bounding box, world, m
+  RVec3 aabbMax_W = RVec3::Zero();
+  RVec3 sphereCenter_W = RVec3::Zero();  // bounding sphere about the centre of mass, m
+  RScalar sphereRadius = 0;
+};
 
 // What a game or a scene file says about a body; RRigidBody copies it.
 struct RBodyDef {
@@ -77,6 +92,21 @@ class RRigidBody {
   const RVec3& ShapeOffset_B() const { return m_p_BS; }
   const RQuat& ShapeRotation_BS() const { return m_q_BS; }
 
+  // The collision polyhedron in the body frame B (null for a sphere). Shared, immutable.
+  const std::shared_ptr<const RConvexPolyhedron>& Polyhedron_B() const { return m_polyhedron_B; }
+  // Sphere radius (m) for a sphere; for a polyhedron its largest vertex distance from the
+  // centre of mass, i.e. the bounding sphere's radius.
+  RScalar BoundingRadius() const { return m_boundingRadius; }
+
+  // The world form at `stamp` (RIntegrator::CacheStamp()): recomputed only if the cached one
+  // carries another stamp. Not thread-safe: one thread steps a world.
+  const RWorldForm& WorldForm(std::uint64_t stamp) const {
+    if (m_worldForm.stamp != stamp) ComputeWorldForm(stamp);
+    return m_worldForm;
+  }
+  // How many times the world form has been computed (for tests and profiling).
+  std::uint64_t WorldFormComputations() const { return m_worldFormComputations; }
+
   // Setters for game code between steps. Velocities are ignored on static bodies.
   void SetShapePose(const RVec3& position_W, const RQuat& q_WS);
   void SetVelocity_W(const RVec3& v_W);
@@ -118,6 +148,12 @@ class RRigidBody {
   RVec3 m_angularImpulse_W = RVec3::Zero();
 
   RFreeRotation m_rotation;
+
+  std::shared_ptr<const RConvexPolyhedron> m_polyhedron_B;
+  RScalar m_boundingRadius = 0;
+  void ComputeWorldForm(std::uint64_t stamp) const;
+  mutable RWorldForm m_worldForm;
+  mutable std::uint64_t m_worldFormComputations = 0;
 };
 
 }  // namespace REngine

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <REngineMath/RMath.h>
+#include <REnginePhysics/RConvexPolyhedron.h>
 
 #include <cstdint>
 #include <vector>
@@ -27,9 +28,13 @@ struct RMassProperties {
   RQuat q_SB = RQuat::Identity();           // principal (body) frame B to S: columns are axes
 };
 
-// Exact mass properties. Sphere and box in closed form; the body frame of a box is its own
-// frame (no rotation) so that the scene's orientation passes through untouched.
-// Throws std::invalid_argument for a shape this build cannot yet compute.
+// Exact mass properties. Sphere and box in closed form, with the body frame equal to the
+// shape frame (so the scene's orientation passes through untouched); a hull from its
+// polyhedron (below). Throws RHullError for hull points that do not span a solid.
 RMassProperties ComputeMassProperties(const RShape& shape);
+
+// Mass properties of a polyhedron's solid: exact volume, centroid and inertia, then the
+// principal moments in ascending order and a right-handed principal frame.
+RMassProperties ComputeMassProperties(const RConvexPolyhedron& polyhedron);
 
 }  // namespace REngine

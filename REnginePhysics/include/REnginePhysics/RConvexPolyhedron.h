@@ -1,0 +1,108 @@
+// RConvexPolyhedron: a convex polyhedron ready for GJK (support), SAT (face normals and
+// unique edges) and contact clipping (ordered face loops), with exact mass properties.
+//
+// A polyhedron lives in one local frame (the frame its vertices are given in). Bodies keep
+// theirs in the body frame B (centre of mass at the origin, principal axes), so that the
+// world form is one rotation and one translation away.
+#pragma once
+
+#include <REngineMath/RMath.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace REngine {
+
+// Plane n . x = d with n a unit outward normal; d in metres.
+struct RPlane {
+  RVec3 normal = RVec3::UnitZ();
+  RScalar offset = 0;
+  RScalar SignedDistance(const RVec3& p) const { return normal.dot(p) - offset; }
+};
+
+struct RFace {
+  RPlane plane;               // outward unit normal and offset, local frame
+  std::uint32_t firstVertex;  // the face's loop is loopVertices[first, first + count)
+  std::uint32_t vertexCount;  // counter-clockwise seen from outside
+};
+
+struct REdge {
+  std::uint32_t v0, v1;  // vertex indices, v0 < v1
+  std::uint32_t f0, f1;  // the two faces that share the edge
+};
+
+// Thrown when points do not span a solid: fewer than 4, or all (nearly) coplanar.
+class RHullError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// Mass properties of the solid of uniform density 1 kg/m^3, in the polyhedron's frame.
+struct RPolyhedronMass {
+  RScalar volume = 0;                 // m^3
+  RVec3 centroid = RVec3::Zero();     // centre of mass, m
+  RMat3 inertia = RMat3::Zero();      // about the centroid, kg m^2 per (kg/m^3)
+};
+
+class RConvexPolyhedron {
+ public:
+  // Box with the given half extents (m), centred at the origin, axis-aligned.
+  static RConvexPolyhedron Box(const RVec3& halfExtents);
+
+  // The convex hull of `points` (m). Survives duplicates, coplanar and collinear subsets and
+  // clouds far from the origin (the hull is computed about the cloud's centroid). Interior
+  // points and points on faces or edges are dropped; coplanar facets are merged into one
+  // polygon face. Throws RHullError when fewer than 4 points are not coplanar within
+  // 1e-9 of the cloud's extent. Qhull does the hull; this class owns the result.
+  static RConvexPolyhedron Hull(const std::vector<RVec3>& points);
+
+  // The same polyhedron with every vertex mapped x -> R x + t (planes follow).
+  RConvexPolyhedron Transformed(const RMat3& R, const RVec3& t) const;
+
+  const std::vector<RVec3>& Vertices() const { return m_vertices; }
+  const std::vector<RFace>& Faces() const { return m_faces; }
+  const std::vector<std::uint32_t>& LoopVertices() const { return m_loops; }
+  const std::vector<REdge>& Edges() const { return m_edges; }
+  // Neighbours of vertex i: AdjacencyVertices()[AdjacencyStart()[i] .. AdjacencyStart()[i+1]).
+  const std::vector<std::uint32_t>& AdjacencyStart() const { return m_adjStart; }
+  const std::vector<std::uint32_t>& AdjacencyVertices() const { return m_adj; }
+
+  // Largest distance of a vertex from the frame origin, m: the bounding sphere about it.
+  RScalar MaxRadius() const { return m_maxRadius; }
+
+  // Exact mass properties (divergence theorem over a fan triangulation of each face).
+  RPolyhedronMass MassProperties() const;
+
+  // Index of a vertex maximising dot(v, d) over `vertices` (any array laid out like
+  // Vertices(), e.g. a world-space copy). Plain loop: the fastest for small hulls.
+  static std::uint32_t SupportLinear(const RVec3* vertices, std::uint32_t count, const RVec3& d);
+  // The same maximum by hill climbing over vertex adjacency from `start`: O(sqrt n) visits
+  // on a round hull. Where several vertices tie exactly (a face or edge facing d), either
+  // may be returned; the dot product is the same.
+  std::uint32_t SupportHillClimb(const RVec3* vertices, const RVec3& d,
+                                 std::uint32_t start = 0) const;
+  // Vertex count from which Support() climbs instead of looping (measured by
+  // tools/bench/bench_support).
+  static constexpr std::uint32_t kHillClimbMinVertices = 48;
+  std::uint32_t Support(const RVec3* vertices, const RVec3& d, std::uint32_t start = 0) const {
+    const auto n = static_cast<std::uint32_t>(m_vertices.size());
+    return n < kHillClimbMinVertices ? SupportLinear(vertices, n, d)
+                                     : SupportHillClimb(vertices, d, start);
+  }
+
+ private:
+  // Fills edges, adjacency and the bounding radius from vertices, faces and loops.
+  void BuildTopology();
+
+  std::vector<RVec3> m_vertices;
+  std::vector<RFace> m_faces;
+  std::vector<std::uint32_t> m_loops;
+  std::vector<REdge> m_edges;
+  std::vector<std::uint32_t> m_adjStart;
+  std::vector<std::uint32_t> m_adj;
+  RScalar m_maxRadius = 0;
+};
+
+}  // namespace REngine

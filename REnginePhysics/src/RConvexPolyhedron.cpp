@@ -1,0 +1,300 @@
+#include <REnginePhysics/RConvexPolyhedron.h>
+
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <utility>
+
+namespace REngine {
+
+namespace {
+
+// Relative thickness below which a cloud counts as flat: a hull thinner than this fraction
+// of its extent has no usable volume or inertia (and its face normals would be noise).
+constexpr RScalar kFlatTolerance = 1e-9;
+
+// Newell's normal of a polygon loop: robust for nearly degenerate and non-planar loops,
+// and its length is twice the polygon's area.
+RVec3 NewellNormal(const std::vector<RVec3>& v, const std::uint32_t* loop, std::uint32_t n) {
+  RVec3 sum = RVec3::Zero();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const RVec3& a = v[loop[i]];
+    const RVec3& b = v[loop[(i + 1) % n]];
+    sum += a.cross(b);
+  }
+  return sum;
+}
+
+// Owns a qhull run and frees it on every path out.
+struct QhullRun {
+  qhT qh;
+  FILE* err;
+  QhullRun() : err(std::tmpfile()) { qh_zero(&qh, err); }
+  ~QhullRun() {
+    int curlong = 0, totlong = 0;
+    qh_freeqhull(&qh, !qh_ALL);
+    qh_memfreeshort(&qh, &curlong, &totlong);
+    if (err) std::fclose(err);
+  }
+  QhullRun(const QhullRun&) = delete;
+  QhullRun& operator=(const QhullRun&) = delete;
+};
+
+}  // namespace
+
+RConvexPolyhedron RConvexPolyhedron::Box(const RVec3& e) {
+  RConvexPolyhedron p;
+  for (int i = 0; i < 8; ++i) {
+    p.m_vertices.emplace_back((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(),
+                              (i & 4) ? e.z() : -e.z());
+  }
+  // Loops counter-clockwise seen from outside (right-handed about the outward normal).
+  const std::uint32_t loops[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5},   // -x, +x
+                                     {0, 1, 5, 4}, {2, 6, 7, 3},   // -y, +y
+                                     {0, 2, 3, 1}, {4, 5, 7, 6}};  // -z, +z
+  for (int f = 0; f < 6; ++f) {
+    RFace face;
+    face.firstVertex = static_cast<std::uint32_t>(p.m_loops.size());
+    face.vertexCount = 4;
+    p.m_loops.insert(p.m_loops.end(), loops[f], loops[f] + 4);
+    const int axis = f / 2;
+    face.plane.normal = RVec3::Zero();
+    face.plane.normal[axis] = (f % 2) ? 1 : -1;
+    face.plane.offset = e[axis];
+    p.m_faces.push_back(face);
+  }
+  p.BuildTopology();
+  return p;
+}
+
+RConvexPolyhedron RConvexPolyhedron::Hull(const std::vector<RVec3>& points) {
+  if (points.size() < 4) {
+    throw RHullError("a hull needs at least 4 points that are not coplanar, got " +
+                     std::to_string(points.size()));
+  }
+  for (const RVec3& p : points) {
+    if (!AllFinite(p)) throw RHullError("a hull point is not finite");
+  }
+  // Work about the centroid: a cloud 1e7 m from the origin keeps its digits.
+  RVec3 centroid = RVec3::Zero();
+  for (const RVec3& p : points) centroid += p;
+  centroid /= static_cast<RScalar>(points.size());
+  std::vector<coordT> coords;
+  coords.reserve(points.size() * 3);
+  RScalar extent = 0;
+  for (const RVec3& p : points) {
+    const RVec3 q = p - centroid;
+    extent = std::max(extent, q.cwiseAbs().maxCoeff());
+    coords.insert(coords.end(), {q.x(), q.y(), q.z()});
+  }
+  if (!(extent > 0)) throw RHullError("all hull points are the same point");
+
+  QhullRun run;
+  qhT* qh = &run.qh;
+  // Default options: 3-d hull, coplanar facets merged into polygons (Qhull's 'C-0'), so a
+  // box given as 8 corners plus face points yields 6 quadrilaterals, as SAT and clipping need.
+  char options[] = "qhull";
+  const int code = qh_new_qhull(qh, 3, static_cast<int>(points.size()), coords.data(), False,
+                                options, nullptr, run.err);
+  if (code != 0) {
+    throw RHullError("the points are coplanar or collinear: a hull needs 4 points that span a "
+                     "solid");
+  }
+
+  RConvexPolyhedron poly;
+  // Qhull vertex -> our index, in qhull's point order (deterministic: input order).
+  std::vector<int> index(points.size(), -1);
+  {
+    std::vector<int> used;
+    vertexT* vertex;
+    FORALLvertices { used.push_back(qh_pointid(qh, vertex->point)); }
+    std::sort(used.begin(), used.end());
+    for (int id : used) {
+      index[id] = static_cast<int>(poly.m_vertices.size());
+      poly.m_vertices.push_back(points[id] - centroid);
+    }
+  }
+  // Faces: collect each facet's vertices and order them by angle about the facet's centre.
+  // Facets are taken in order of their smallest vertex index for a deterministic layout.
+  struct RawFace {
+    std::vector<std::uint32_t> loop;
+    RVec3 normal;
+  };
+  std::vector<RawFace> raw;
+  facetT* facet;
+  FORALLfacets {
+    RawFace f;
+    f.normal = RVec3(facet->normal[0], facet->normal[1], facet->normal[2]);
+    vertexT *vertex, **vertexp;
+    FOREACHvertex_(facet->vertices) {
+      f.loop.push_back(static_cast<std::uint32_t>(index[qh_pointid(qh, vertex->point)]));
+    }
+    RVec3 c = RVec3::Zero();
+    for (std::uint32_t i : f.loop) c += poly.m_vertices[i];
+    c /= static_cast<RScalar>(f.loop.size());
+    RVec3 u, w;
+    OrthonormalBasis(f.normal.normalized(), u, w);
+    std::vector<std::pair<RScalar, std::uint32_t>> byAngle;
+    for (std::uint32_t i : f.loop) {
+      const RVec3 d = poly.m_vertices[i] - c;
+      byAngle.emplace_back(std::atan2(d.dot(w), d.dot(u)), i);
+    }
+    // (u, w, n) is right-handed, so increasing angle is counter-clockwise seen from outside.
+    std::sort(byAngle.begin(), byAngle.end());
+    for (std::size_t i = 0; i < f.loop.size(); ++i) f.loop[i] = byAngle[i].second;
+    // Start each loop at its smallest index (deterministic, independent of qhull's order).
+    std::rotate(f.loop.begin(), std::min_element(f.loop.begin(), f.loop.end()), f.loop.end());
+    raw.push_back(std::move(f));
+  }
+  std::sort(raw.begin(), raw.end(),
+            [](const RawFace& a, const RawFace& b) { return a.loop < b.loop; });
+  for (const RawFace& f : raw) {
+    RFace face;
+    face.firstVertex = static_cast<std::uint32_t>(poly.m_loops.size());
+    face.vertexCount = static_cast<std::uint32_t>(f.loop.size());
+    poly.m_loops.insert(poly.m_loops.end(), f.loop.begin(), f.loop.end());
+    RVec3 n = NewellNormal(poly.m_vertices, f.loop.data(), face.vertexCount);
+    n = (n.norm() > 0 ? n.normalized() : f.normal.normalized());
+    // The plane must support every vertex of the hull, not just the loop's: take the
+    // largest offset over the loop (merged facets are planar only to rounding).
+    RScalar d = -std::numeric_limits<RScalar>::infinity();
+    for (std::uint32_t i : f.loop) d = std::max(d, n.dot(poly.m_vertices[i]));
+    face.plane = RPlane{n, d};
+    poly.m_faces.push_back(face);
+  }
+
+  // Reject slivers: thickness (3 V / A ~ smallest width) against the extent.
+  poly.BuildTopology();
+  const RPolyhedronMass mass = poly.MassProperties();
+  RScalar area = 0;
+  for (const RFace& f : poly.m_faces) {
+    area += 0.5 * NewellNormal(poly.m_vertices, &poly.m_loops[f.firstVertex], f.vertexCount).norm();
+  }
+  if (!(mass.volume > 0) || 3 * mass.volume / area < kFlatTolerance * extent) {
+    throw RHullError("the points are coplanar within 1e-9 of the cloud's size: a hull needs 4 "
+                     "points that span a solid");
+  }
+  return poly.Transformed(RMat3::Identity(), centroid);
+}
+
+RConvexPolyhedron RConvexPolyhedron::Transformed(const RMat3& R, const RVec3& t) const {
+  RConvexPolyhedron p = *this;
+  for (RVec3& v : p.m_vertices) v = R * v + t;
+  for (RFace& f : p.m_faces) {
+    f.plane.normal = R * f.plane.normal;
+    f.plane.offset += f.plane.normal.dot(t);
+  }
+  p.m_maxRadius = 0;
+  for (const RVec3& v : p.m_vertices) p.m_maxRadius = std::max(p.m_maxRadius, v.norm());
+  return p;
+}
+
+void RConvexPolyhedron::BuildTopology() {
+  // Unique edges from the loops: each undirected edge is met once from each side.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edgeIndex;
+  m_edges.clear();
+  for (std::uint32_t f = 0; f < m_faces.size(); ++f) {
+    const RFace& face = m_faces[f];
+    for (std::uint32_t i = 0; i < face.vertexCount; ++i) {
+      const std::uint32_t a = m_loops[face.firstVertex + i];
+      const std::uint32_t b = m_loops[face.firstVertex + (i + 1) % face.vertexCount];
+      const auto key = std::minmax(a, b);
+      const auto it = edgeIndex.find(key);
+      if (it == edgeIndex.end()) {
+        edgeIndex.emplace(key, static_cast<std::uint32_t>(m_edges.size()));
+        m_edges.push_back(REdge{key.first, key.second, f, f});
+      } else {
+        m_edges[it->second].f1 = f;
+      }
+    }
+  }
+  // Vertex adjacency in compressed rows, neighbours sorted.
+  std::vector<std::vector<std::uint32_t>> nb(m_vertices.size());
+  for (const REdge& e : m_edges) {
+    nb[e.v0].push_back(e.v1);
+    nb[e.v1].push_back(e.v0);
+  }
+  m_adjStart.assign(1, 0);
+  m_adj.clear();
+  for (auto& list : nb) {
+    std::sort(list.begin(), list.end());
+    m_adj.insert(m_adj.end(), list.begin(), list.end());
+    m_adjStart.push_back(static_cast<std::uint32_t>(m_adj.size()));
+  }
+  m_maxRadius = 0;
+  for (const RVec3& v : m_vertices) m_maxRadius = std::max(m_maxRadius, v.norm());
+}
+
+// Volume integrals over the solid by the divergence theorem: fan-triangulate every face
+// from its first vertex and sum the signed tetrahedra (o, a, b, c) with o a reference point
+// inside (the mean vertex, which keeps the terms small far from the origin). For a
+// tetrahedron with edge vectors a, b, c from o and volume V = det[a b c] / 6, the second
+// moment about o is  V / 20 * (sum_i x_i x_i^T + (sum_i x_i)(sum_i x_i)^T)  over its three
+// vertices x_i relative to o (Tonon 2004), so everything is exact up to rounding.
+RPolyhedronMass RConvexPolyhedron::MassProperties() const {
+  RVec3 o = RVec3::Zero();
+  for (const RVec3& v : m_vertices) o += v;
+  o /= static_cast<RScalar>(m_vertices.size());
+  RScalar volume = 0;
+  RVec3 firstMoment = RVec3::Zero();     // integral of (x - o) dV
+  RMat3 secondMoment = RMat3::Zero();    // integral of (x - o)(x - o)^T dV
+  for (const RFace& f : m_faces) {
+    const RVec3 a = m_vertices[m_loops[f.firstVertex]] - o;
+    for (std::uint32_t i = 1; i + 1 < f.vertexCount; ++i) {
+      const RVec3 b = m_vertices[m_loops[f.firstVertex + i]] - o;
+      const RVec3 c = m_vertices[m_loops[f.firstVertex + i + 1]] - o;
+      const RScalar v = a.dot(b.cross(c)) / 6;
+      const RVec3 s = a + b + c;
+      volume += v;
+      firstMoment += v * s / 4;
+      secondMoment += (v / 20) * (a * a.transpose() + b * b.transpose() + c * c.transpose() +
+                                  s * s.transpose());
+    }
+  }
+  RPolyhedronMass m;
+  m.volume = volume;
+  const RVec3 r = firstMoment / volume;  // centroid relative to o
+  m.centroid = o + r;
+  // Covariance about the centroid (parallel axis), then inertia = tr(C) I - C.
+  const RMat3 C = secondMoment - volume * r * r.transpose();
+  m.inertia = C.trace() * RMat3::Identity() - C;
+  return m;
+}
+
+std::uint32_t RConvexPolyhedron::SupportLinear(const RVec3* v, std::uint32_t n, const RVec3& d) {
+  std::uint32_t best = 0;
+  RScalar bestDot = v[0].dot(d);
+  for (std::uint32_t i = 1; i < n; ++i) {
+    const RScalar x = v[i].dot(d);
+    if (x > bestDot) bestDot = x, best = i;
+  }
+  return best;
+}
+
+std::uint32_t RConvexPolyhedron::SupportHillClimb(const RVec3* v, const RVec3& d,
+                                                  std::uint32_t start) const {
+  // Move to the best neighbour while it beats the current vertex in (dot, -index): the pair
+  // strictly increases, so the walk ends, and on a convex polyhedron a vertex no neighbour
+  // beats has the maximal dot product (the simplex method's argument).
+  std::uint32_t cur = start;
+  RScalar curDot = v[cur].dot(d);
+  for (;;) {
+    std::uint32_t next = cur;
+    RScalar nextDot = curDot;
+    for (std::uint32_t k = m_adjStart[cur]; k < m_adjStart[cur + 1]; ++k) {
+      const std::uint32_t j = m_adj[k];
+      const RScalar x = v[j].dot(d);
+      if (x > nextDot || (x == nextDot && j < next)) next = j, nextDot = x;
+    }
+    if (next == cur) return cur;
+    cur = next, curDot = nextDot;
+  }
+}
+
+}  // namespace REngine

@@ -1,0 +1,361 @@
+// Convex polyhedra: hull correctness, degenerate inputs, exact mass properties against
+// closed forms, support functions, and the stamped world-form cache.
+#include <REngineMath/RQuaternion.h>
+#include <REnginePhysics/RConvexPolyhedron.h>
+#include <REnginePhysics/RIntegrator.h>
+#include <REnginePhysics/RShape.h>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <random>
+
+using namespace REngine;
+
+namespace {
+
+std::vector<RVec3> BoxCorners(const RVec3& e) {
+  std::vector<RVec3> p;
+  for (int i = 0; i < 8; ++i)
+    p.emplace_back((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(), (i & 4) ? e.z() : -e.z());
+  return p;
+}
+
+std::vector<RVec3> RandomCloud(std::mt19937_64& rng, int n, RScalar scale, bool onSphere) {
+  std::normal_distribution<RScalar> g;
+  std::uniform_real_distribution<RScalar> u(0, 1);
+  std::vector<RVec3> p;
+  for (int i = 0; i < n; ++i) {
+    RVec3 v(g(rng), g(rng), g(rng));
+    v.normalize();
+    if (!onSphere) v *= std::cbrt(u(rng));
+    p.push_back(scale * v);
+  }
+  return p;
+}
+
+// Structural invariants every hull must satisfy, with a tolerance relative to its size.
+void ExpectValidHull(const RConvexPolyhedron& h, const std::vector<RVec3>& input,
+                     const std::string& what) {
+  const auto V = static_cast<long>(h.Vertices().size());
+  const auto E = static_cast<long>(h.Edges().size());
+  const auto F = static_cast<long>(h.Faces().size());
+  EXPECT_EQ(V - E + F, 2) << what << ": Euler's formula";
+  RScalar size = 0;
+  for (const RVec3& v : h.Vertices()) size = std::max(size, v.cwiseAbs().maxCoeff());
+  const RScalar tol = 1e-12 * size;
+  for (const RFace& f : h.Faces()) {
+    EXPECT_NEAR(f.plane.normal.norm(), 1, 1e-14);
+    // Every input point is inside or on the hull: behind every face plane.
+    for (const RVec3& p : input) EXPECT_LE(f.plane.SignedDistance(p), tol) << what;
+    // Loop is counter-clockwise about the outward normal, and lies on its plane.
+    RVec3 newell = RVec3::Zero();
+    for (std::uint32_t i = 0; i < f.vertexCount; ++i) {
+      const RVec3& a = h.Vertices()[h.LoopVertices()[f.firstVertex + i]];
+      const RVec3& b = h.Vertices()[h.LoopVertices()[f.firstVertex + (i + 1) % f.vertexCount]];
+      newell += a.cross(b);
+      EXPECT_NEAR(f.plane.SignedDistance(a), 0, tol) << what;
+    }
+    EXPECT_GT(newell.dot(f.plane.normal), 0) << what << ": loop orientation";
+  }
+  for (const REdge& e : h.Edges()) {
+    EXPECT_LT(e.v0, e.v1);
+    EXPECT_NE(e.f0, e.f1) << what << ": every edge joins two faces";
+  }
+}
+
+RScalar RelErr(RScalar a, RScalar b) { return std::abs(a - b) / std::abs(b); }
+
+}  // namespace
+
+TEST(Polyhedron, BoxTopologyAndPlanes) {
+  const RConvexPolyhedron b = RConvexPolyhedron::Box(RVec3(0.5, 1, 2));
+  EXPECT_EQ(b.Vertices().size(), 8u);
+  EXPECT_EQ(b.Edges().size(), 12u);
+  EXPECT_EQ(b.Faces().size(), 6u);
+  ExpectValidHull(b, BoxCorners(RVec3(0.5, 1, 2)), "box");
+  for (std::uint32_t i = 0; i < 8; ++i)
+    EXPECT_EQ(b.AdjacencyStart()[i + 1] - b.AdjacencyStart()[i], 3u);
+}
+
+// Boxes as hulls: corners plus points on faces, edges and inside, duplicated and shuffled.
+TEST(Polyhedron, HullOfBoxWithCoplanarDuplicateAndInteriorPoints) {
+  const RVec3 e(0.5, 1.0, 2.0);
+  std::vector<RVec3> pts = BoxCorners(e);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<RScalar> u(-1, 1);
+  for (int i = 0; i < 300; ++i) {
+    RVec3 p(u(rng) * e.x(), u(rng) * e.y(), u(rng) * e.z());
+    if (i % 3 == 0) p[i % 3] = e[i % 3];          // on a face
+    if (i % 5 == 0) p.head<2>() = e.head<2>();    // on an edge
+    pts.push_back(p);
+  }
+  for (int i = 0; i < 8; ++i) pts.push_back(pts[i]);  // duplicates
+  std::shuffle(pts.begin(), pts.end(), rng);
+  const RConvexPolyhedron h = RConvexPolyhedron::Hull(pts);
+  EXPECT_EQ(h.Vertices().size(), 8u);
+  EXPECT_EQ(h.Faces().size(), 6u) << "coplanar facets merge into the box's 6 faces";
+  ExpectValidHull(h, pts, "box hull");
+  const RMassProperties mp = ComputeMassProperties(h);
+  const RVec3 d = 2 * e;
+  EXPECT_LT(RelErr(mp.volume, d.prod()), 1e-14);
+  EXPECT_LT(mp.com_S.norm(), 1e-15);
+  const RScalar m = d.prod();
+  const RVec3 expected(m * (d.y() * d.y() + d.z() * d.z()) / 12, m * (d.x() * d.x() + d.z() * d.z()) / 12,
+                       m * (d.x() * d.x() + d.y() * d.y()) / 12);
+  RVec3 sorted = expected;
+  std::sort(sorted.data(), sorted.data() + 3);
+  for (int i = 0; i < 3; ++i) EXPECT_LT(RelErr(mp.principalMoments[i], sorted[i]), 1e-14);
+}
+
+// Regular tetrahedron with edge a: V = a^3 / (6 sqrt 2), I = m a^2 / 20 about every axis.
+TEST(Polyhedron, RegularTetrahedron) {
+  const RScalar a = 1.7;
+  const RScalar s = a / (2 * std::sqrt(2.0));
+  const std::vector<RVec3> pts = {RVec3(s, s, s), RVec3(s, -s, -s), RVec3(-s, s, -s),
+                                  RVec3(-s, -s, s)};
+  const RMassProperties mp = ComputeMassProperties(RConvexPolyhedron::Hull(pts));
+  const RScalar V = a * a * a / (6 * std::sqrt(2.0));
+  EXPECT_LT(RelErr(mp.volume, V), 1e-14);
+  EXPECT_LT(mp.com_S.norm(), 1e-15);
+  for (int i = 0; i < 3; ++i) EXPECT_LT(RelErr(mp.principalMoments[i], V * a * a / 20), 1e-13);
+}
+
+// Any tetrahedron is the affine image p0 + A x of the unit one, whose integrals are
+// int x_i x_j dV = (1 + delta_ij) / 120 and int x dV = 1/24 (per component). So
+// V = |det A| / 6, centroid p0 + A (1,1,1)/4 and second moment |det A| A M A^T.
+TEST(Polyhedron, IrregularTetrahedronAgainstAffineClosedForm) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<RScalar> u(-2, 2);
+  RMat3 M;
+  M << 2, 1, 1, 1, 2, 1, 1, 1, 2;
+  M /= 120;
+  for (int trial = 0; trial < 50; ++trial) {
+    RMat3 A;
+    for (int i = 0; i < 9; ++i) A.data()[i] = u(rng);
+    if (std::abs(A.determinant()) < 0.1) continue;
+    const RVec3 p0(u(rng), u(rng), u(rng));
+    const std::vector<RVec3> pts = {p0, p0 + A.col(0), p0 + A.col(1), p0 + A.col(2)};
+    const RPolyhedronMass pm = RConvexPolyhedron::Hull(pts).MassProperties();
+    const RScalar detA = std::abs(A.determinant());
+    const RScalar V = detA / 6;
+    const RVec3 c = p0 + A * RVec3::Constant(0.25);
+    const RMat3 S0 = detA * A * M * A.transpose();  // about p0
+    const RVec3 r = c - p0;
+    const RMat3 C = S0 - V * r * r.transpose();     // about the centroid
+    const RMat3 I = C.trace() * RMat3::Identity() - C;
+    EXPECT_LT(RelErr(pm.volume, V), 1e-13) << trial;
+    EXPECT_LT((pm.centroid - c).norm(), 1e-13 * (1 + c.norm())) << trial;
+    EXPECT_LT((pm.inertia - I).norm(), 1e-12 * I.norm()) << trial;
+  }
+}
+
+// Octahedron |x| + |y| + |z| <= a: V = 4 a^3 / 3, I = m a^2 / 5.
+TEST(Polyhedron, Octahedron) {
+  const RScalar a = 0.8;
+  std::vector<RVec3> pts;
+  for (int i = 0; i < 3; ++i)
+    for (RScalar sgn : {-1.0, 1.0}) {
+      RVec3 p = RVec3::Zero();
+      p[i] = sgn * a;
+      pts.push_back(p);
+    }
+  const RConvexPolyhedron h = RConvexPolyhedron::Hull(pts);
+  EXPECT_EQ(h.Faces().size(), 8u);
+  const RMassProperties mp = ComputeMassProperties(h);
+  const RScalar V = 4 * a * a * a / 3;
+  EXPECT_LT(RelErr(mp.volume, V), 1e-14);
+  for (int i = 0; i < 3; ++i) EXPECT_LT(RelErr(mp.principalMoments[i], V * a * a / 5), 1e-13);
+}
+
+// Regular n-gon prism, circumradius R, height h: area A = n R^2 sin(2 pi / n) / 2, polar
+// moment J = n R^4 sin(2 pi / n) (2 + cos(2 pi / n)) / 12; I_axis = h J,
+// I_perp = h J / 2 + A h^3 / 12. As n grows it becomes the cylinder, m R^2 / 2 and
+// m (3 R^2 + h^2) / 12, with error O(1/n^2).
+TEST(Polyhedron, PrismsConvergeToCylinder) {
+  const RScalar R = 0.6, h = 2.0;
+  RScalar prevErr = 1;
+  for (int n : {3, 6, 12, 24, 48, 96}) {
+    std::vector<RVec3> pts;
+    for (int k = 0; k < n; ++k) {
+      const RScalar t = 2 * kPi * k / n;
+      pts.emplace_back(R * std::cos(t), R * std::sin(t), -h / 2);
+      pts.emplace_back(R * std::cos(t), R * std::sin(t), h / 2);
+    }
+    const RConvexPolyhedron hull = RConvexPolyhedron::Hull(pts);
+    EXPECT_EQ(hull.Faces().size(), static_cast<std::size_t>(n + 2)) << n;
+    const RPolyhedronMass pm = hull.MassProperties();
+    const RScalar s2 = std::sin(2 * kPi / n), c2 = std::cos(2 * kPi / n);
+    const RScalar A = n * R * R * s2 / 2, J = n * R * R * R * R * s2 * (2 + c2) / 12;
+    EXPECT_LT(RelErr(pm.volume, A * h), 1e-13) << n;
+    EXPECT_LT(RelErr(pm.inertia(2, 2), h * J), 1e-12) << n;
+    EXPECT_LT(RelErr(pm.inertia(0, 0), h * J / 2 + A * h * h * h / 12), 1e-12) << n;
+    EXPECT_LT(RelErr(pm.inertia(1, 1), h * J / 2 + A * h * h * h / 12), 1e-12) << n;
+    const RScalar m = pm.volume;
+    const RScalar err = RelErr(pm.inertia(2, 2), m * R * R / 2);
+    if (n >= 12) {
+      EXPECT_LT(err, prevErr / 3.5) << "O(1/n^2) convergence at n = " << n;
+    }
+    prevErr = err;
+    EXPECT_LT(RelErr(pm.inertia(0, 0), m * (3 * R * R + h * h) / 12), 30.0 / (n * n)) << n;
+  }
+}
+
+TEST(Polyhedron, MassPropertiesInvariantUnderRigidMotion) {
+  std::mt19937_64 rng(11);
+  const std::vector<RVec3> base = RandomCloud(rng, 60, 1.3, false);
+  const RMassProperties ref = ComputeMassProperties(RConvexPolyhedron::Hull(base));
+  for (RScalar offset : {0.0, 10.0, 1e4, 1e7}) {
+    const RQuat q = QuatExp(RVec3(0.4, -1.1, 2.0));
+    const RVec3 t(offset, -offset / 2, 3);
+    std::vector<RVec3> moved;
+    for (const RVec3& p : base) moved.push_back(q * p + t);
+    const RMassProperties mp = ComputeMassProperties(RConvexPolyhedron::Hull(moved));
+    // Far out, the input coordinates themselves carry rounding of eps * offset.
+    const RScalar tol = 1e-12 + 4 * RTol::kEpsilon * offset;
+    EXPECT_LT(RelErr(mp.volume, ref.volume), tol) << offset;
+    EXPECT_LT((mp.principalMoments - ref.principalMoments).norm(), tol * ref.principalMoments.norm())
+        << offset;
+    EXPECT_LT((mp.com_S - (q * ref.com_S + t)).norm(), 1e-12 + 4 * RTol::kEpsilon * offset) << offset;
+  }
+  // Points inside the hull change nothing.
+  std::vector<RVec3> more = base;
+  for (const RVec3& p : RandomCloud(rng, 200, 0.3, false)) more.push_back(p);
+  const RMassProperties mp = ComputeMassProperties(RConvexPolyhedron::Hull(more));
+  EXPECT_LT(RelErr(mp.volume, ref.volume), 1e-14);
+  EXPECT_LT((mp.principalMoments - ref.principalMoments).norm(), 1e-14 * ref.principalMoments.norm());
+}
+
+TEST(Polyhedron, RandomCloudsGiveValidHulls) {
+  std::mt19937_64 rng(13);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 4 + trial * 25;
+    const RScalar scale = std::pow(10.0, trial % 5 - 2);  // 1 cm to 100 m
+    const std::vector<RVec3> pts = RandomCloud(rng, n, scale, trial % 2 == 0);
+    const RConvexPolyhedron h = RConvexPolyhedron::Hull(pts);
+    ExpectValidHull(h, pts, "cloud " + std::to_string(trial));
+    EXPECT_GT(h.MassProperties().volume, 0);
+  }
+}
+
+TEST(Polyhedron, DegenerateInputs) {
+  auto throws = [](const std::vector<RVec3>& p) {
+    EXPECT_THROW(RConvexPolyhedron::Hull(p), RHullError);
+  };
+  throws({});
+  throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0)});                          // 3 points
+  throws({RVec3(0, 0, 0), RVec3(0, 0, 0), RVec3(0, 0, 0), RVec3(0, 0, 0)});           // one point
+  throws({RVec3(0, 0, 0), RVec3(1, 1, 1), RVec3(2, 2, 2), RVec3(-3, -3, -3)});        // collinear
+  throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(1, 1, 0), RVec3(5, 2, 0)});  // flat
+  throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-12)});       // sliver
+  throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(NAN, 1, 0), RVec3(0, 0, 1)});         // NaN
+  // Thin but solid (1e-6 of its size) is a valid hull with the exact volume.
+  const RConvexPolyhedron thin =
+      RConvexPolyhedron::Hull({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-6)});
+  EXPECT_LT(RelErr(thin.MassProperties().volume, 1e-6 / 6), 1e-9);
+  // A unit cube 1e7 m out keeps its shape.
+  std::vector<RVec3> far;
+  for (const RVec3& p : BoxCorners(RVec3(0.5, 0.5, 0.5))) far.push_back(p + RVec3(1e7, -1e7, 1e7));
+  const RConvexPolyhedron h = RConvexPolyhedron::Hull(far);
+  EXPECT_EQ(h.Faces().size(), 6u);
+  EXPECT_LT(RelErr(h.MassProperties().volume, 1.0), 1e-9);
+}
+
+TEST(Polyhedron, HillClimbingSupportMatchesLinear) {
+  std::mt19937_64 rng(17);
+  std::normal_distribution<RScalar> g;
+  for (int n : {8, 20, 60, 200, 1000}) {
+    const RConvexPolyhedron h = RConvexPolyhedron::Hull(RandomCloud(rng, n, 2.0, true));
+    const auto& v = h.Vertices();
+    const auto count = static_cast<std::uint32_t>(v.size());
+    for (int k = 0; k < 500; ++k) {
+      const RVec3 d(g(rng), g(rng), g(rng));
+      const std::uint32_t a = RConvexPolyhedron::SupportLinear(v.data(), count, d);
+      const std::uint32_t b = h.SupportHillClimb(v.data(), d, static_cast<std::uint32_t>(k) % count);
+      EXPECT_EQ(a, b) << "n " << n;
+    }
+  }
+  // Ties (a box face facing d): the same maximal dot product.
+  const RConvexPolyhedron box = RConvexPolyhedron::Box(RVec3(1, 2, 3));
+  for (const RVec3& d : {RVec3(1, 0, 0), RVec3(0, -1, 0), RVec3(1, 1, 0)}) {
+    const auto& v = box.Vertices();
+    EXPECT_EQ(v[RConvexPolyhedron::SupportLinear(v.data(), 8, d)].dot(d),
+              v[box.SupportHillClimb(v.data(), d, 7)].dot(d));
+  }
+}
+
+// The world form is computed at most once per body per step, however often it is asked for.
+TEST(Polyhedron, WorldFormIsCachedAgainstTheStamp) {
+  RBodyDef def;
+  def.shape.type = RShapeType::kBox;
+  def.shape.halfExtents = RVec3(0.5, 1, 1.5);
+  def.angularVelocity_W = RVec3(0.3, 0.2, 0.1);
+  def.velocity_W = RVec3(1, 0, 0);
+  std::vector<RRigidBody> bodies{RRigidBody(def)};
+  RIntegrator integrator;
+  integrator.Update(bodies, 0.01);
+  const RRigidBody& b = bodies[0];
+  EXPECT_EQ(b.WorldFormComputations(), 0u);  // nothing asked yet: nothing computed
+  for (int i = 0; i < 5; ++i) b.WorldForm(integrator.CacheStamp());
+  EXPECT_EQ(b.WorldFormComputations(), 1u);
+  // Its contents: the body's vertices, rotated and translated.
+  const RWorldForm& wf = b.WorldForm(integrator.CacheStamp());
+  const RMat3 R = b.Orientation_WB().toRotationMatrix();
+  for (std::size_t i = 0; i < wf.vertices_W.size(); ++i) {
+    const RVec3 expect = R * b.Polyhedron_B()->Vertices()[i] + b.Position_W();
+    EXPECT_LT((wf.vertices_W[i] - expect).norm(), 1e-15);
+    EXPECT_TRUE((wf.vertices_W[i].array() >= wf.aabbMin_W.array()).all());
+    EXPECT_TRUE((wf.vertices_W[i].array() <= wf.aabbMax_W.array()).all());
+    EXPECT_LE((wf.vertices_W[i] - wf.sphereCenter_W).norm(), wf.sphereRadius * (1 + 1e-15));
+    for (const RPlane& p : wf.planes_W) EXPECT_LE(p.SignedDistance(wf.vertices_W[i]), 1e-14);
+  }
+  integrator.Update(bodies, 0.01);
+  b.WorldForm(integrator.CacheStamp());
+  b.WorldForm(integrator.CacheStamp());
+  EXPECT_EQ(b.WorldFormComputations(), 2u);
+  bodies[0].SetShapePose(RVec3(5, 0, 0), RQuat::Identity());  // moved by game code
+  b.WorldForm(integrator.CacheStamp());
+  EXPECT_EQ(b.WorldFormComputations(), 3u);
+  EXPECT_NEAR(b.WorldForm(integrator.CacheStamp()).aabbMin_W.x(), 4.5, 1e-15);
+}
+
+// A scene pose round-trips through the body frame for a hull whose centre of mass is off its
+// origin and whose principal axes are not its frame's.
+TEST(Polyhedron, HullBodyRoundTripsTheScenePose) {
+  RBodyDef def;
+  def.shape.type = RShapeType::kHull;
+  def.shape.points = {RVec3(1, 0, 0), RVec3(0, 2, 0), RVec3(0, 0, 3), RVec3(-1, -1, -1),
+                      RVec3(0.5, 0.5, 2)};
+  def.position_W = RVec3(10, -3, 2);
+  def.q_WS = QuatExp(RVec3(0.3, 0.1, -0.7));
+  const RRigidBody b(def);
+  EXPECT_LT((b.ShapePosition_W() - def.position_W).norm(), 1e-14);
+  EXPECT_LT(QuatAngleBetween(b.ShapeOrientation_WS(), def.q_WS), 1e-15);
+  EXPECT_GT(b.ShapeOffset_B().norm(), 0.1);
+}
+
+// A spinning irregular hull in zero gravity conserves energy and angular momentum (the
+// exact torque-free flow: to rounding, as for the box in the Dzhanibekov test).
+TEST(Polyhedron, SpinningIrregularHullConservesInvariants) {
+  std::mt19937_64 rng(23);
+  RBodyDef def;
+  def.shape.type = RShapeType::kHull;
+  def.shape.points = RandomCloud(rng, 30, 1.0, false);
+  for (RVec3& p : def.shape.points) p = p.cwiseProduct(RVec3(1.0, 0.6, 0.3)) + RVec3(0.2, 0, 0);
+  def.density = 2500;
+  def.angularVelocity_W = RVec3(0.4, 3.0, -0.2);
+  std::vector<RRigidBody> bodies{RRigidBody(def)};
+  ASSERT_EQ(bodies[0].Symmetry(), RInertiaSymmetry::kGeneral);
+  const RScalar E0 = bodies[0].RotationalKineticEnergy();
+  const RVec3 L0 = bodies[0].AngularMomentum_W();
+  RIntegrator integrator;
+  RScalar worstE = 0, worstL = 0;
+  for (int i = 0; i < 36000; ++i) {
+    integrator.Update(bodies, 1.0 / 60);
+    worstE = std::max(worstE, std::abs(bodies[0].RotationalKineticEnergy() / E0 - 1));
+    worstL = std::max(worstL, (bodies[0].AngularMomentum_W() - L0).norm() / L0.norm());
+  }
+  EXPECT_LT(worstE, 1e-12);
+  EXPECT_LT(worstL, 1e-12);
+}
