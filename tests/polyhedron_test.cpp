@@ -107,6 +107,9 @@ TEST(Polyhedron, HullOfBoxWithCoplanarDuplicateAndInteriorPoints) {
   RVec3 sorted = expected;
   std::sort(sorted.data(), sorted.data() + 3);
   for (int i = 0; i < 3; ++i) EXPECT_LT(RelErr(mp.principalMoments[i], sorted[i]), 1e-14);
+  std::printf("mass properties, box hull: volume rel err %.2g, moments rel err %.2g\n",
+              RelErr(mp.volume, d.prod()),
+              (mp.principalMoments - sorted).cwiseQuotient(sorted).cwiseAbs().maxCoeff());
 }
 
 // Regular tetrahedron with edge a: V = a^3 / (6 sqrt 2), I = m a^2 / 20 about every axis.
@@ -120,6 +123,9 @@ TEST(Polyhedron, RegularTetrahedron) {
   EXPECT_LT(RelErr(mp.volume, V), 1e-14);
   EXPECT_LT(mp.com_S.norm(), 1e-15);
   for (int i = 0; i < 3; ++i) EXPECT_LT(RelErr(mp.principalMoments[i], V * a * a / 20), 1e-13);
+  std::printf("mass properties, regular tetrahedron: volume rel err %.2g, moments rel err %.2g\n",
+              RelErr(mp.volume, V),
+              (mp.principalMoments / (V * a * a / 20) - RVec3::Ones()).cwiseAbs().maxCoeff());
 }
 
 // Any tetrahedron is the affine image p0 + A x of the unit one, whose integrals are
@@ -131,6 +137,7 @@ TEST(Polyhedron, IrregularTetrahedronAgainstAffineClosedForm) {
   RMat3 M;
   M << 2, 1, 1, 1, 2, 1, 1, 1, 2;
   M /= 120;
+  RScalar worstV = 0, worstI = 0;
   for (int trial = 0; trial < 50; ++trial) {
     RMat3 A;
     for (int i = 0; i < 9; ++i) A.data()[i] = u(rng);
@@ -148,7 +155,11 @@ TEST(Polyhedron, IrregularTetrahedronAgainstAffineClosedForm) {
     EXPECT_LT(RelErr(pm.volume, V), 1e-13) << trial;
     EXPECT_LT((pm.centroid - c).norm(), 1e-13 * (1 + c.norm())) << trial;
     EXPECT_LT((pm.inertia - I).norm(), 1e-12 * I.norm()) << trial;
+    worstV = std::max(worstV, RelErr(pm.volume, V));
+    worstI = std::max(worstI, (pm.inertia - I).norm() / I.norm());
   }
+  std::printf("mass properties, irregular tetrahedra: volume rel err %.2g, inertia rel err %.2g\n",
+              worstV, worstI);
 }
 
 // Octahedron |x| + |y| + |z| <= a: V = 4 a^3 / 3, I = m a^2 / 5.
@@ -167,6 +178,9 @@ TEST(Polyhedron, Octahedron) {
   const RScalar V = 4 * a * a * a / 3;
   EXPECT_LT(RelErr(mp.volume, V), 1e-14);
   for (int i = 0; i < 3; ++i) EXPECT_LT(RelErr(mp.principalMoments[i], V * a * a / 5), 1e-13);
+  std::printf("mass properties, octahedron: volume rel err %.2g, moments rel err %.2g\n",
+              RelErr(mp.volume, V),
+              (mp.principalMoments / (V * a * a / 5) - RVec3::Ones()).cwiseAbs().maxCoeff());
 }
 
 // Regular n-gon prism, circumradius R, height h: area A = n R^2 sin(2 pi / n) / 2, polar
@@ -192,6 +206,11 @@ TEST(Polyhedron, PrismsConvergeToCylinder) {
     EXPECT_LT(RelErr(pm.inertia(2, 2), h * J), 1e-12) << n;
     EXPECT_LT(RelErr(pm.inertia(0, 0), h * J / 2 + A * h * h * h / 12), 1e-12) << n;
     EXPECT_LT(RelErr(pm.inertia(1, 1), h * J / 2 + A * h * h * h / 12), 1e-12) << n;
+    std::printf("mass properties, %d-gon prism: volume rel err %.2g, I_axis rel err %.2g, "
+                "I_perp rel err %.2g; I_axis vs cylinder %.2g\n", n, RelErr(pm.volume, A * h),
+                RelErr(pm.inertia(2, 2), h * J),
+                RelErr(pm.inertia(0, 0), h * J / 2 + A * h * h * h / 12),
+                RelErr(pm.inertia(2, 2), pm.volume * R * R / 2));
     const RScalar m = pm.volume;
     const RScalar err = RelErr(pm.inertia(2, 2), m * R * R / 2);
     if (n >= 12) {
