@@ -62,9 +62,12 @@ def main():
             l_world[i] = r_wb @ l_body
         for k, label in enumerate(("smallest", "intermediate", "largest")):
             ax_w.plot(t, w_body[:, k], lw=0.8, label=f"ω about {label} moment axis")
+        window = min(t[-1], 120.0)  # a few periods read better than a solid band
+        ax_w.set_xlim(0, window)
         ax_w.set_xlabel("time (s)")
         ax_w.set_ylabel("body-frame angular velocity (rad/s)")
-        ax_w.set_title(f"{d['name']}: angular velocity in the principal frame")
+        ax_w.set_title(f"{d['name']}: angular velocity in the principal frame "
+                       f"(first {window:g} s)")
         ax_w.legend(loc="upper right", fontsize=8)
 
         e_err = np.abs(energy / energy[0] - 1) if energy[0] > 0 else np.zeros(len(t))

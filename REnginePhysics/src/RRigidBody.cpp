@@ -8,7 +8,7 @@ namespace REngine {
 
 namespace {
 void Require(bool ok, const char* field, const char* what) {
-  if (!ok) throw std::invalid_argument(std::string(field) + ": " + what);
+  if (!ok) throw RBodyError(field, what);
 }
 bool PositiveFinite(RScalar x) { return std::isfinite(x) && x > 0; }
 }  // namespace
@@ -47,7 +47,7 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     try {
       hull_S = RConvexPolyhedron::Hull(def.shape.points);
     } catch (const RHullError& e) {
-      throw std::invalid_argument(std::string("shape.points: ") + e.what());
+      throw RBodyError("shape.points", e.what());
     }
     mp = ComputeMassProperties(hull_S);
     m_q_BS = mp.q_SB.conjugate();
@@ -76,12 +76,16 @@ RRigidBody::RRigidBody(const RBodyDef& def)
       Require(PositiveFinite(def.density), "density", "must be finite and > 0");
       m_mass = def.density * mp.volume;
     }
-    Require(PositiveFinite(m_mass), "mass", "density * volume is not a positive finite mass");
+    const char* massField = def.mass ? "mass" : "density";
+    Require(PositiveFinite(m_mass), massField, "density * volume is not a positive finite mass");
     m_invMass = 1 / m_mass;
     m_I_B = mp.principalMoments * (m_mass / mp.volume);
-    Require(AllFinite(m_I_B) && (m_I_B.array() > 0).all(), "shape",
-            "gives a non-positive or non-finite inertia");
     m_invI_B = m_I_B.cwiseInverse();
+    // A mass of 1e-310 is positive and finite, but its inverse is not: refuse it here rather
+    // than let the first step produce infinities.
+    Require(std::isfinite(m_invMass) && AllFinite(m_I_B) && (m_I_B.array() > 0).all() &&
+                AllFinite(m_invI_B),
+            massField, "gives a mass or inertia too small or too large to invert");
     m_rotation.SetInertia(m_I_B);
   }
   SetShapePose(def.position_W, *q_WS);

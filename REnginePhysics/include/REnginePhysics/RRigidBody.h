@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,6 +31,21 @@ struct RWorldForm {
   RVec3 aabbMax_W = RVec3::Zero();
   RVec3 sphereCenter_W = RVec3::Zero();  // bounding sphere about the centre of mass, m
   RScalar sphereRadius = 0;
+};
+
+// A body definition that cannot make a body: which field (named as in the scene format,
+// e.g. "shape.radius") and what is wrong with it.
+class RBodyError : public std::invalid_argument {
+ public:
+  RBodyError(std::string field, std::string problem)
+      : std::invalid_argument(field + ": " + problem),
+        m_field(std::move(field)),
+        m_problem(std::move(problem)) {}
+  const std::string& Field() const { return m_field; }
+  const std::string& Problem() const { return m_problem; }
+
+ private:
+  std::string m_field, m_problem;
 };
 
 // What a game or a scene file says about a body; RRigidBody copies it.
@@ -50,8 +66,9 @@ struct RBodyDef {
 
 class RRigidBody {
  public:
-  // Computes the mass properties. Throws std::invalid_argument on a definition that would
-  // give a non-finite or non-positive mass, size or inertia, naming the field.
+  // Computes the mass properties. Throws RBodyError on a definition that would give a
+  // non-finite or non-positive size, mass or inertia (or non-finite inverses), or whose
+  // hull points do not span a solid, naming the field.
   explicit RRigidBody(const RBodyDef& def);
 
   const std::string& Name() const { return m_name; }

@@ -1,0 +1,17 @@
+# REngine::Scene: reads and validates scene files (../shared/SCENE_FORMAT.md). A library of
+# its own so that a game linking REngine::Physics does not pull in a JSON parser.
+find_package(nlohmann_json 3 REQUIRED)
+
+add_library(REngineScene src/RScene.cpp)
+add_library(REngine::Scene ALIAS REngineScene)
+set_target_properties(REngineScene PROPERTIES EXPORT_NAME Scene OUTPUT_NAME rengine_scene)
+target_include_directories(REngineScene PUBLIC
+  $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+  $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+target_link_libraries(REngineScene
+  PUBLIC REngine::Physics
+  PRIVATE nlohmann_json::nlohmann_json $<BUILD_INTERFACE:rengine_warnings>)
+
+if(RENGINE_INSTALL)
+  install(TARGETS REngineScene EXPORT REngineTargets)
+endif()

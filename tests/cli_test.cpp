@@ -1,0 +1,461 @@
+// rengine-sim as its users see it: exit codes, messages, the CSV and --describe contracts
+// of ../shared/SCENE_FORMAT.md, and determinism. Runs the built binary through the shell.
+#include <REngineMath/RQuaternion.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace REngine;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScenes = RENGINE_SHARED_SCENES;
+const std::string kHeader = "step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+  std::string LastErrLine() const {
+    std::string s = err;
+    while (!s.empty() && s.back() == '\n') s.pop_back();
+    return s.substr(s.find_last_of('\n') + 1);  // npos + 1 == 0
+  }
+};
+
+struct Row {
+  std::uint64_t step = 0;
+  double time = 0;
+  std::string body;
+  std::array<double, 13> state{};  // x y z qw qx qy qz vx vy vz wx wy wz
+};
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> Split(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream s(line);
+  for (std::string f; std::getline(s, f, ',');) fields.push_back(f);
+  return fields;
+}
+
+// The rows of a trajectory whose body names hold no commas; checks the header on the way.
+std::vector<Row> ParseCsv(const std::string& text) {
+  std::vector<Row> rows;
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, kHeader);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> f = Split(line);
+    EXPECT_EQ(f.size(), 16u) << line;
+    if (f.size() != 16) break;
+    Row r;
+    r.step = std::stoull(f[0]);
+    r.time = std::strtod(f[1].c_str(), nullptr);
+    r.body = f[2];
+    for (int i = 0; i < 13; ++i) r.state[i] = std::strtod(f[3 + i].c_str(), nullptr);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+// Each test gets its own scratch directory, removed afterwards.
+class Cli : public testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string test = testing::UnitTest::GetInstance()->current_test_info()->name();
+    m_dir = fs::temp_directory_path() / ("rengine_cli_" + test + "_" + std::to_string(::getpid()));
+    fs::remove_all(m_dir);
+    fs::create_directories(m_dir);
+  }
+  void TearDown() override { fs::remove_all(m_dir); }
+
+  fs::path Path(const std::string& name) const { return m_dir / name; }
+  fs::path Write(const std::string& name, const std::string& text) const {
+    std::ofstream(Path(name), std::ios::binary) << text;
+    return Path(name);
+  }
+
+  // rengine-sim with `args` (already shell-quoted where needed).
+  Result Run(const std::string& args) const {
+    const std::string command = Quote(RENGINE_SIM) + " " + args + " >" + Quote(Path("stdout")) +
+                                " 2>" + Quote(Path("stderr"));
+    const int status = std::system(command.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = ReadFile(Path("stdout"));
+    r.err = ReadFile(Path("stderr"));
+    return r;
+  }
+
+  fs::path m_dir;
+};
+
+// One body per entry; `fields` are the body's fields after its name.
+std::string SceneOf(const std::vector<std::pair<std::string, std::string>>& bodies,
+                    const std::string& top = R"("dt": 0.01, "steps": 10)") {
+  std::string s = "{" + top + R"(, "bodies": [)";
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    s += (i ? ",\n" : "\n") + std::string(R"({"name": ")") + bodies[i].first + "\", " +
+         bodies[i].second + "}";
+  }
+  return s + "]}";
+}
+
+const std::string kSphere = R"("shape": {"type": "sphere", "radius": 0.5})";
+
+}  // namespace
+
+TEST_F(Cli, HeadOnElasticRunsAndWritesTheContractsCsv) {
+  const Result r = Run(Quote(kScenes + "/head_on_elastic.json") + " --out " + Quote(Path("t.csv")));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, "");  // the trajectory went to the file
+  const std::string csv = ReadFile(Path("t.csv"));
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), kHeader);
+  const std::vector<Row> rows = ParseCsv(csv);
+  ASSERT_EQ(rows.size(), 2u * 241);  // steps 0..240, bodies a and b
+  EXPECT_EQ(rows[0].body, "a");
+  EXPECT_EQ(rows[1].body, "b");
+  EXPECT_EQ(rows.back().step, 240u);
+}
+
+TEST_F(Cli, WritesToStandardOutputByDefault) {
+  const Result r = Run(Quote(kScenes + "/head_on_elastic.json") + " --steps 3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(ParseCsv(r.out).size(), 2u * 4);
+}
+
+TEST_F(Cli, RowsAtStepZeroEveryKthStepAndTheLast) {
+  struct Case {
+    std::string options;
+    std::vector<std::uint64_t> steps;
+  };
+  std::vector<std::uint64_t> by7;
+  for (std::uint64_t s = 0; s <= 240; s += 7) by7.push_back(s);
+  by7.push_back(240);  // the last step, not a multiple of 7
+  const std::vector<Case> cases = {
+      {"--every 7", by7},
+      {"--every 60", {0, 60, 120, 180, 240}},  // the last step once, though a multiple of 60
+      {"--every 1000", {0, 240}},
+      {"--steps 3", {0, 1, 2, 3}},
+      {"--steps 0", {0}},
+      {"--steps 5 --every 2", {0, 2, 4, 5}},
+  };
+  const double dt = 0.008333333333333333;  // the scene's
+  for (const Case& c : cases) {
+    const Result r = Run(Quote(kScenes + "/head_on_elastic.json") + " " + c.options);
+    ASSERT_EQ(r.code, 0) << c.options << ": " << r.err;
+    const std::vector<Row> rows = ParseCsv(r.out);
+    ASSERT_EQ(rows.size(), 2 * c.steps.size()) << c.options;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      EXPECT_EQ(rows[i].step, c.steps[i / 2]) << c.options;
+      EXPECT_EQ(rows[i].body, i % 2 ? "b" : "a") << c.options;
+      // time is step * dt as a product, to the last bit
+      EXPECT_EQ(rows[i].time, static_cast<double>(rows[i].step) * dt) << c.options;
+    }
+  }
+}
+
+TEST_F(Cli, DtOptionOverridesTheScene) {
+  const Result r = Run(Quote(kScenes + "/head_on_elastic.json") + " --steps 2 --dt 0.5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<Row> rows = ParseCsv(r.out);
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[5].time, 1.0);
+  EXPECT_EQ(rows[5].state[0], 2 + 2 * 0.5 * -1.0);  // b: x0 + t v, free flight
+}
+
+// The scene's pose goes in and comes out unchanged, also for a hull, whose body frame
+// (centre of mass, principal axes) differs from the frame the scene gives.
+TEST_F(Cli, StepZeroRowIsTheScenePose) {
+  const std::string scene = SceneOf({
+      {"box", R"("shape": {"type": "box", "half_extents": [0.5, 1, 1.5]}, "mass": 2,
+                 "position": [1.5, -2.25, 3], "orientation": [0.9, 0.1, 0.3, 0.2],
+                 "velocity": [0.25, -1, 2], "angular_velocity": [0.3, -0.7, 1.1])"},
+      {"ball", R"("shape": {"type": "sphere", "radius": 0.5}, "position": [-4, 0.5, 7],
+                  "orientation": [0.5, -0.5, 0.5, 0.5], "velocity": [1, 2, 3],
+                  "angular_velocity": [-2, 0.5, 0.25])"},
+      {"rock", R"("shape": {"type": "hull", "points": [[0, 0, 0], [2, 0, 0], [0, 1, 0], [0, 0, 3]]},
+                  "position": [1, 2, 3], "orientation": [0.9, 0.1, 0.3, 0.2],
+                  "velocity": [0, 0, 1], "angular_velocity": [0.1, 0.2, 0.3])"},
+  });
+  const Result r = Run(Quote(Write("pose.json", scene)) + " --steps 0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<Row> rows = ParseCsv(r.out);
+  ASSERT_EQ(rows.size(), 3u);
+  struct Expected {
+    RVec3 x;
+    RVec4 q;
+    RVec3 v, w;
+  };
+  const std::vector<Expected> expected = {
+      {{1.5, -2.25, 3}, RVec4(0.9, 0.1, 0.3, 0.2).normalized(), {0.25, -1, 2}, {0.3, -0.7, 1.1}},
+      {{-4, 0.5, 7}, RVec4(0.5, -0.5, 0.5, 0.5), {1, 2, 3}, {-2, 0.5, 0.25}},
+      {{1, 2, 3}, RVec4(0.9, 0.1, 0.3, 0.2).normalized(), {0, 0, 1}, {0.1, 0.2, 0.3}},
+  };
+  for (std::size_t b = 0; b < 3; ++b) {
+    const std::array<double, 13>& s = rows[b].state;
+    const Expected& e = expected[b];
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(s[i], e.x[i], 1e-15) << rows[b].body << " x" << i;
+      EXPECT_NEAR(s[7 + i], e.v[i], 1e-15) << rows[b].body << " v" << i;
+      EXPECT_NEAR(s[10 + i], e.w[i], 1e-15) << rows[b].body << " w" << i;
+    }
+    // The same rotation, written with the scene's sign.
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(s[3 + i], e.q[i], 1e-15) << rows[b].body << " q" << i;
+  }
+}
+
+TEST_F(Cli, DescribeGivesWorldMassProperties) {
+  const RVec4 q = RVec4(0.9, 0.1, 0.3, 0.2).normalized();
+  const std::string scene = SceneOf({
+      {"box", R"("shape": {"type": "box", "half_extents": [0.5, 1, 1.5]}, "mass": 2,
+                 "position": [1, 2, 3], "orientation": [0.9, 0.1, 0.3, 0.2])"},
+      {"ball", R"("shape": {"type": "sphere", "radius": 0.5}, "density": 2,
+                  "position": [-1, 0, 0])"},
+      {"ground", R"("shape": {"type": "box", "half_extents": [50, 0.5, 50]}, "static": true)"},
+  });
+  const Result r = Run(Quote(Write("describe.json", scene)) + " --describe");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json list = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(list.is_array());
+  ASSERT_EQ(list.size(), 3u);
+
+  const auto vec = [](const nlohmann::json& j) {
+    return RVec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  };
+  for (const nlohmann::json& body : list) {
+    const nlohmann::json& moments = body["principal_moments"];
+    const nlohmann::json& axes = body["principal_axes"];
+    ASSERT_EQ(moments.size(), 3u);
+    ASSERT_EQ(axes.size(), 3u);
+    EXPECT_LE(moments[0].get<double>(), moments[1].get<double>()) << body["name"];
+    EXPECT_LE(moments[1].get<double>(), moments[2].get<double>()) << body["name"];
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_NEAR(vec(axes[i]).dot(vec(axes[j])), i == j ? 1.0 : 0.0, 1e-14) << body["name"];
+      }
+    }
+  }
+
+  // Box: I = m (b^2 + c^2) / 3 and cyclically for half extents (a, b, c); ascending, the
+  // moments are about the local z, y and x axes, which the orientation turns into the world.
+  const nlohmann::json& box = list[0];
+  EXPECT_EQ(box["name"], "box");
+  EXPECT_EQ(box["mass"].get<double>(), 2.0);
+  EXPECT_LT((vec(box["com"]) - RVec3(1, 2, 3)).norm(), 1e-15);
+  const double m = 2, a = 0.5, b = 1, c = 1.5;
+  const RVec3 moments(m * (a * a + b * b) / 3, m * (a * a + c * c) / 3, m * (b * b + c * c) / 3);
+  const RMat3 R_WS = QuatFromWXYZ(q).toRotationMatrix();
+  const int localAxis[3] = {2, 1, 0};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(box["principal_moments"][i].get<double>(), moments[i], 1e-14);
+    EXPECT_NEAR(std::abs(vec(box["principal_axes"][i]).dot(R_WS.col(localAxis[i]))), 1.0, 1e-14);
+  }
+
+  const nlohmann::json& ball = list[1];
+  const double ballMass = 2 * 4.0 / 3 * kPi * 0.125;
+  EXPECT_NEAR(ball["mass"].get<double>(), ballMass, 1e-14);
+  EXPECT_EQ(vec(ball["com"]), RVec3(-1, 0, 0));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(ball["principal_moments"][i].get<double>(), 0.4 * ballMass * 0.25, 1e-14);
+  }
+
+  const nlohmann::json& ground = list[2];
+  EXPECT_EQ(ground["mass"].get<double>(), 0.0);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(ground["principal_moments"][i].get<double>(), 0.0);
+}
+
+TEST_F(Cli, SummaryIsTheLastLineAndTheOnlyOneWithoutATerminal) {
+  for (const char* quiet : {"", " --quiet"}) {
+    const Result r = Run(Quote(kScenes + "/head_on_elastic.json") + " --out " +
+                         Quote(Path("t.csv")) + quiet);
+    ASSERT_EQ(r.code, 0) << r.err;
+    // stderr is a file here, not a terminal: no progress display, only the summary.
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(std::regex_match(
+        r.LastErrLine(),
+        std::regex(R"(steps=240 bodies=2 ms_per_step=[0-9.e+-]+ hash=[0-9a-f]{16})")))
+        << r.err;
+  }
+}
+
+// The hash is FNV-1a 64 over the final state's doubles; the CSV's 17 digits give them back
+// exactly, so it can be recomputed from the last rows.
+TEST_F(Cli, HashIsFnv1aOfTheFinalState) {
+  const Result r = Run(Quote(kScenes + "/box_stack_10.json") + " --steps 50 --every 50");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<Row> rows = ParseCsv(r.out);
+  ASSERT_EQ(rows.size(), 2u * 11);
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (std::size_t i = 11; i < rows.size(); ++i) {
+    unsigned char bytes[sizeof rows[i].state];
+    std::memcpy(bytes, rows[i].state.data(), sizeof bytes);
+    for (unsigned char byte : bytes) h = (h ^ byte) * 0x100000001b3ULL;
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  EXPECT_NE(r.LastErrLine().find(std::string("hash=") + hex), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, RunsAreDeterministic) {
+  std::string hash[2], csv[2];
+  for (int i = 0; i < 2; ++i) {
+    const fs::path out = Path("run" + std::to_string(i) + ".csv");
+    const Result r = Run(Quote(kScenes + "/debris_cloud_1000.json") + " --steps 60 --out " +
+                         Quote(out));
+    ASSERT_EQ(r.code, 0) << r.err;
+    hash[i] = r.LastErrLine().substr(r.LastErrLine().find("hash="));
+    csv[i] = ReadFile(out);
+  }
+  EXPECT_EQ(hash[0], hash[1]);
+  EXPECT_TRUE(csv[0] == csv[1]) << "trajectories differ";
+  EXPECT_EQ(ParseCsv(csv[0]).size(), 1000u * 61);
+}
+
+// Every number is written as printf's %.17g writes it, for values across the whole double
+// range (rengine-sim formats them itself, for speed).
+TEST_F(Cli, NumbersAreWrittenAsPrintfG17) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> exponent(-320, 300), mantissa(1, 10);
+  std::bernoulli_distribution negative(0.5);
+  const auto number = [&](double maxExponent) {
+    const double x = mantissa(rng) * std::pow(10.0, std::min(exponent(rng), maxExponent));
+    return negative(rng) ? -x : x;
+  };
+  char text[64];
+  const auto g17 = [&](double x) {
+    std::snprintf(text, sizeof text, "%.17g", x);
+    return std::string(text);
+  };
+  std::vector<std::pair<std::string, std::string>> bodies;
+  const std::vector<double> special = {0.1, 1.0 / 3, 1e16, 99999999999999999.0, 1e17,
+                                       123456789.125, 1e-5, 9.9999999999999995e-6, 5e-324,
+                                       1e-11, 0.000123, -2.5};
+  for (int i = 0; i < 200; ++i) {
+    const double x = i < static_cast<int>(special.size()) ? special[i] : number(300);
+    bodies.push_back(
+        {"b" + std::to_string(i),
+         kSphere + ", \"position\": [" + g17(x) + ", " + g17(number(300)) + ", " +
+             g17(number(300)) + "], \"velocity\": [" + g17(number(300)) + ", " +
+             g17(number(300)) + ", " + g17(number(300)) + "], \"angular_velocity\": [" +
+             g17(number(100)) + ", " + g17(number(100)) + ", " + g17(number(100)) +
+             "], \"orientation\": [" + g17(number(1)) + ", " + g17(number(1)) + ", " +
+             g17(number(1)) + ", 1]"});
+  }
+  const Result r = Run(Quote(Write("numbers.json", SceneOf(bodies))) + " --steps 0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream in(r.out);
+  std::string line;
+  std::getline(in, line);
+  int checked = 0;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> f = Split(line);
+    ASSERT_EQ(f.size(), 16u);
+    for (std::size_t i = 3; i < f.size(); ++i, ++checked) {
+      EXPECT_EQ(f[i], g17(std::strtod(f[i].c_str(), nullptr))) << line;
+    }
+  }
+  EXPECT_EQ(checked, 200 * 13);
+}
+
+TEST_F(Cli, NamesWithCommasOrQuotesAreQuotedInTheCsv) {
+  const Result r = Run(Quote(Write("names.json", SceneOf({{R"(a,\"b\")", kSphere}}))) +
+                       " --steps 0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\n0,0,\"a,\"\"b\"\"\",0,"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, BadScenesExitTwoNamingTheFileAndTheField) {
+  struct Case {
+    std::string scene, mustContain;
+  };
+  const std::vector<Case> cases = {
+      {SceneOf({{"a", R"("shape": {"type": "sphere", "radius": -1})"}}),
+       "bodies[0].shape.radius"},
+      {SceneOf({{"a", kSphere + R"(, "frction": 0.5)"}}), "bodies[0].frction"},
+      {SceneOf({{"a", kSphere}, {"a", kSphere}}), "bodies[1].name"},
+      {SceneOf({{"a", kSphere + R"(, "orientation": [0, 0, 0, 0])"}}), "bodies[0].orientation"},
+      {SceneOf({{"a", R"("shape": {"type": "hull",
+                                   "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]})"}}),
+       "bodies[0].shape.points"},
+      {SceneOf({{"a", kSphere}}, R"("dt": 1e999)"), "dt"},
+      {"{\"bodies\": [\n  {\"name\": \"a\",}\n]}", "invalid JSON at line 2, column 16"},
+  };
+  for (const Case& c : cases) {
+    // A trajectory from an earlier run must survive a bad scene.
+    Write("keep.csv", "earlier run\n");
+    const Result r = Run(Quote(Write("bad scene.json", c.scene)) + " --out " +
+                         Quote(Path("keep.csv")));
+    EXPECT_EQ(r.code, 2) << c.scene;
+    EXPECT_NE(r.err.find("bad scene.json: " + c.mustContain), std::string::npos) << r.err;
+    EXPECT_EQ(ReadFile(Path("keep.csv")), "earlier run\n");
+  }
+}
+
+TEST_F(Cli, BadCommandLinesExitTwo) {
+  const std::string scene = Quote(kScenes + "/head_on_elastic.json");
+  struct Case {
+    std::string args, mustContain;
+  };
+  const std::vector<Case> cases = {
+      {scene + " --every 0", "--every"},
+      {scene + " --every -3", "--every"},
+      {scene + " --dt -1", "--dt"},
+      {scene + " --dt 0", "--dt"},
+      {scene + " --dt inf", "--dt"},
+      {scene + " --dt nan", "--dt"},
+      {scene + " --steps -1", "--steps"},
+      {scene + " --steps 2.5", "--steps"},
+      {scene + " --steps ten", "--steps"},
+      {scene + " --bogus", "--bogus"},
+      {scene + " --describe --steps 3", "--describe"},
+      {"", "scene"},
+      {Quote(Path("missing.json")), "missing.json"},
+      {scene + " --out " + Quote(Path("no/such/dir/t.csv")), "no/such/dir/t.csv"},
+  };
+  for (const Case& c : cases) {
+    const Result r = Run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.mustContain), std::string::npos) << c.args << "\n" << r.err;
+  }
+  EXPECT_EQ(Run("--help").code, 0);
+}
+
+// A body flung towards the largest double overflows in the third step of 1 s.
+TEST_F(Cli, NonFiniteBodyExitsOneNamingItAndTheStep) {
+  const std::string scene = SceneOf({
+      {"calm", kSphere},
+      {"runaway", kSphere + R"(, "position": [1.5e308, 0, 0], "velocity": [1e307, 0, 0])"},
+  });
+  const Result r = Run(Quote(Write("overflow.json", scene)) + " --dt 1 --out " +
+                       Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.LastErrLine(), "error: body 'runaway' became non-finite at step 3") << r.err;
+  // The rows before the failure are kept, to find its cause.
+  EXPECT_EQ(ParseCsv(ReadFile(Path("t.csv"))).size(), 2u * 3);
+}

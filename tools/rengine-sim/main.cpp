@@ -1,0 +1,327 @@
+// rengine-sim: runs a scene file and writes its trajectory (../shared/SCENE_FORMAT.md).
+//
+//   rengine-sim SCENE.json [--out TRAJ.csv] [--steps N] [--dt S] [--every K] [--quiet]
+//   rengine-sim SCENE.json --describe
+//
+// Exit codes: 0 success; 2 bad input (scene, options, files); 1 a failure during the run.
+#include <REnginePhysics/RIntegrator.h>
+#include <REnginePhysics/RScene.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#ifdef _WIN32
+#include <io.h>
+#else
+#include <unistd.h>
+#endif
+
+using namespace REngine;
+
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitRunFailed = 1;
+constexpr int kExitBadInput = 2;
+
+using Clock = std::chrono::steady_clock;
+
+bool StderrIsTerminal() {
+#ifdef _WIN32
+  return _isatty(_fileno(stderr)) != 0;
+#else
+  return isatty(fileno(stderr)) != 0;
+#endif
+}
+
+// A bad command line: reported like a bad scene, exit code 2.
+struct UsageError {
+  std::string message;
+};
+
+// Options are read as text and converted here rather than by CLI11, whose integer parsing
+// (strtoull, base 0) takes "-1" as 2^64 - 1 and "010" as 8.
+std::uint64_t ParseCount(const std::string& text, const char* option, std::uint64_t min) {
+  std::uint64_t n = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (ec != std::errc() || end != text.data() + text.size() || n < min) {
+    throw UsageError{std::string(option) + ": must be an integer >= " + std::to_string(min) +
+                     " (got \"" + text + "\")"};
+  }
+  return n;
+}
+
+double ParseStepSize(const std::string& text, const char* option) {
+  double x = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(x) || !(x > 0)) {
+    throw UsageError{std::string(option) + ": must be a finite number > 0 (got \"" + text +
+                     "\")"};
+  }
+  return x;
+}
+
+// What the CSV reports of a body, in its column order: the pose of the shape frame S
+// (x, y, z, qw, qx, qy, qz), then the world velocity and angular velocity.
+std::array<RScalar, 13> State(const RRigidBody& b) {
+  const RVec3 x = b.ShapePosition_W();
+  const RQuat q = b.ShapeOrientation_WS();
+  const RVec3& v = b.Velocity_W();
+  const RVec3 w = b.AngularVelocity_W();
+  return {x.x(), x.y(), x.z(), q.w(), q.x(), q.y(), q.z(),
+          v.x(), v.y(), v.z(), w.x(), w.y(), w.z()};
+}
+
+// RFC 4180: a field holding a comma, a quote or a line break is quoted, quotes doubled.
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string quoted = "\"";
+  for (char c : s) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + '"';
+}
+
+// The trajectory CSV, formatted into one large buffer written in large chunks.
+class TrajectoryWriter {
+ public:
+  TrajectoryWriter(std::FILE* out, const std::vector<RRigidBody>& bodies) : m_out(out) {
+    for (const RRigidBody& b : bodies) m_names.push_back(CsvField(b.Name()));
+    m_buffer = "step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+    m_buffer.reserve(kChunk + 4096);
+  }
+
+  void Rows(std::uint64_t step, RScalar dt, const std::vector<RRigidBody>& bodies) {
+    char stepText[24];
+    const auto stepLength = static_cast<std::size_t>(
+        std::to_chars(stepText, stepText + sizeof stepText, step).ptr - stepText);
+    // A product, not a running sum, so that time carries no accumulated rounding.
+    const RScalar time = static_cast<RScalar>(step) * dt;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      m_buffer.append(stepText, stepLength);
+      Number(time);
+      m_buffer += ',';
+      m_buffer += m_names[i];
+      for (RScalar value : State(bodies[i])) Number(value);
+      m_buffer += '\n';
+      if (m_buffer.size() >= kChunk) Flush();
+    }
+  }
+
+  // Writes what is buffered; false when any write failed.
+  bool Flush() {
+    if (std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_out) != m_buffer.size()) {
+      m_failed = true;
+    }
+    m_buffer.clear();
+    return !m_failed && std::fflush(m_out) == 0;
+  }
+
+ private:
+  static constexpr std::size_t kChunk = std::size_t(1) << 20;
+
+  // std::to_chars with a precision writes exactly what printf's %.17g does (the standard
+  // defines it so), three times faster than snprintf.
+  void Number(RScalar value) {
+    char text[40];
+    text[0] = ',';
+    const char* end = std::to_chars(text + 1, text + sizeof text, value,
+                                    std::chars_format::general, 17).ptr;
+    m_buffer.append(text, static_cast<std::size_t>(end - text));
+  }
+
+  std::FILE* m_out;
+  std::vector<std::string> m_names;
+  std::string m_buffer;
+  bool m_failed = false;
+};
+
+// "step 1234/36000 (3%)" on a terminal, redrawn at most 10 times a second.
+class Progress {
+ public:
+  Progress(bool enabled, std::uint64_t total) : m_enabled(enabled), m_total(total) {}
+
+  void Show(std::uint64_t step, Clock::time_point now) {
+    if (!m_enabled || now < m_next) return;
+    m_next = now + std::chrono::milliseconds(100);
+    std::fprintf(stderr, "\rstep %" PRIu64 "/%" PRIu64 " (%.0f%%)", step, m_total,
+                 100.0 * static_cast<double>(step) / static_cast<double>(m_total));
+    m_shown = true;
+  }
+
+  void Clear() {
+    if (m_shown) std::fputs("\r\x1b[K", stderr);
+    m_shown = false;
+  }
+
+ private:
+  bool m_enabled;
+  bool m_shown = false;
+  std::uint64_t m_total;
+  Clock::time_point m_next = Clock::now() + std::chrono::milliseconds(100);
+};
+
+// FNV-1a, 64 bit, over the raw bytes (native byte order) of each body's State in scene
+// order: equal for bit-identical states, and cheap enough to print on every run.
+std::uint64_t StateHash(const std::vector<RRigidBody>& bodies) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const RRigidBody& b : bodies) {
+    const std::array<RScalar, 13> state = State(b);
+    unsigned char bytes[sizeof state];
+    std::memcpy(bytes, state.data(), sizeof state);
+    for (unsigned char byte : bytes) h = (h ^ byte) * 0x100000001b3ULL;
+  }
+  return h;
+}
+
+// Mass properties in world terms. Moments ascend, and the axes are permuted to match: the
+// body frame's own order is an implementation choice, the sorted order is not.
+void Describe(const std::vector<RRigidBody>& bodies) {
+  using ojson = nlohmann::ordered_json;
+  const auto vec = [](const RVec3& v) { return ojson::array({v.x(), v.y(), v.z()}); };
+  ojson list = ojson::array();
+  for (const RRigidBody& b : bodies) {
+    const RMat3 R_WB = b.Orientation_WB().toRotationMatrix();
+    const RVec3& I = b.Inertia_B();
+    std::array<int, 3> order{0, 1, 2};
+    std::stable_sort(order.begin(), order.end(), [&](int a, int c) { return I[a] < I[c]; });
+    ojson moments = ojson::array(), axes = ojson::array();
+    for (int k : order) {
+      moments.push_back(I[k]);
+      axes.push_back(vec(R_WB.col(k)));
+    }
+    list.push_back({{"name", b.Name()},
+                    {"mass", b.Mass()},
+                    {"com", vec(b.Position_W())},
+                    {"principal_moments", moments},
+                    {"principal_axes", axes}});
+  }
+  std::cout << list.dump(2) << '\n';
+}
+
+int Run(int argc, char** argv) {
+  CLI::App app{"Runs a REngine scene (rengine-scene/1) and writes its trajectory as CSV.",
+               "rengine-sim"};
+  std::string scenePath, outPath, stepsText, dtText, everyText;
+  bool quiet = false, describe = false;
+  app.add_option("scene", scenePath, "Scene file (JSON)")->required();
+  auto* out = app.add_option("--out", outPath, "Trajectory CSV (default: standard output)");
+  auto* steps = app.add_option("--steps", stepsText, "Number of steps (overrides the scene)");
+  auto* dt = app.add_option("--dt", dtText, "Step size, s (overrides the scene)");
+  auto* every = app.add_option("--every", everyText,
+                               "Write every K-th step (the first and last always), default 1");
+  app.add_flag("--quiet", quiet, "No progress display");
+  app.add_flag("--describe", describe,
+               "Print each body's mass, centre of mass and principal axes as JSON, then exit")
+      ->excludes(out, steps, dt, every);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints the help or the error
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+
+  RScene scene;
+  std::vector<RRigidBody> bodies;
+  std::uint64_t everyK = 1;
+  try {
+    // Options are checked before the scene is read: they are cheap, and the first error
+    // reported should not depend on how large the scene is.
+    const std::optional<std::uint64_t> stepsOverride =
+        steps->count() ? std::optional(ParseCount(stepsText, "--steps", 0)) : std::nullopt;
+    const std::optional<double> dtOverride =
+        dt->count() ? std::optional(ParseStepSize(dtText, "--dt")) : std::nullopt;
+    if (every->count()) everyK = ParseCount(everyText, "--every", 1);
+    scene = LoadScene(scenePath);
+    if (stepsOverride) scene.steps = *stepsOverride;
+    if (dtOverride) scene.dt = *dtOverride;
+    bodies = CreateBodies(scene);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "error: %s\n", e.message.c_str());
+    return kExitBadInput;
+  } catch (const RSceneError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitBadInput;
+  }
+
+  if (describe) {
+    Describe(bodies);
+    return kExitOk;
+  }
+
+  // Opened only now, so that a bad scene never truncates an existing trajectory.
+  std::FILE* file = stdout;
+  if (out->count()) {
+    file = std::fopen(outPath.c_str(), "wb");
+    if (!file) {
+      std::fprintf(stderr, "error: %s: cannot open for writing: %s\n", outPath.c_str(),
+                   std::strerror(errno));
+      return kExitBadInput;
+    }
+  }
+  TrajectoryWriter writer(file, bodies);
+  const auto finishOutput = [&] {
+    bool ok = writer.Flush();
+    if (file != stdout) ok = std::fclose(file) == 0 && ok;
+    if (!ok) {
+      std::fprintf(stderr, "error: %s: write failed: %s\n",
+                   out->count() ? outPath.c_str() : "standard output", std::strerror(errno));
+    }
+    return ok;
+  };
+
+  writer.Rows(0, scene.dt, bodies);
+  RIntegrator integrator(scene.settings);
+  Progress progress(!quiet && StderrIsTerminal(), scene.steps);
+  Clock::duration stepping{};
+  for (std::uint64_t step = 1; step <= scene.steps; ++step) {
+    const Clock::time_point t0 = Clock::now();
+    integrator.Update(bodies, scene.dt);
+    const Clock::time_point t1 = Clock::now();
+    stepping += t1 - t0;
+    if (const auto& bad = integrator.NonFinite()) {
+      progress.Clear();
+      finishOutput();  // the rows up to the failure help find its cause
+      std::fprintf(stderr, "error: body '%s' became non-finite at step %" PRIu64 "\n",
+                   bad->bodyName.c_str(), bad->step);
+      return kExitRunFailed;
+    }
+    if (step % everyK == 0 || step == scene.steps) writer.Rows(step, scene.dt, bodies);
+    progress.Show(step, t1);
+  }
+  progress.Clear();
+  if (!finishOutput()) return kExitRunFailed;
+
+  const double msPerStep =
+      scene.steps == 0 ? 0.0
+                       : std::chrono::duration<double, std::milli>(stepping).count() /
+                             static_cast<double>(scene.steps);
+  std::fprintf(stderr, "steps=%" PRIu64 " bodies=%zu ms_per_step=%.6g hash=%016" PRIx64 "\n",
+               scene.steps, bodies.size(), msPerStep, StateHash(bodies));
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "error: unknown exception\n");
+  }
+  return kExitRunFailed;
+}
