@@ -459,3 +459,56 @@ TEST_F(Cli, NonFiniteBodyExitsOneNamingItAndTheStep) {
   // The rows before the failure are kept, to find its cause.
   EXPECT_EQ(ParseCsv(ReadFile(Path("t.csv"))).size(), 2u * 3);
 }
+
+// A hull's mass properties against the closed form for a tetrahedron: the affine image
+// x = A u of the unit tetrahedron has volume |det A| / 6, centroid A (1,1,1) / 4 and second
+// moment |det A| A M A^T with M = (1 + delta_ij) / 120. Each reported axis must be an
+// eigenvector of the world inertia tensor with the reported moment.
+TEST_F(Cli, DescribeGivesExactHullMassProperties) {
+  const std::string scene = SceneOf({
+      {"rock", R"("shape": {"type": "hull", "points": [[0, 0, 0], [2, 0, 0], [0, 1, 0], [0, 0, 3],
+                                                      [0.2, 0.2, 0.2]]},
+                  "density": 3, "position": [10, -4, 1e6], "orientation": [0.9, 0.1, 0.3, 0.2])"},
+  });
+  const Result r = Run(Quote(Write("hull.json", scene)) + " --describe");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json body = nlohmann::json::parse(r.out)[0];
+  const auto vec = [](const nlohmann::json& j) {
+    return RVec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  };
+  RMat3 A = RVec3(2, 1, 3).asDiagonal();
+  RMat3 M;
+  M << 2, 1, 1, 1, 2, 1, 1, 1, 2;
+  M /= 120;
+  const double rho = 3, volume = A.determinant() / 6;
+  const RVec3 centroid_S = A * RVec3::Constant(0.25);
+  const RMat3 C = rho * (A.determinant() * A * M * A.transpose() -
+                         volume * centroid_S * centroid_S.transpose());
+  const RMat3 I_S = C.trace() * RMat3::Identity() - C;
+  const RMat3 R_WS = QuatFromWXYZ(RVec4(0.9, 0.1, 0.3, 0.2).normalized()).toRotationMatrix();
+  const RMat3 I_W = R_WS * I_S * R_WS.transpose();
+
+  EXPECT_NEAR(body["mass"].get<double>(), rho * volume, 1e-14);
+  EXPECT_LT((vec(body["com"]) - (RVec3(10, -4, 1e6) + R_WS * centroid_S)).norm(), 1e-9);
+  for (int i = 0; i < 3; ++i) {
+    const RVec3 axis = vec(body["principal_axes"][i]);
+    const double moment = body["principal_moments"][i].get<double>();
+    EXPECT_NEAR(axis.norm(), 1, 1e-14);
+    EXPECT_LT((I_W * axis - moment * axis).norm(), 1e-13 * I_W.norm()) << i;
+  }
+  EXPECT_LT(body["principal_moments"][0].get<double>(), body["principal_moments"][1].get<double>());
+  EXPECT_LT(body["principal_moments"][1].get<double>(), body["principal_moments"][2].get<double>());
+}
+
+// A hull body runs through the simulator: a tumbling rock in zero gravity.
+TEST_F(Cli, HullSceneRuns) {
+  const std::string scene = SceneOf({
+      {"rock", R"("shape": {"type": "hull", "points": [[0, 0, 0], [2, 0, 0], [0, 1, 0], [0, 0, 3],
+                                                      [1, 1, 1]]},
+                  "velocity": [1, 0, 0], "angular_velocity": [0.3, 2, -1])"},
+  });
+  const Result r = Run(Quote(Write("rock.json", scene)) + " --steps 120 --quiet --out " +
+                       Quote(Path("rock.csv")));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("hash="), std::string::npos);
+}
