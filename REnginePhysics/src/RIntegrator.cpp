@@ -41,8 +41,46 @@ void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
   m_profile.total = Ms(t2 - t0);
 }
 
-void RIntegrator::CollisionDetection(std::vector<RRigidBody>& /*bodies*/, RScalar /*dt*/) {
-  // Pairs, contacts and FindImpulse arrive with the collision issues.
+void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt) {
+  m_contacts.clear();
+  m_pairStats = RPairStats{};
+  const std::size_t n = bodies.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const RRigidBody& a = bodies[i];
+    // How fast a's farthest point moves by rotation, m/s.
+    const RScalar reachA = a.m_w_B.norm() * a.BoundingRadius();
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const RRigidBody& b = bodies[j];
+      ++m_pairStats.pairs;
+      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
+          (m_filter && !m_filter(a, b, m_filterUser))) {
+        ++m_pairStats.rejectedFilter;
+        continue;
+      }
+      // World forms are asked for only by pairs that pass the filters (and are computed
+      // at most once per step however many ask).
+      const RWorldForm& fa = a.WorldForm(m_cacheStamp);
+      const RWorldForm& fb = b.WorldForm(m_cacheStamp);
+      // Bounding spheres, grown by how far the gap can close within the step (relative
+      // speed plus rotation of the farthest point): far pairs cost one subtraction and a
+      // few multiplies, and fast bodies are not missed.
+      const RScalar reach = ((b.m_v_W - a.m_v_W).norm() + reachA +
+                             b.m_w_B.norm() * fb.sphereRadius) * dt;
+      const RScalar limit = fa.sphereRadius + fb.sphereRadius + reach;
+      if ((fb.sphereCenter_W - fa.sphereCenter_W).squaredNorm() > limit * limit * (1 + 1e-12)) {
+        ++m_pairStats.rejectedBounds;
+        continue;
+      }
+      ++m_pairStats.narrowPhase;
+      RContact contact;
+      if (RCollisionSolver::CheckCollision(a, b, dt, contact.manifold)) {
+        contact.a = static_cast<std::uint32_t>(i);
+        contact.b = static_cast<std::uint32_t>(j);
+        m_contacts.push_back(contact);
+      }
+    }
+  }
+  m_pairStats.contacts = m_contacts.size();
 }
 
 void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {

@@ -2,6 +2,7 @@
 
 #include <REngineMath/RQuaternion.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace REngine {
@@ -15,11 +16,15 @@ bool PositiveFinite(RScalar x) { return std::isfinite(x) && x > 0; }
 
 RRigidBody::RRigidBody(const RBodyDef& def)
     : m_name(def.name),
+      m_id(def.id),
+      m_ignore(def.ignore),
       m_shape(def.shape),
       m_isStatic(def.isStatic),
       m_responds(def.responds),
       m_restitution(def.restitution),
       m_friction(def.friction) {
+  std::sort(m_ignore.begin(), m_ignore.end());
+  m_ignore.erase(std::unique(m_ignore.begin(), m_ignore.end()), m_ignore.end());
   Require(std::isfinite(def.restitution) && def.restitution >= 0, "restitution",
           "must be a finite number >= 0");
   Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
@@ -130,6 +135,16 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
     const RVec3 n = R * faces[f].plane.normal;
     wf.planes_W[f] = RPlane{n, faces[f].plane.offset + n.dot(m_x_W)};
   }
+}
+
+bool RRigidBody::ShouldCheckCollision(const RRigidBody& other) const {
+  return !std::binary_search(m_ignore.begin(), m_ignore.end(), other.m_id) &&
+         !std::binary_search(other.m_ignore.begin(), other.m_ignore.end(), m_id);
+}
+
+void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
+  const auto it = std::lower_bound(m_ignore.begin(), m_ignore.end(), otherId);
+  if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
 }
 
 void RRigidBody::SetVelocity_W(const RVec3& v_W) {

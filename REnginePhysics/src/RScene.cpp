@@ -474,7 +474,10 @@ std::vector<RRigidBody> CreateBodies(const RScene& scene) {
   bodies.reserve(scene.bodies.size());
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     try {
-      bodies.emplace_back(scene.bodies[i]);
+      RBodyDef def = scene.bodies[i];
+      def.id = static_cast<std::uint32_t>(i);
+      for (std::size_t j : scene.ignore[i]) def.ignore.push_back(static_cast<std::uint32_t>(j));
+      bodies.emplace_back(def);
     } catch (const RBodyError& e) {
       throw RSceneError(scene.fileName, Field(Element("bodies", i), e.Field()), e.Problem());
     }

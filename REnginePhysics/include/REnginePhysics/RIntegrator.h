@@ -15,6 +15,7 @@
 #pragma once
 
 #include <REngineMath/RMath.h>
+#include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <cstdint>
@@ -50,6 +51,26 @@ struct RNonFiniteBody {
   std::uint64_t step = 0;
 };
 
+// A pair of bodies in contact (or about to be, within the step) found by the last Update,
+// with its manifold in world space (normal from bodies[a] to bodies[b]).
+struct RContact {
+  std::uint32_t a = 0, b = 0;  // indices into the bodies vector, a < b
+  RContactManifold manifold;
+};
+
+// Game code's veto on a pair (a missile leaving its own launch tube): return false to skip
+// it. A plain function pointer with a user pointer: no virtual call per pair.
+using RPairFilter = bool (*)(const RRigidBody& a, const RRigidBody& b, void* user);
+
+// Counts of the last step's pair loop, for profiling and for tests.
+struct RPairStats {
+  std::uint64_t pairs = 0;          // i < j pairs considered
+  std::uint64_t rejectedFilter = 0; // static-static, ignore lists, the game's filter
+  std::uint64_t rejectedBounds = 0; // bounding spheres (expanded by motion) apart
+  std::uint64_t narrowPhase = 0;    // CheckCollision calls
+  std::uint64_t contacts = 0;       // pairs reported
+};
+
 class RIntegrator {
  public:
   RIntegrator() = default;
@@ -68,6 +89,11 @@ class RIntegrator {
   // The first body that became non-finite, if any; stepping continues for the others.
   const std::optional<RNonFiniteBody>& NonFinite() const { return m_nonFinite; }
 
+  // Contacts found by the last Update (valid until the next), in pair order (a, then b).
+  const std::vector<RContact>& Contacts() const { return m_contacts; }
+  const RPairStats& PairStats() const { return m_pairStats; }
+  void SetPairFilter(RPairFilter filter, void* user) { m_filter = filter, m_filterUser = user; }
+
  private:
   void CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt);
   void UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt);
@@ -77,6 +103,10 @@ class RIntegrator {
   std::uint64_t m_stepCount = 0;
   std::uint64_t m_cacheStamp = 0;
   std::optional<RNonFiniteBody> m_nonFinite;
+  std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
+  RPairStats m_pairStats;
+  RPairFilter m_filter = nullptr;
+  void* m_filterUser = nullptr;
 };
 
 // Process-wide stamp source: every Update of every integrator draws a new value, so a cache

@@ -62,6 +62,10 @@ struct RBodyDef {
   RScalar restitution = RScalar(0.5);         // coefficient of restitution, [0, 1]
   RScalar friction = RScalar(0.5);            // Coulomb coefficient, >= 0
   bool responds = true;  // false: collisions are reported, not resolved (missiles, sensors)
+  // Game-chosen id, used by ignore lists (a scene uses the body's index in its list).
+  std::uint32_t id = 0;
+  // Ids of bodies this one never collides with (a missile and its launcher).
+  std::vector<std::uint32_t> ignore;
 };
 
 class RRigidBody {
@@ -77,6 +81,13 @@ class RRigidBody {
   bool Responds() const { return m_responds; }
   RScalar Restitution() const { return m_restitution; }
   RScalar Friction() const { return m_friction; }
+
+  std::uint32_t Id() const { return m_id; }
+  // False when this body must never be tested against `other`: other's id is in this
+  // body's ignore list or this one's in other's. Static pairs are rejected by the
+  // integrator before this is asked.
+  bool ShouldCheckCollision(const RRigidBody& other) const;
+  void IgnoreCollisionsWith(std::uint32_t otherId);
 
   // Mass, kg (0 for a static body), and its inverse, 1/kg (0 for a static body).
   RScalar Mass() const { return m_mass; }
@@ -143,6 +154,8 @@ class RRigidBody {
   friend class RIntegrator;
 
   std::string m_name;
+  std::uint32_t m_id = 0;
+  std::vector<std::uint32_t> m_ignore;  // sorted
   RShape m_shape;
   bool m_isStatic = false;
   bool m_responds = true;

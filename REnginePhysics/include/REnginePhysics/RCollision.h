@@ -1,0 +1,106 @@
+// Narrow-phase collision queries between convex shapes: GJK (boolean and distance with
+// witness points), EPA (penetration depth and normal), and contact manifolds.
+//
+// Conventions, everywhere in REngine's collision code:
+//  * The normal is a unit vector pointing from shape A to shape B: translating B by
+//    +depth * normal separates penetrating shapes; for separated shapes it is the direction
+//    of the shortest segment from A to B.
+//  * separation = signed distance: > 0 apart (the distance), < 0 overlapping (-depth).
+//  * Queries run in a frame local to the pair (A's centre of mass and axes), so a pair 1e7 m
+//    from the origin computes exactly what it computes at the origin; only the final
+//    world-space points carry the rounding of their large coordinates.
+//  * Tolerances scale with the pair's size: the touching band is
+//    |separation| <= RCollisionSolver::kTouchingTolerance * (bounding radius of A + of B).
+#pragma once
+
+#include <REngineMath/RMath.h>
+#include <REnginePhysics/RConvexPolyhedron.h>
+
+#include <cstdint>
+
+namespace REngine {
+
+class RRigidBody;
+
+// A convex shape as the narrow phase sees it, in its own body frame B: a polyhedron (with
+// optional rounding radius) or a sphere (a point with a radius). Cheap to build per query.
+struct RConvexShape {
+  const RConvexPolyhedron* polyhedron = nullptr;  // null: a sphere about the origin of B
+  RScalar radius = 0;                             // sphere radius, m (0 for a polyhedron)
+  RScalar boundingRadius = 0;                     // about B's origin, m
+};
+
+// Pose of shape B's frame in shape A's frame: p_A = R_AB p_B + t_AB. Both in metres.
+struct RRelativePose {
+  RMat3 R_AB = RMat3::Identity();
+  RVec3 t_AB = RVec3::Zero();
+};
+
+enum class RCollisionStatus : std::uint8_t {
+  kSeparated,     // separation > touching band
+  kTouching,      // |separation| within the touching band
+  kPenetrating,   // separation < -touching band
+  kIterationCap,  // GJK or EPA hit its iteration or size cap: no verdict (never "separated")
+};
+
+// Result of a distance / penetration query between two shapes.
+struct RDistanceResult {
+  RCollisionStatus status = RCollisionStatus::kSeparated;
+  RScalar separation = 0;          // signed distance, m
+  RVec3 normal = RVec3::UnitX();   // unit, from A to B (in the frame the query was posed in)
+  RVec3 witnessA = RVec3::Zero();  // closest (or deepest) point on A's surface, m
+  RVec3 witnessB = RVec3::Zero();  // closest (or deepest) point on B's surface, m
+  int gjkIterations = 0;
+  int epaIterations = 0;
+};
+
+struct RContactPoint {
+  RVec3 position = RVec3::Zero();  // midway between the two surfaces, m
+  RScalar separation = 0;          // signed distance along the normal at this point, m
+  std::uint32_t featureId = 0;     // the same while the same features touch (warm starting)
+};
+
+// Up to four points that keep the deepest one and the contact area.
+struct RContactManifold {
+  RDistanceResult query;  // status, separation, normal and witnesses of the pair
+  int pointCount = 0;
+  RContactPoint points[4];
+};
+
+class RCollisionSolver {
+ public:
+  // Touching band, relative to the sum of the two bounding radii.
+  static constexpr RScalar kTouchingTolerance = 1e-9;
+  static constexpr int kMaxGjkIterations = 64;
+  static constexpr int kMaxEpaIterations = 128;
+
+  // Boolean query: do A and B overlap (separation <= touching band)? GJK alone, stops as
+  // soon as a separating direction or an enclosing simplex is found.
+  static bool Intersect(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB);
+
+  // Signed distance with witness points and normal, all in A's frame: GJK for separated
+  // shapes; EPA for overlapping polyhedra; closed forms for sphere pairs and for a sphere
+  // whose centre is inside a polyhedron.
+  static RDistanceResult Distance(const RConvexShape& a, const RConvexShape& b,
+                                  const RRelativePose& X_AB);
+
+  // The contact manifold in A's frame: Distance(), then reference/incident face clipping
+  // for face contacts or the closest points of two edges, reduced to at most 4 points.
+  // Points whose separation exceeds `margin` (m) are dropped; margin > 0 keeps speculative
+  // contacts of shapes that may close the gap within a step.
+  static RContactManifold Manifold(const RConvexShape& a, const RConvexShape& b,
+                                   const RRelativePose& X_AB, RScalar margin);
+
+  // The pair of bodies in world terms: whether they touch now or may touch within dt (the
+  // gap is closing faster than gap / dt at the witness points), and if so the manifold with
+  // world-space normal and points. Returns false (and leaves `out` unspecified) otherwise.
+  static bool CheckCollision(const RRigidBody& a, const RRigidBody& b, RScalar dt,
+                             RContactManifold& out);
+};
+
+// The shape of a body, as the narrow phase wants it.
+RConvexShape ShapeOf(const RRigidBody& body);
+// Pose of b's body frame in a's body frame.
+RRelativePose RelativePose(const RRigidBody& a, const RRigidBody& b);
+
+}  // namespace REngine

@@ -1,0 +1,378 @@
+#include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RRigidBody.h>
+
+#include "RGjkEpa.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace REngine {
+
+namespace {
+
+// A face contact when the normal is within ~1.1 degrees of a face normal of either shape;
+// otherwise two edges (or an edge and a vertex) touch and one point describes the contact.
+constexpr RScalar kFaceContactCos = RScalar(0.9998);
+// The reference face is A's unless B's is clearly better aligned: the bias keeps the
+// choice, hence the feature ids, from flickering between equally good faces.
+constexpr RScalar kReferenceBias = RScalar(1e-3);
+
+RCollisionStatus StatusOf(RScalar separation, RScalar band) {
+  if (separation > band) return RCollisionStatus::kSeparated;
+  if (separation < -band) return RCollisionStatus::kPenetrating;
+  return RCollisionStatus::kTouching;
+}
+
+RScalar Band(const RConvexShape& a, const RConvexShape& b) {
+  return RCollisionSolver::kTouchingTolerance * (a.boundingRadius + b.boundingRadius);
+}
+
+RVec3 SafeDirection(const RVec3& v, const RVec3& fallback) {
+  const RScalar n = v.norm();
+  return n > 0 ? RVec3(v / n) : fallback;
+}
+
+// Sphere (radius ra, at the origin of A) against sphere (radius rb, at t).
+RDistanceResult SphereSphere(const RConvexShape& a, const RConvexShape& b, const RVec3& t) {
+  RDistanceResult r;
+  const RScalar d = t.norm();
+  r.normal = SafeDirection(t, RVec3::UnitX());
+  r.separation = d - a.radius - b.radius;
+  r.witnessA = a.radius * r.normal;
+  r.witnessB = t - b.radius * r.normal;
+  r.status = StatusOf(r.separation, Band(a, b));
+  return r;
+}
+
+// Point c (a sphere's centre, in the polyhedron's frame) inside polyhedron P: the face with
+// the largest signed distance is the exact minimum translation of a point out of P.
+void PointInsidePolyhedron(const RConvexPolyhedron& p, const RVec3& c, RVec3& outward,
+                           RScalar& signedDistance) {
+  signedDistance = -std::numeric_limits<RScalar>::infinity();
+  for (const RFace& f : p.Faces()) {
+    const RScalar s = f.plane.SignedDistance(c);
+    if (s > signedDistance) signedDistance = s, outward = f.plane.normal;
+  }
+}
+
+// Polyhedron A against sphere B (radius rb, centre t in A's frame); `flip` when the sphere
+// is really A: then the result is mirrored back.
+RDistanceResult PolyhedronSphere(const RConvexShape& poly, const RConvexShape& sphere,
+                                 const RRelativePose& X, RPairSupport& sup) {
+  RDistanceResult r;
+  const RGjkResult g = Gjk(sup, false);
+  r.gjkIterations = g.iterations;
+  const RVec3 c = X.t_AB;
+  const RScalar band = Band(poly, sphere);
+  if (!g.overlap && g.distance > band) {
+    r.normal = SafeDirection(c - g.witnessA, RVec3::UnitX());
+    r.separation = g.distance - sphere.radius;
+    r.witnessA = g.witnessA;
+    r.witnessB = c - sphere.radius * r.normal;
+  } else {
+    RVec3 outward = RVec3::UnitX();
+    RScalar s = 0;
+    PointInsidePolyhedron(*poly.polyhedron, c, outward, s);
+    s = std::min(s, RScalar(0));
+    r.normal = outward;
+    r.separation = s - sphere.radius;
+    r.witnessA = c - s * outward;  // the centre's projection onto that face
+    r.witnessB = c - sphere.radius * outward;
+  }
+  r.status = g.converged ? StatusOf(r.separation, band) : RCollisionStatus::kIterationCap;
+  return r;
+}
+
+RDistanceResult Mirror(RDistanceResult r, const RRelativePose& X_AB) {
+  // A result computed with the roles swapped (in B's frame, normal from B to A) expressed
+  // in A's frame with the normal from A to B.
+  RDistanceResult m = r;
+  m.normal = -(X_AB.R_AB * r.normal);
+  m.witnessA = X_AB.R_AB * r.witnessB + X_AB.t_AB;
+  m.witnessB = X_AB.R_AB * r.witnessA + X_AB.t_AB;
+  return m;
+}
+
+RRelativePose Inverse(const RRelativePose& X) {
+  RRelativePose inv;
+  inv.R_AB = X.R_AB.transpose();
+  inv.t_AB = -(inv.R_AB * X.t_AB);
+  return inv;
+}
+
+}  // namespace
+
+bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
+                                 const RRelativePose& X_AB) {
+  const RScalar band = Band(a, b);
+  if (!a.polyhedron && !b.polyhedron) {
+    return X_AB.t_AB.norm() - a.radius - b.radius <= band;
+  }
+  if (!a.polyhedron || !b.polyhedron) return Distance(a, b, X_AB).separation <= band;
+  RPairSupport sup(a, b, X_AB);
+  const RGjkResult g = Gjk(sup, true);
+  return g.overlap || (!g.converged) || g.distance <= band;
+}
+
+RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexShape& b,
+                                           const RRelativePose& X_AB) {
+  if (!a.polyhedron && !b.polyhedron) return SphereSphere(a, b, X_AB.t_AB);
+  if (!a.polyhedron) {
+    const RRelativePose X_BA = Inverse(X_AB);
+    RPairSupport sup(b, a, X_BA);
+    return Mirror(PolyhedronSphere(b, a, X_BA, sup), X_AB);
+  }
+  RPairSupport sup(a, b, X_AB);
+  if (!b.polyhedron) return PolyhedronSphere(a, b, X_AB, sup);
+
+  RDistanceResult r;
+  const RScalar band = Band(a, b);
+  const RGjkResult g = Gjk(sup, false);
+  r.gjkIterations = g.iterations;
+  if (!g.converged) {
+    r.status = RCollisionStatus::kIterationCap;
+    r.separation = g.distance;
+    return r;
+  }
+  if (!g.overlap) {
+    r.separation = g.distance;
+    r.normal = SafeDirection(-g.closest, SafeDirection(X_AB.t_AB, RVec3::UnitX()));
+    r.witnessA = g.witnessA;
+    r.witnessB = g.witnessB;
+    r.status = StatusOf(r.separation, band);
+    return r;
+  }
+  const REpaResult e = EpaPenetration(sup, g);
+  r.epaIterations = e.iterations;
+  r.separation = -e.depth;
+  r.normal = e.normal;
+  r.witnessA = e.witnessA;
+  r.witnessB = e.witnessB;
+  r.status = e.converged ? StatusOf(r.separation, band) : RCollisionStatus::kIterationCap;
+  return r;
+}
+
+namespace {
+
+// A polygon being clipped: points in A's frame with the feature each came from.
+struct ClipPoint {
+  RVec3 p;
+  std::uint32_t feature;
+};
+constexpr int kMaxClip = 64;
+
+struct FaceRef {
+  const RConvexPolyhedron* poly;
+  const RMat3* R;  // to A's frame (null: identity)
+  const RVec3* t;
+  std::uint32_t face;
+  RVec3 Vertex(std::uint32_t i) const {
+    const RVec3& v = poly->Vertices()[poly->LoopVertices()[poly->Faces()[face].firstVertex + i]];
+    return R ? RVec3(*R * v + *t) : v;
+  }
+  RVec3 Normal() const {
+    const RVec3& n = poly->Faces()[face].plane.normal;
+    return R ? RVec3(*R * n) : n;
+  }
+  std::uint32_t Count() const { return poly->Faces()[face].vertexCount; }
+};
+
+// The face of `p` whose normal (mapped by R) is most aligned with d; returns the alignment.
+std::uint32_t MostAlignedFace(const RConvexPolyhedron& p, const RMat3* R, const RVec3& d,
+                              RScalar& alignment) {
+  const RVec3 dLocal = R ? RVec3(R->transpose() * d) : d;
+  std::uint32_t best = 0;
+  alignment = -2;
+  for (std::uint32_t f = 0; f < p.Faces().size(); ++f) {
+    const RScalar x = p.Faces()[f].plane.normal.dot(dLocal);
+    if (x > alignment) alignment = x, best = f;
+  }
+  return best;
+}
+
+// Keeps at most 4 of n points: the deepest, the farthest from it, then the two that add
+// the most area (so the manifold spans the contact patch).
+int ReduceToFour(RContactPoint* pts, int n, const RVec3& normal) {
+  if (n <= 4) return n;
+  int keep[4];
+  keep[0] = 0;
+  for (int i = 1; i < n; ++i) {
+    if (pts[i].separation < pts[keep[0]].separation) keep[0] = i;
+  }
+  RScalar best = -1;
+  keep[1] = keep[0];
+  for (int i = 0; i < n; ++i) {
+    const RScalar d = (pts[i].position - pts[keep[0]].position).squaredNorm();
+    if (d > best) best = d, keep[1] = i;
+  }
+  const RVec3 p0 = pts[keep[0]].position, p1 = pts[keep[1]].position;
+  auto area = [&](const RVec3& a, const RVec3& b, const RVec3& c) {
+    return (b - a).cross(c - a).dot(normal);
+  };
+  best = 0;
+  keep[2] = -1;
+  RScalar sign = 1;
+  for (int i = 0; i < n; ++i) {
+    const RScalar s = area(p0, p1, pts[i].position);
+    if (std::abs(s) > best) best = std::abs(s), keep[2] = i, sign = s > 0 ? 1 : -1;
+  }
+  if (keep[2] < 0) {  // collinear: the two ends are all there is
+    const RContactPoint p0c = pts[keep[0]], p1c = pts[keep[1]];
+    pts[0] = p0c, pts[1] = p1c;
+    return 2;
+  }
+  // The fourth point: the one outside the triangle that adds the most area.
+  const RVec3 p2 = pts[keep[2]].position;
+  best = 0;
+  keep[3] = -1;
+  for (int i = 0; i < n; ++i) {
+    const RVec3& p = pts[i].position;
+    const RScalar gain = std::max({-sign * area(p0, p1, p), -sign * area(p1, p2, p),
+                                   -sign * area(p2, p0, p)});
+    if (gain > best) best = gain, keep[3] = i;
+  }
+  RContactPoint out[4];
+  int m = 0;
+  for (int k : keep) {
+    if (k >= 0) out[m++] = pts[k];
+  }
+  for (int i = 0; i < m; ++i) pts[i] = out[i];
+  return m;
+}
+
+}  // namespace
+
+RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvexShape& b,
+                                            const RRelativePose& X_AB, RScalar margin) {
+  RContactManifold m;
+  m.query = Distance(a, b, X_AB);
+  const RDistanceResult& q = m.query;
+  if (q.status == RCollisionStatus::kIterationCap || q.separation > margin) return m;
+  const RVec3 n = q.normal;
+
+  auto single = [&](std::uint32_t id) {
+    m.pointCount = 1;
+    m.points[0].position = RScalar(0.5) * (q.witnessA + q.witnessB);
+    m.points[0].separation = q.separation;
+    m.points[0].featureId = id;
+  };
+  if (!a.polyhedron || !b.polyhedron) {
+    single(0);
+    return m;
+  }
+
+  RScalar alignA, alignB;
+  const std::uint32_t faceA = MostAlignedFace(*a.polyhedron, nullptr, n, alignA);
+  const std::uint32_t faceB = MostAlignedFace(*b.polyhedron, &X_AB.R_AB, -n, alignB);
+  if (std::max(alignA, alignB) < kFaceContactCos) {
+    // Edge against edge: the witnesses are the closest points of the two edges.
+    single(0x80000000u | (faceA << 16) | faceB);
+    return m;
+  }
+  const bool refIsA = alignA + kReferenceBias >= alignB;
+  const RVec3 t0 = RVec3::Zero();
+  FaceRef ref{refIsA ? a.polyhedron : b.polyhedron, refIsA ? nullptr : &X_AB.R_AB,
+              refIsA ? &t0 : &X_AB.t_AB, refIsA ? faceA : faceB};
+  const RVec3 refN = ref.Normal();
+  // Incident face: the other shape's face most anti-parallel to the reference normal.
+  RScalar dummy;
+  const RConvexPolyhedron* incPoly = refIsA ? b.polyhedron : a.polyhedron;
+  const RMat3* incR = refIsA ? &X_AB.R_AB : nullptr;
+  const std::uint32_t incFace = MostAlignedFace(*incPoly, incR, -refN, dummy);
+  FaceRef inc{incPoly, incR, refIsA ? &X_AB.t_AB : &t0, incFace};
+
+  // Sutherland-Hodgman: clip the incident polygon by the reference face's side planes.
+  ClipPoint bufA[kMaxClip], bufB[kMaxClip];
+  ClipPoint* in = bufA;
+  ClipPoint* out = bufB;
+  int nIn = 0;
+  for (std::uint32_t i = 0; i < inc.Count() && nIn < kMaxClip; ++i) {
+    in[nIn++] = {inc.Vertex(i), 0x8000u | i};
+  }
+  const std::uint32_t refCount = ref.Count();
+  for (std::uint32_t e = 0; e < refCount && nIn > 0; ++e) {
+    const RVec3 v0 = ref.Vertex(e), v1 = ref.Vertex((e + 1) % refCount);
+    const RVec3 outward = (v1 - v0).cross(refN);  // CCW loop about refN: points out
+    int nOut = 0;
+    for (int i = 0; i < nIn; ++i) {
+      const ClipPoint& p = in[i];
+      const ClipPoint& q2 = in[(i + 1) % nIn];
+      const RScalar dp = outward.dot(p.p - v0), dq = outward.dot(q2.p - v0);
+      if (dp <= 0 && nOut < kMaxClip) out[nOut++] = p;
+      if ((dp < 0) != (dq < 0) && dp != dq && nOut < kMaxClip) {
+        const RScalar t = dp / (dp - dq);
+        // A new point's feature: the segment's two ends' features and the clipping edge,
+        // mixed into 15 bits; stable while the same features are involved.
+        const std::uint32_t mix = (p.feature * 0x9e3779b1u) ^ (q2.feature * 0x85ebca6bu) ^ e;
+        out[nOut++] = {p.p + t * (q2.p - p.p), (mix >> 17) & 0x7fffu};
+      }
+    }
+    std::swap(in, out);
+    nIn = nOut;
+  }
+
+  const RScalar refOffset = refN.dot(ref.Vertex(0));
+  RContactPoint pts[kMaxClip];
+  int np = 0;
+  const std::uint32_t faceBits =
+      (refIsA ? 0x40000000u : 0u) | ((ref.face & 0x7fu) << 23) | ((incFace & 0x7fu) << 16);
+  for (int i = 0; i < nIn; ++i) {
+    const RScalar s = refN.dot(in[i].p) - refOffset;  // incident point above the reference
+    if (s > margin) continue;
+    RContactPoint& c = pts[np++];
+    c.position = in[i].p - RScalar(0.5) * s * refN;
+    c.separation = s;
+    c.featureId = faceBits | (in[i].feature & 0xffffu);
+  }
+  if (np == 0) {
+    // Clipping can lose a touching vertex to rounding: fall back on the witnesses.
+    single(faceBits);
+    return m;
+  }
+  m.pointCount = ReduceToFour(pts, np, refN);
+  for (int i = 0; i < m.pointCount; ++i) m.points[i] = pts[i];
+  return m;
+}
+
+RConvexShape ShapeOf(const RRigidBody& body) {
+  RConvexShape s;
+  s.polyhedron = body.Polyhedron_B().get();
+  s.radius = s.polyhedron ? 0 : body.BoundingRadius();
+  s.boundingRadius = body.BoundingRadius();
+  return s;
+}
+
+RRelativePose RelativePose(const RRigidBody& a, const RRigidBody& b) {
+  // x_B - x_A first: for two bodies near each other far from the origin this difference
+  // is exact, which is what makes the pair frame as good as the origin.
+  RRelativePose X;
+  const RQuat q_AW = a.Orientation_WB().conjugate();
+  X.R_AB = (q_AW * b.Orientation_WB()).toRotationMatrix();
+  X.t_AB = q_AW * (b.Position_W() - a.Position_W());
+  return X;
+}
+
+bool RCollisionSolver::CheckCollision(const RRigidBody& a, const RRigidBody& b, RScalar dt,
+                                      RContactManifold& out) {
+  const RConvexShape sa = ShapeOf(a), sb = ShapeOf(b);
+  const RRelativePose X = RelativePose(a, b);
+  // How fast any point of B can approach any point of A: a bound for the speculative
+  // margin, so a contact that may close within this step is kept.
+  const RScalar approach = (b.Velocity_W() - a.Velocity_W()).norm() +
+                           a.AngularVelocity_B().norm() * sa.boundingRadius +
+                           b.AngularVelocity_B().norm() * sb.boundingRadius;
+  const RScalar margin = approach * dt + Band(sa, sb);
+  out = Manifold(sa, sb, X, margin);
+  const RCollisionStatus st = out.query.status;
+  if (st == RCollisionStatus::kSeparated && out.pointCount == 0) return false;
+  // To world: rotate by A's orientation, then translate by its position.
+  const RMat3 R = a.Orientation_WB().toRotationMatrix();
+  const RVec3& x = a.Position_W();
+  out.query.normal = R * out.query.normal;
+  out.query.witnessA = R * out.query.witnessA + x;
+  out.query.witnessB = R * out.query.witnessB + x;
+  for (int i = 0; i < out.pointCount; ++i) out.points[i].position = R * out.points[i].position + x;
+  return true;
+}
+
+}  // namespace REngine

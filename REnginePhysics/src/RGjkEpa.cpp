@@ -1,0 +1,444 @@
+// GJK and EPA over RConvexShape pairs, in A's frame. See RCollision.h for conventions.
+//
+// GJK finds the point v of the Minkowski difference D = A - B closest to the origin (the
+// distance is |v|, the normal from A to B is -v/|v|); when the origin is inside D the
+// shapes overlap and EPA expands GJK's final simplex into the face of D nearest the origin
+// (depth = its distance, normal = its outward normal). Both keep, for every simplex or
+// polytope vertex w = a - b, the points a and b, so witness points come from barycentric
+// coordinates. No heap: every buffer is a fixed-size array on the stack.
+#include "RGjkEpa.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace REngine {
+
+namespace {
+
+constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
+
+// GJK converges when the lower bound v.w is within this fraction of the upper bound v.v.
+constexpr RScalar kGjkRelativeGap = 1e-12;
+
+struct SimplexVertex {
+  RVec3 w, a, b;
+};
+
+struct Simplex {
+  SimplexVertex v[4];
+  RScalar lambda[4];
+  int n = 0;
+};
+
+// Closest point of the simplex to the origin; reduces the simplex to the smallest feature
+// holding that point and fills its barycentric coordinates. Voronoi-region tests after
+// Ericson, Real-Time Collision Detection, 5.1.2 and 5.1.5 (with P = origin). Returns false
+// when the origin is inside a tetrahedron.
+void ClosestOnSegment(Simplex& s, int i0, int i1) {
+  const RVec3 a = s.v[i0].w, b = s.v[i1].w;
+  const RVec3 ab = b - a;
+  const RScalar t = -a.dot(ab);
+  const RScalar denom = ab.squaredNorm();
+  SimplexVertex va = s.v[i0], vb = s.v[i1];
+  if (t <= 0 || denom <= 0) {
+    s.v[0] = va, s.lambda[0] = 1, s.n = 1;
+  } else if (t >= denom) {
+    s.v[0] = vb, s.lambda[0] = 1, s.n = 1;
+  } else {
+    s.v[0] = va, s.v[1] = vb;
+    s.lambda[1] = t / denom;
+    s.lambda[0] = 1 - s.lambda[1];
+    s.n = 2;
+  }
+}
+
+void ClosestOnTriangle(Simplex& s, int i0, int i1, int i2) {
+  const SimplexVertex A = s.v[i0], B = s.v[i1], C = s.v[i2];
+  const RVec3 a = A.w, b = B.w, c = C.w;
+  const RVec3 ab = b - a, ac = c - a, ap = -a;
+  const RScalar d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) {
+    s.v[0] = A, s.lambda[0] = 1, s.n = 1;
+    return;
+  }
+  const RVec3 bp = -b;
+  const RScalar d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) {
+    s.v[0] = B, s.lambda[0] = 1, s.n = 1;
+    return;
+  }
+  const RScalar vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const RScalar t = d1 / (d1 - d3);
+    s.v[0] = A, s.v[1] = B, s.lambda[0] = 1 - t, s.lambda[1] = t, s.n = 2;
+    return;
+  }
+  const RVec3 cp = -c;
+  const RScalar d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) {
+    s.v[0] = C, s.lambda[0] = 1, s.n = 1;
+    return;
+  }
+  const RScalar vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const RScalar t = d2 / (d2 - d6);
+    s.v[0] = A, s.v[1] = C, s.lambda[0] = 1 - t, s.lambda[1] = t, s.n = 2;
+    return;
+  }
+  const RScalar va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const RScalar t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    s.v[0] = B, s.v[1] = C, s.lambda[0] = 1 - t, s.lambda[1] = t, s.n = 2;
+    return;
+  }
+  const RScalar sum = va + vb + vc;
+  if (!(sum > 0)) {  // degenerate (collinear) triangle: its best edge
+    Simplex e1 = s, e2 = s, e3 = s;
+    ClosestOnSegment(e1, i0, i1);
+    ClosestOnSegment(e2, i0, i2);
+    ClosestOnSegment(e3, i1, i2);
+    auto point = [](const Simplex& x) {
+      RVec3 p = RVec3::Zero();
+      for (int i = 0; i < x.n; ++i) p += x.lambda[i] * x.v[i].w;
+      return p.squaredNorm();
+    };
+    const RScalar p1 = point(e1), p2 = point(e2), p3 = point(e3);
+    s = p1 <= p2 && p1 <= p3 ? e1 : (p2 <= p3 ? e2 : e3);
+    return;
+  }
+  s.v[0] = A, s.v[1] = B, s.v[2] = C;
+  s.lambda[1] = vb / sum;
+  s.lambda[2] = vc / sum;
+  s.lambda[0] = 1 - s.lambda[1] - s.lambda[2];
+  s.n = 3;
+}
+
+// Returns true when the origin is inside (or on) the tetrahedron.
+bool ClosestOnTetrahedron(Simplex& s) {
+  const RVec3 p[4] = {s.v[0].w, s.v[1].w, s.v[2].w, s.v[3].w};
+  // Face (i, j, k) with opposite vertex l: the origin is outside it when it lies on the
+  // other side of the face's plane from l.
+  static constexpr int kFaces[4][4] = {{0, 1, 2, 3}, {0, 3, 1, 2}, {0, 2, 3, 1}, {1, 3, 2, 0}};
+  bool outsideAny = false;
+  RScalar best = kInf;
+  Simplex bestS;
+  for (const auto& f : kFaces) {
+    const RVec3 n = (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
+    const RScalar sideOrigin = -n.dot(p[f[0]]);
+    const RScalar sideOpp = n.dot(p[f[3]] - p[f[0]]);
+    // Degenerate (flat) tetrahedron: sideOpp = 0, every face counts as "outside", and
+    // the closest face point is the answer.
+    if (sideOrigin * sideOpp < 0 || sideOpp == 0) {
+      outsideAny = true;
+      Simplex t = s;
+      ClosestOnTriangle(t, f[0], f[1], f[2]);
+      RVec3 q = RVec3::Zero();
+      for (int i = 0; i < t.n; ++i) q += t.lambda[i] * t.v[i].w;
+      const RScalar d = q.squaredNorm();
+      if (d < best) best = d, bestS = t;
+    }
+  }
+  if (!outsideAny) return true;
+  s = bestS;
+  return false;
+}
+
+RVec3 PointOf(const Simplex& s) {
+  RVec3 p = RVec3::Zero();
+  for (int i = 0; i < s.n; ++i) p += s.lambda[i] * s.v[i].w;
+  return p;
+}
+
+void Witnesses(const Simplex& s, RVec3& a, RVec3& b) {
+  a.setZero(), b.setZero();
+  for (int i = 0; i < s.n; ++i) a += s.lambda[i] * s.v[i].a, b += s.lambda[i] * s.v[i].b;
+}
+
+}  // namespace
+
+RVec3 RPairSupport::SupportA(const RVec3& d) {
+  if (!a.polyhedron) return RVec3::Zero();
+  const auto& v = a.polyhedron->Vertices();
+  m_lastA = a.polyhedron->Support(v.data(), d, m_lastA);
+  return v[m_lastA];
+}
+
+RVec3 RPairSupport::SupportB(const RVec3& d_A) {
+  if (!b.polyhedron) return X.t_AB;
+  const RVec3 d_B = X.R_AB.transpose() * d_A;
+  const auto& v = b.polyhedron->Vertices();
+  m_lastB = b.polyhedron->Support(v.data(), d_B, m_lastB);
+  return X.R_AB * v[m_lastB] + X.t_AB;
+}
+
+RGjkResult Gjk(RPairSupport& sup, bool booleanOnly) {
+  RGjkResult r;
+  const RScalar size = sup.a.boundingRadius + sup.b.boundingRadius;
+  // Below this |v| the origin is on D's boundary to rounding: touching.
+  const RScalar vanishing = 1e-14 * size;
+  Simplex s;
+  RVec3 d = sup.X.t_AB;  // first guess: the line between the centres
+  if (d.squaredNorm() == 0) d = RVec3::UnitX();
+  {
+    const RVec3 a = sup.SupportA(-d), b = sup.SupportB(d);
+    s.v[0] = {a - b, a, b};
+    s.lambda[0] = 1;
+    s.n = 1;
+  }
+  RVec3 v = s.v[0].w;
+  for (r.iterations = 1; r.iterations <= RCollisionSolver::kMaxGjkIterations; ++r.iterations) {
+    const RScalar vv = v.squaredNorm();
+    if (vv <= vanishing * vanishing) {
+      r.overlap = true;
+      r.distance = 0;
+      break;
+    }
+    const RVec3 a = sup.SupportA(-v), b = sup.SupportB(v);
+    const RVec3 w = a - b;
+    const RScalar vw = v.dot(w);
+    if (booleanOnly && vw > 0) {  // v separates the origin from D: disjoint
+      r.overlap = false;
+      r.distance = std::sqrt(vv);  // an upper bound only
+      r.converged = true;
+      return r;
+    }
+    bool duplicate = false;
+    for (int i = 0; i < s.n; ++i) duplicate = duplicate || s.v[i].w == w;
+    if (duplicate || vv - vw <= kGjkRelativeGap * vv) {
+      r.converged = true;
+      break;
+    }
+    const Simplex previous = s;
+    s.v[s.n] = {w, a, b};
+    s.n++;
+    bool inside = false;
+    switch (s.n) {
+      case 2: ClosestOnSegment(s, 0, 1); break;
+      case 3: ClosestOnTriangle(s, 0, 1, 2); break;
+      case 4: inside = ClosestOnTetrahedron(s); break;
+    }
+    if (inside) {
+      r.overlap = true;
+      r.distance = 0;
+      r.converged = true;
+      break;
+    }
+    const RVec3 vNew = PointOf(s);
+    // Rounding can stall the descent; no progress means v is as close as it gets.
+    if (vNew.squaredNorm() >= vv) {
+      s = previous;
+      r.converged = true;
+      break;
+    }
+    v = vNew;
+  }
+  if (r.iterations > RCollisionSolver::kMaxGjkIterations) {
+    r.iterations = RCollisionSolver::kMaxGjkIterations;
+    r.converged = false;
+  }
+  if (r.overlap) {
+    r.converged = true;
+    r.simplexSize = s.n;
+    for (int i = 0; i < s.n; ++i) r.simplex[i] = {s.v[i].w, s.v[i].a, s.v[i].b};
+    return r;
+  }
+  r.distance = std::sqrt(v.squaredNorm());
+  Witnesses(s, r.witnessA, r.witnessB);
+  r.closest = v;
+  r.simplexSize = s.n;
+  for (int i = 0; i < s.n; ++i) r.simplex[i] = {s.v[i].w, s.v[i].a, s.v[i].b};
+  return r;
+}
+
+// ----------------------------------------------------------------------------------------
+// EPA
+
+namespace {
+
+constexpr int kMaxEpaVertices = RCollisionSolver::kMaxEpaIterations + 8;
+constexpr int kMaxEpaFaces = 2 * kMaxEpaVertices + 8;
+// EPA stops when the support in the nearest face's normal is within this fraction of the
+// face's distance (plus a floor relative to the pair's size, for depths near zero): the
+// depth is then the minimum to that relative accuracy. For polyhedra it ends earlier, when
+// the nearest face is a face of D and no support point lies beyond it.
+constexpr RScalar kEpaRelativeGap = 1e-10;
+constexpr RScalar kEpaAbsoluteGap = 1e-14;
+
+struct EpaFace {
+  int v[3];
+  RVec3 n;
+  RScalar d;
+  bool alive;
+};
+
+struct Epa {
+  RSimplexPoint verts[kMaxEpaVertices];
+  EpaFace faces[kMaxEpaFaces];
+  int nv = 0, nf = 0;
+
+  bool AddFace(int i, int j, int k) {
+    if (nf >= kMaxEpaFaces) return false;
+    EpaFace& f = faces[nf++];
+    f.v[0] = i, f.v[1] = j, f.v[2] = k;
+    const RVec3 n = (verts[j].w - verts[i].w).cross(verts[k].w - verts[i].w);
+    const RScalar len = n.norm();
+    f.alive = true;
+    if (len > 0) {
+      f.n = n / len;
+      f.d = f.n.dot(verts[i].w);
+    } else {  // a sliver; kept for the topology, never chosen as nearest
+      f.n = RVec3::UnitX();
+      f.d = kInf;
+    }
+    return true;
+  }
+};
+
+// Completes a simplex that encloses the origin to a tetrahedron of D: GJK may stop at a
+// point, segment or triangle when the origin lies on it (touching, or exactly coincident
+// shapes). Adds supports in directions that raise the dimension.
+bool CompleteTetrahedron(RPairSupport& sup, RSimplexPoint* p, int& n, RScalar tol) {
+  auto add = [&](const RVec3& d) {
+    const RVec3 a = sup.SupportA(d), b = sup.SupportB(-d);
+    p[n] = {a - b, a, b};
+  };
+  static const RVec3 kAxes[6] = {RVec3::UnitX(), -RVec3::UnitX(), RVec3::UnitY(),
+                                 -RVec3::UnitY(), RVec3::UnitZ(), -RVec3::UnitZ()};
+  if (n == 1) {
+    for (const RVec3& d : kAxes) {
+      add(d);
+      if ((p[1].w - p[0].w).norm() > tol) {
+        n = 2;
+        break;
+      }
+    }
+    if (n == 1) return false;
+  }
+  if (n == 2) {
+    const RVec3 e = (p[1].w - p[0].w).normalized();
+    RVec3 u, w;
+    OrthonormalBasis(e, u, w);
+    for (int k = 0; k < 6 && n == 2; ++k) {
+      const RScalar t = kPi * k / 3;
+      add(std::cos(t) * u + std::sin(t) * w);
+      if ((p[2].w - p[0].w).cross(e).norm() > tol) n = 3;
+    }
+    if (n == 2) return false;
+  }
+  if (n == 3) {
+    const RVec3 nrm = (p[1].w - p[0].w).cross(p[2].w - p[0].w).normalized();
+    for (RScalar sgn : {1.0, -1.0}) {
+      add(sgn * nrm);
+      if (std::abs((p[3].w - p[0].w).dot(nrm)) > tol) {
+        n = 4;
+        break;
+      }
+    }
+    if (n == 3) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
+  REpaResult r;
+  const RScalar size = sup.a.boundingRadius + sup.b.boundingRadius;
+  Epa e;
+  RSimplexPoint start[4];
+  int n = gjk.simplexSize;
+  for (int i = 0; i < n; ++i) start[i] = gjk.simplex[i];
+  if (n < 4 && !CompleteTetrahedron(sup, start, n, 1e-12 * size)) {
+    // D is flat to rounding: the shapes only touch.
+    r.converged = true;
+    r.depth = 0;
+    r.normal = sup.X.t_AB.squaredNorm() > 0 ? sup.X.t_AB.normalized() : RVec3::UnitX();
+    r.witnessA = r.witnessB = start[0].a;
+    return r;
+  }
+  for (int i = 0; i < 4; ++i) e.verts[i] = start[i];
+  e.nv = 4;
+  // Orient the tetrahedron's faces outward.
+  const RVec3& p0 = e.verts[0].w;
+  const RScalar orient = (e.verts[1].w - p0).cross(e.verts[2].w - p0).dot(e.verts[3].w - p0);
+  if (orient < 0) {
+    e.AddFace(0, 1, 2), e.AddFace(0, 3, 1), e.AddFace(0, 2, 3), e.AddFace(1, 3, 2);
+  } else {
+    e.AddFace(0, 2, 1), e.AddFace(0, 1, 3), e.AddFace(0, 3, 2), e.AddFace(1, 2, 3);
+  }
+
+  int horizon[kMaxEpaFaces * 3][2];
+  int nearest = -1;
+  for (r.iterations = 0; r.iterations < RCollisionSolver::kMaxEpaIterations; ++r.iterations) {
+    nearest = -1;
+    RScalar best = kInf;
+    for (int f = 0; f < e.nf; ++f) {
+      if (e.faces[f].alive && e.faces[f].d < best) best = e.faces[f].d, nearest = f;
+    }
+    if (nearest < 0) break;
+    const EpaFace face = e.faces[nearest];
+    const RVec3 a = sup.SupportA(face.n), b = sup.SupportB(-face.n);
+    const RVec3 w = a - b;
+    const RScalar dist = face.n.dot(w);
+    if (dist - face.d <= kEpaRelativeGap * std::abs(face.d) + kEpaAbsoluteGap * size ||
+        e.nv >= kMaxEpaVertices) {
+      r.converged = dist - face.d <= kEpaRelativeGap * std::abs(face.d) + kEpaAbsoluteGap * size;
+      break;
+    }
+    const int wi = e.nv++;
+    e.verts[wi] = {w, a, b};
+    // Faces that see w go; the edges they share with faces that stay form the horizon.
+    int nh = 0;
+    for (int f = 0; f < e.nf; ++f) {
+      EpaFace& g = e.faces[f];
+      if (!g.alive || g.n.dot(w - e.verts[g.v[0]].w) <= 0) continue;
+      g.alive = false;
+      for (int k = 0; k < 3; ++k) {
+        const int i = g.v[k], j = g.v[(k + 1) % 3];
+        // An edge met in both directions is interior to the removed region.
+        bool cancelled = false;
+        for (int h = 0; h < nh; ++h) {
+          if (horizon[h][0] == j && horizon[h][1] == i) {
+            horizon[h][0] = horizon[nh - 1][0], horizon[h][1] = horizon[nh - 1][1];
+            --nh;
+            cancelled = true;
+            break;
+          }
+        }
+        if (!cancelled) horizon[nh][0] = i, horizon[nh][1] = j, ++nh;
+      }
+    }
+    bool ok = true;
+    for (int h = 0; h < nh && ok; ++h) ok = e.AddFace(horizon[h][0], horizon[h][1], wi);
+    if (!ok) break;
+    // Compact dead faces now and then, so the array holds the live polytope.
+    if (e.nf > kMaxEpaFaces - 64) {
+      int out = 0;
+      for (int f = 0; f < e.nf; ++f) {
+        if (e.faces[f].alive) e.faces[out++] = e.faces[f];
+      }
+      e.nf = out;
+    }
+  }
+  if (nearest < 0) return r;
+  const EpaFace& f = e.faces[nearest];
+  r.depth = std::max(RScalar(0), f.d);
+  r.normal = f.n;
+  // Barycentric coordinates of the origin's projection d n onto the face.
+  const RVec3 p = f.d * f.n;
+  const RVec3 A = e.verts[f.v[0]].w, B = e.verts[f.v[1]].w, C = e.verts[f.v[2]].w;
+  const RVec3 nABC = (B - A).cross(C - A);
+  const RScalar area2 = nABC.squaredNorm();
+  RScalar l0 = 1, l1 = 0, l2 = 0;
+  if (area2 > 0) {
+    l1 = (p - A).cross(C - A).dot(nABC) / area2;
+    l2 = (B - A).cross(p - A).dot(nABC) / area2;
+    l0 = 1 - l1 - l2;
+  }
+  r.witnessA = l0 * e.verts[f.v[0]].a + l1 * e.verts[f.v[1]].a + l2 * e.verts[f.v[2]].a;
+  r.witnessB = l0 * e.verts[f.v[0]].b + l1 * e.verts[f.v[1]].b + l2 * e.verts[f.v[2]].b;
+  return r;
+}
+
+}  // namespace REngine

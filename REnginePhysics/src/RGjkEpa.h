@@ -1,0 +1,56 @@
+// Private to REnginePhysics: GJK and EPA on a pair of convex shapes in A's frame.
+#pragma once
+
+#include <REnginePhysics/RCollision.h>
+
+namespace REngine {
+
+// Support mapping of the pair in A's frame, with the last support vertex of each shape kept
+// as the next hill-climbing start (consecutive GJK/EPA directions are close).
+struct RPairSupport {
+  const RConvexShape& a;
+  const RConvexShape& b;
+  const RRelativePose& X;
+  RPairSupport(const RConvexShape& a_, const RConvexShape& b_, const RRelativePose& X_)
+      : a(a_), b(b_), X(X_) {}
+  // Support point of A (its core: a sphere's centre) in direction d (A's frame).
+  RVec3 SupportA(const RVec3& d);
+  // Support point of B in direction d, given and returned in A's frame.
+  RVec3 SupportB(const RVec3& d_A);
+
+ private:
+  std::uint32_t m_lastA = 0, m_lastB = 0;
+};
+
+struct RSimplexPoint {
+  RVec3 w, a, b;  // w = a - b: a point of the Minkowski difference and its two origins
+};
+
+struct RGjkResult {
+  bool overlap = false;    // the origin is inside D (or within rounding of it)
+  bool converged = false;  // false: the iteration cap was hit
+  RScalar distance = 0;    // |v| when apart
+  RVec3 closest = RVec3::Zero();  // v = witnessA - witnessB
+  RVec3 witnessA = RVec3::Zero(), witnessB = RVec3::Zero();
+  int iterations = 0;
+  int simplexSize = 0;
+  RSimplexPoint simplex[4];
+};
+
+// GJK on the cores of the two shapes (spheres are points here). booleanOnly: stop at the
+// first separating direction (distance is then only an upper bound).
+RGjkResult Gjk(RPairSupport& support, bool booleanOnly);
+
+struct REpaResult {
+  bool converged = false;
+  RScalar depth = 0;               // m, >= 0
+  RVec3 normal = RVec3::UnitX();   // from A to B
+  RVec3 witnessA = RVec3::Zero();  // deepest points of A inside B and of B inside A
+  RVec3 witnessB = RVec3::Zero();
+  int iterations = 0;
+};
+
+// EPA from GJK's final simplex (which encloses the origin).
+REpaResult EpaPenetration(RPairSupport& support, const RGjkResult& gjk);
+
+}  // namespace REngine

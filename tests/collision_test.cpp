@@ -1,0 +1,267 @@
+// Narrow phase and pair loop on cases with closed-form answers. The randomized
+// cross-checks against FCL and libccd live in collision_crosscheck_test.cpp.
+#include <REngineMath/RQuaternion.h>
+#include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RIntegrator.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+using namespace REngine;
+
+namespace {
+
+RBodyDef BoxDef(const RVec3& he, const RVec3& p, const RQuat& q = RQuat::Identity()) {
+  RBodyDef d;
+  d.name = "box";
+  d.shape.type = RShapeType::kBox;
+  d.shape.halfExtents = he;
+  d.position_W = p;
+  d.q_WS = q;
+  return d;
+}
+RBodyDef BallDef(RScalar r, const RVec3& p) {
+  RBodyDef d;
+  d.name = "ball";
+  d.shape.type = RShapeType::kSphere;
+  d.shape.radius = r;
+  d.position_W = p;
+  return d;
+}
+
+RContactManifold Check(const RBodyDef& a, const RBodyDef& b, RScalar dt = 0) {
+  RContactManifold m;
+  RCollisionSolver::CheckCollision(RRigidBody(a), RRigidBody(b), dt, m);
+  return m;
+}
+
+const RScalar kOffsets[] = {0.0, 1e6, 1e7};
+
+}  // namespace
+
+// Face-aligned unit cubes (half size 1) at z = 0 and 1.9: depth 0.1 along +z, four contact
+// points at the overlap square's corners, midway between the faces (z = 0.95).
+TEST(Collision, FaceAlignedCubes) {
+  for (RScalar off : kOffsets) {
+    const RVec3 o(off, -off, off);
+    const RContactManifold m = Check(BoxDef(RVec3(1, 1, 1), o), BoxDef(RVec3(1, 1, 1), o + RVec3(0, 0, 1.9)));
+    EXPECT_EQ(m.query.status, RCollisionStatus::kPenetrating) << off;
+    // o.z + 1.9 rounds (by up to ulp(1e7)/2 ~ 1e-9); the distance actually stored is
+    // the difference, exact in floating point, and the answer must match it to rounding.
+    const RScalar depth = 2 - ((o.z() + 1.9) - o.z());
+    EXPECT_NEAR(m.query.separation, -depth, 1e-14) << off;
+    EXPECT_LT((m.query.normal - RVec3(0, 0, 1)).norm(), 1e-14) << off;
+    ASSERT_EQ(m.pointCount, 4) << off;
+    std::set<std::pair<int, int>> corners;
+    for (int i = 0; i < 4; ++i) {
+      const RVec3 p = m.points[i].position - o;
+      // World points carry the rounding of their large coordinates: ulp(1e7) ~ 2e-9.
+      const RScalar tol = 1e-14 + 4 * RTol::kEpsilon * off;
+      EXPECT_NEAR(p.z(), 1 - depth / 2, tol);
+      EXPECT_NEAR(std::abs(p.x()), 1, tol);
+      EXPECT_NEAR(std::abs(p.y()), 1, tol);
+      EXPECT_NEAR(m.points[i].separation, -depth, 1e-14);
+      corners.insert({p.x() > 0, p.y() > 0});
+    }
+    EXPECT_EQ(corners.size(), 4u) << "the four corners, not one twice";
+  }
+}
+
+TEST(Collision, ExactlyTouchingBoxesAreTouching) {
+  for (RScalar off : kOffsets) {
+    const RVec3 o(off, 0, 0);
+    const RContactManifold m = Check(BoxDef(RVec3(1, 1, 1), o), BoxDef(RVec3(0.5, 0.5, 0.5), o + RVec3(0.2, 0, 1.5)));
+    EXPECT_EQ(m.query.status, RCollisionStatus::kTouching) << off;
+    EXPECT_NEAR(m.query.separation, 0, 1e-14);
+    EXPECT_EQ(m.pointCount, 4);
+  }
+}
+
+// Signed distance swept across zero: the right sign outside the touching band, kTouching
+// inside it, and monotone.
+TEST(Collision, SignedDistanceSweptThroughZero) {
+  RScalar prev = -1;
+  for (int k = -20; k <= 20; ++k) {
+    const RScalar gap = k * 1e-9;
+    const RContactManifold m = Check(BoxDef(RVec3(1, 1, 1), RVec3::Zero()),
+                                     BoxDef(RVec3(1, 1, 1), RVec3(0, 0, 2 + gap)));
+    const RScalar band = RCollisionSolver::kTouchingTolerance * 2 * std::sqrt(3.0);
+    EXPECT_NEAR(m.query.separation, gap, 1e-15) << gap;
+    EXPECT_GE(m.query.separation, prev);
+    prev = m.query.separation;
+    if (gap > band) {
+      EXPECT_EQ(m.query.status, RCollisionStatus::kSeparated) << gap;
+    } else if (gap < -band) {
+      EXPECT_EQ(m.query.status, RCollisionStatus::kPenetrating) << gap;
+    } else {
+      EXPECT_EQ(m.query.status, RCollisionStatus::kTouching) << gap;
+    }
+  }
+}
+
+TEST(Collision, SeparatedBoxesGiveDistanceAndWitnesses) {
+  // Corner (1,1,1) of A against face x = 2.5 - 0.5 of B: distance 1 along x.
+  const RContactManifold m = Check(BoxDef(RVec3(1, 1, 1), RVec3::Zero()),
+                                   BoxDef(RVec3(0.5, 3, 3), RVec3(2.5, 0, 0)));
+  EXPECT_EQ(m.query.status, RCollisionStatus::kSeparated);
+  EXPECT_NEAR(m.query.separation, 1.0, 1e-14);
+  EXPECT_LT((m.query.normal - RVec3(1, 0, 0)).norm(), 1e-14);
+  EXPECT_NEAR(m.query.witnessA.x(), 1, 1e-14);
+  EXPECT_NEAR(m.query.witnessB.x(), 2, 1e-14);
+  EXPECT_EQ(m.pointCount, 0);
+}
+
+TEST(Collision, SpherePairs) {
+  for (RScalar off : kOffsets) {
+    const RVec3 o(off, 0, 0);
+    // Ball-ball: centres 1.25 apart (exact in binary at any offset here), radii 1 and 0.5.
+    RContactManifold m = Check(BallDef(1, o), BallDef(0.5, o + RVec3(0, 1.25, 0)));
+    EXPECT_NEAR(m.query.separation, -0.25, 1e-14);
+    EXPECT_LT((m.query.normal - RVec3(0, 1, 0)).norm(), 1e-14);
+    ASSERT_EQ(m.pointCount, 1);
+    // Box-ball from outside the face, and a ball whose centre is inside the box.
+    m = Check(BoxDef(RVec3(1, 1, 1), o), BallDef(0.5, o + RVec3(0, 0, 1.25)));
+    EXPECT_NEAR(m.query.separation, -0.25, 1e-14);
+    EXPECT_LT((m.query.normal - RVec3(0, 0, 1)).norm(), 1e-14);
+    m = Check(BallDef(0.5, o + RVec3(0.75, 0, 0)), BoxDef(RVec3(1, 1, 1), o));
+    EXPECT_NEAR(m.query.separation, -0.75, 1e-14);  // centre 0.25 inside, radius 0.5
+    EXPECT_LT((m.query.normal - RVec3(-1, 0, 0)).norm(), 1e-14) << "from the ball to the box";
+    // Ball near a box corner: distance to the corner.
+    m = Check(BoxDef(RVec3(1, 1, 1), o), BallDef(0.25, o + RVec3(2, 2, 2)));
+    EXPECT_NEAR(m.query.separation, std::sqrt(3.0) - 0.25, 1e-14);
+  }
+}
+
+// Identical shapes at identical poses: the minimum translation is the thinnest width.
+TEST(Collision, IdenticalPoses) {
+  for (RScalar off : kOffsets) {
+    const RVec3 o(off, off, off);
+    const RQuat q = QuatExp(RVec3(0.2, -0.5, 0.9));
+    const RContactManifold m = Check(BoxDef(RVec3(1, 0.3, 2), o, q), BoxDef(RVec3(1, 0.3, 2), o, q));
+    EXPECT_NEAR(m.query.separation, -0.6, 1e-13);
+    EXPECT_NEAR(std::abs(m.query.normal.dot(q * RVec3::UnitY())), 1, 1e-13);
+    EXPECT_TRUE(AllFinite(m.query.normal));
+  }
+}
+
+// A tilted small box resting on one vertex: one point, at that vertex's depth.
+TEST(Collision, VertexContactIsOnePoint) {
+  const RQuat q = QuatFromTo(RVec3(1, 1, 1).normalized(), RVec3(0, 0, -1));
+  const RScalar h = 0.5 * std::sqrt(3.0);  // half the cube's diagonal
+  const RContactManifold m = Check(BoxDef(RVec3(2, 2, 1), RVec3::Zero()),
+                                   BoxDef(RVec3(0.5, 0.5, 0.5), RVec3(0.1, 0.2, 1 + h - 0.01), q));
+  EXPECT_NEAR(m.query.separation, -0.01, 1e-13);
+  ASSERT_EQ(m.pointCount, 1);
+  EXPECT_NEAR(m.points[0].position.z(), 1 - 0.005, 1e-13);
+}
+
+// A hexagonal prism lying on a box face: up to 6 clip points, reduced to 4 that keep the
+// deepest point and span the patch.
+TEST(Collision, ManifoldReducedToFourKeepsDeepestAndArea) {
+  RBodyDef prism;
+  prism.name = "prism";
+  prism.shape.type = RShapeType::kHull;
+  for (int k = 0; k < 6; ++k) {
+    const RScalar t = kPi * k / 3;
+    prism.shape.points.emplace_back(std::cos(t), std::sin(t), -0.2);
+    prism.shape.points.emplace_back(std::cos(t), std::sin(t), 0.2);
+  }
+  // Tilted slightly about x so the points differ in depth.
+  prism.q_WS = QuatExp(RVec3(0.01, 0, 0));
+  prism.position_W = RVec3(0, 0, 1.19);
+  const RContactManifold m = Check(BoxDef(RVec3(3, 3, 1), RVec3::Zero()), prism);
+  ASSERT_EQ(m.pointCount, 4);
+  RScalar deepest = 0;
+  for (int i = 0; i < 4; ++i) deepest = std::min(deepest, m.points[i].separation);
+  EXPECT_NEAR(deepest, m.query.separation, 1e-12);
+  // The kept quadrilateral: the best 4 of the hexagon's 6 corners (unit circumradius)
+  // enclose sqrt(3) ~ 1.73 of its 2.6; any poor choice (three neighbours) encloses <= 1.3.
+  auto quadArea = [&](int i, int j, int k, int l) {
+    const RVec3* p[4] = {&m.points[i].position, &m.points[j].position, &m.points[k].position,
+                         &m.points[l].position};
+    RVec3 sum = RVec3::Zero();
+    for (int e = 0; e < 4; ++e) sum += p[e]->cross(*p[(e + 1) % 4]);
+    return 0.5 * sum.norm();
+  };
+  const RScalar area = std::max({quadArea(0, 1, 2, 3), quadArea(0, 1, 3, 2), quadArea(0, 2, 1, 3)});
+  EXPECT_NEAR(area, std::sqrt(3.0), 0.02);
+}
+
+// Feature ids stay the same while the same features touch (a small slide).
+TEST(Collision, FeatureIdsAreStableUnderSmallMotion) {
+  auto ids = [](RScalar dx) {
+    const RContactManifold m = Check(BoxDef(RVec3(2, 2, 1), RVec3::Zero()),
+                                     BoxDef(RVec3(0.5, 0.5, 0.5), RVec3(dx, 0.1, 1.49)));
+    std::set<std::uint32_t> s;
+    for (int i = 0; i < m.pointCount; ++i) s.insert(m.points[i].featureId);
+    EXPECT_EQ(s.size(), static_cast<std::size_t>(m.pointCount)) << "ids are distinct";
+    return s;
+  };
+  EXPECT_EQ(ids(0.0), ids(0.01));
+  EXPECT_EQ(ids(0.3), ids(0.31));
+}
+
+// A projectile moving towards a plate: separated now, but the gap closes within the step,
+// so the pair is reported (speculatively) with its positive separation.
+TEST(Collision, SpeculativeContactWithinTheStep) {
+  RBodyDef plate = BoxDef(RVec3(2, 2, 0.05), RVec3::Zero());
+  plate.isStatic = true;
+  RBodyDef bullet = BallDef(0.1, RVec3(0, 0, 20));
+  bullet.velocity_W = RVec3(0, 0, -2000);
+  RContactManifold m;
+  EXPECT_TRUE(RCollisionSolver::CheckCollision(RRigidBody(plate), RRigidBody(bullet), 1.0 / 60, m));
+  EXPECT_EQ(m.query.status, RCollisionStatus::kSeparated);
+  EXPECT_NEAR(m.query.separation, 20 - 0.1 - 0.05, 1e-12);
+  EXPECT_EQ(m.pointCount, 1);
+  // Moving away (or too slowly to arrive): nothing.
+  bullet.velocity_W = RVec3(0, 0, -100);
+  EXPECT_FALSE(RCollisionSolver::CheckCollision(RRigidBody(plate), RRigidBody(bullet), 1.0 / 60, m));
+}
+
+// The pair loop: static pairs and ignore lists never reach the narrow phase, far pairs
+// are rejected by bounding spheres, and each body's world form is computed once per step.
+TEST(Collision, PairLoopFiltersAndCaches) {
+  std::vector<RRigidBody> bodies;
+  RBodyDef ground = BoxDef(RVec3(10, 0.5, 10), RVec3(0, -0.5, 0));
+  ground.isStatic = true;
+  ground.id = 0;
+  RBodyDef wall = BoxDef(RVec3(0.5, 5, 10), RVec3(10, 5, 0));
+  wall.isStatic = true;
+  wall.id = 1;
+  RBodyDef crate = BoxDef(RVec3(0.5, 0.5, 0.5), RVec3(0, 0.45, 0));
+  crate.id = 2;
+  RBodyDef missile = BallDef(0.2, RVec3(0, 0.45, 0.6));  // inside its launcher's reach
+  missile.id = 3;
+  missile.ignore = {2};
+  RBodyDef far = BallDef(0.2, RVec3(100, 100, 100));
+  far.id = 4;
+  for (const RBodyDef& d : {ground, wall, crate, missile, far}) bodies.emplace_back(d);
+  RIntegrator integrator;
+  integrator.Update(bodies, 1.0 / 60);
+  const RPairStats& s = integrator.PairStats();
+  EXPECT_EQ(s.pairs, 10u);
+  EXPECT_EQ(s.rejectedFilter, 2u);  // ground-wall (static), crate-missile (ignored)
+  EXPECT_GE(s.rejectedBounds, 4u);  // the far ball against all four others
+  // crate on ground penetrates by 0.05; the missile touches the ground? (0.45 - 0.2 > 0)
+  bool crateGround = false;
+  for (const RContact& c : integrator.Contacts()) {
+    EXPECT_LT(c.a, c.b);
+    EXPECT_FALSE(c.a == 2 && c.b == 3) << "ignored pair reported";
+    if (c.a == 0 && c.b == 2) {
+      crateGround = true;
+      EXPECT_NEAR(c.manifold.query.separation, -0.05, 1e-12);
+      EXPECT_LT((c.manifold.query.normal - RVec3(0, 1, 0)).norm(), 1e-12);
+    }
+  }
+  EXPECT_TRUE(crateGround);
+  for (const RRigidBody& b : bodies) EXPECT_LE(b.WorldFormComputations(), 1u) << b.Name();
+  // The game's filter vetoes a pair.
+  integrator.SetPairFilter([](const RRigidBody& a, const RRigidBody& b, void*) {
+    return !(a.Id() == 0 && b.Id() == 2);
+  }, nullptr);
+  integrator.Update(bodies, 1.0 / 60);
+  for (const RContact& c : integrator.Contacts()) EXPECT_FALSE(c.a == 0 && c.b == 2);
+  for (const RRigidBody& b : bodies) EXPECT_LE(b.WorldFormComputations(), 2u) << b.Name();
+}
