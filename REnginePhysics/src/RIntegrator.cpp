@@ -45,30 +45,41 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
   m_contacts.clear();
   m_pairStats = RPairStats{};
   const std::size_t n = bodies.size();
+  // Bounding spheres about the centres of mass, each grown by how far its surface can
+  // move within the step (speed plus the farthest point's rotation, times dt): a pair
+  // whose grown spheres are apart cannot touch before the next step. Stored as separate
+  // arrays so the O(n^2) sweep below is a tight loop over contiguous doubles; the arrays
+  // keep their capacity between steps.
+  m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
+    const RRigidBody& b = bodies[i];
+    const RScalar r = b.BoundingRadius();
+    m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
+    m_reach[i] = r + (b.m_v_W.norm() + b.m_w_B.norm() * r) * dt;
+  }
+  // The touching band, and a relative allowance for the rounding of the squares.
+  constexpr RScalar kGrow = 1 + 1e-9;
+  for (std::size_t i = 0; i < n; ++i) {
+    const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
     const RRigidBody& a = bodies[i];
-    // How fast a's farthest point moves by rotation, m/s.
-    const RScalar reachA = a.m_w_B.norm() * a.BoundingRadius();
     for (std::size_t j = i + 1; j < n; ++j) {
+      const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
+      const RScalar lim = (ri + m_reach[j]) * kGrow;
+      if (dx * dx + dy * dy + dz * dz > lim * lim) continue;
       const RRigidBody& b = bodies[j];
-      ++m_pairStats.pairs;
       if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
           (m_filter && !m_filter(a, b, m_filterUser))) {
         ++m_pairStats.rejectedFilter;
         continue;
       }
-      // World forms are asked for only by pairs that pass the filters (and are computed
-      // at most once per step however many ask).
+      // Bounding boxes from the stamped world forms, grown the same way: they reject the
+      // many pairs whose spheres overlap only because a body is long or flat (the ground).
       const RWorldForm& fa = a.WorldForm(m_cacheStamp);
       const RWorldForm& fb = b.WorldForm(m_cacheStamp);
-      // Bounding spheres, grown by how far the gap can close within the step (relative
-      // speed plus rotation of the farthest point): far pairs cost one subtraction and a
-      // few multiplies, and fast bodies are not missed.
-      const RScalar reach = ((b.m_v_W - a.m_v_W).norm() + reachA +
-                             b.m_w_B.norm() * fb.sphereRadius) * dt;
-      const RScalar limit = fa.sphereRadius + fb.sphereRadius + reach;
-      if ((fb.sphereCenter_W - fa.sphereCenter_W).squaredNorm() > limit * limit * (1 + 1e-12)) {
-        ++m_pairStats.rejectedBounds;
+      const RScalar grow = (ri - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
+      if (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
+          ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any()) {
+        ++m_pairStats.rejectedBoxes;
         continue;
       }
       ++m_pairStats.narrowPhase;
@@ -80,6 +91,9 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
       }
     }
   }
+  m_pairStats.pairs = n * (n - (n > 0)) / 2;
+  m_pairStats.rejectedBounds = m_pairStats.pairs - m_pairStats.rejectedFilter -
+                               m_pairStats.rejectedBoxes - m_pairStats.narrowPhase;
   m_pairStats.contacts = m_contacts.size();
 }
 

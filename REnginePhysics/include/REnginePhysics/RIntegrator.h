@@ -65,8 +65,9 @@ using RPairFilter = bool (*)(const RRigidBody& a, const RRigidBody& b, void* use
 // Counts of the last step's pair loop, for profiling and for tests.
 struct RPairStats {
   std::uint64_t pairs = 0;          // i < j pairs considered
-  std::uint64_t rejectedFilter = 0; // static-static, ignore lists, the game's filter
-  std::uint64_t rejectedBounds = 0; // bounding spheres (expanded by motion) apart
+  std::uint64_t rejectedBounds = 0; // bounding spheres (grown by motion) apart
+  std::uint64_t rejectedFilter = 0; // then: static-static, ignore lists, the game's filter
+  std::uint64_t rejectedBoxes = 0;  // then: world bounding boxes (grown by motion) apart
   std::uint64_t narrowPhase = 0;    // CheckCollision calls
   std::uint64_t contacts = 0;       // pairs reported
 };
@@ -104,6 +105,7 @@ class RIntegrator {
   std::uint64_t m_cacheStamp = 0;
   std::optional<RNonFiniteBody> m_nonFinite;
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
+  std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;
