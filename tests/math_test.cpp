@@ -46,9 +46,10 @@ TEST(Quaternion, FromToIsMinimalAndHandlesAntiparallel) {
     const RVec3 a = RandomUnit(rng), b = RandomUnit(rng);
     const RQuat q = QuatFromTo(a, b);
     EXPECT_LT((q * a - b).norm(), 1e-14);
-    // Minimal: the rotation angle equals the angle between the vectors.
-    EXPECT_NEAR(QuatAngleBetween(RQuat::Identity(), q), std::acos(std::clamp(a.dot(b), -1.0, 1.0)),
-                1e-7);
+    // Minimal: the rotation angle equals the angle between the vectors (atan2 form, exact
+    // for small angles where acos is not).
+    EXPECT_NEAR(QuatAngleBetween(RQuat::Identity(), q), std::atan2(a.cross(b).norm(), a.dot(b)),
+                1e-14);
   }
   const RVec3 a = RVec3(1, 2, 3).normalized();
   const RQuat q = QuatFromTo(a, -a);
@@ -57,7 +58,13 @@ TEST(Quaternion, FromToIsMinimalAndHandlesAntiparallel) {
 
 TEST(Quaternion, NormalizedRefusesZeroAndNonFinite) {
   EXPECT_FALSE(QuatNormalized(RQuat(0, 0, 0, 0)).has_value());
-  EXPECT_FALSE(QuatNormalized(RQuat(1e-13, 0, 0, 0)).has_value());
+  // Any non-zero scale has a direction, including ones whose squared norm over- or
+  // underflows.
+  for (RScalar scale : {1e-200, 1e-13, 1e200}) {
+    const auto q = QuatNormalized(RQuat(scale, 0, 0, scale));
+    ASSERT_TRUE(q.has_value()) << scale;
+    EXPECT_NEAR(q->w(), std::sqrt(0.5), 2.3e-16) << scale;  // 2 ulps
+  }
   EXPECT_FALSE(QuatNormalized(RQuat(NAN, 0, 0, 1)).has_value());
   EXPECT_FALSE(QuatNormalized(RQuat(INFINITY, 0, 0, 1)).has_value());
   const auto q = QuatNormalized(RQuat(2, 0, 0, 0));

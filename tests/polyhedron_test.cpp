@@ -378,3 +378,23 @@ TEST(Polyhedron, SpinningIrregularHullConservesInvariants) {
   EXPECT_LT(worstE, 1e-12);
   EXPECT_LT(worstL, 1e-12);
 }
+
+// Between steps the stamp describes the bodies' present poses: a world form asked for after
+// Update shows where the body is now, even if collision detection cached it during the step.
+TEST(Polyhedron, WorldFormAfterUpdateIsThePostStepPose) {
+  std::vector<RRigidBody> bodies;
+  for (RScalar x : {0.0, 0.9}) {
+    RBodyDef d;
+    d.shape.type = RShapeType::kBox;
+    d.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
+    d.position_W = RVec3(x, 0, 0);
+    d.velocity_W = RVec3(10, 0, 0);
+    bodies.emplace_back(d);
+  }
+  RIntegrator integrator;
+  integrator.Update(bodies, 0.1);
+  EXPECT_GE(bodies[0].WorldFormComputations(), 1u) << "detection asked for it";
+  const RWorldForm& wf = bodies[0].WorldForm(integrator.CacheStamp());
+  EXPECT_NEAR(wf.aabbMin_W.x(), bodies[0].Position_W().x() - 0.5, 1e-14);
+  EXPECT_NEAR(bodies[0].Position_W().x(), 1.0, 1e-14);
+}

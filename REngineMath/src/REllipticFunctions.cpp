@@ -44,7 +44,9 @@ RJacobiSnCnDn JacobiSnCnDn(RScalar u, RScalar m, RScalar mc) {
     r.dn = 1;
     return r;
   }
-  if (mc < RScalar(1e-17)) {
+  if (mc <= 0) {
+    // Exactly on the separatrix: the limit is exact, not an approximation (for mc > 0,
+    // however small, the functions are periodic and differ from it beyond ~K/2).
     r.sn = std::tanh(u);
     r.cn = 1 / std::cosh(u);
     r.dn = r.cn;

@@ -56,10 +56,12 @@ RQuat QuatFromTo(const RVec3& from, const RVec3& to) {
 
 std::optional<RQuat> QuatNormalized(const RQuat& q) {
   if (!AllFinite(q)) return std::nullopt;
-  const RScalar n2 = q.squaredNorm();
-  if (!(n2 >= RTol::kMinQuatNormSq)) return std::nullopt;
-  RQuat r = q;
-  r.coeffs() /= std::sqrt(n2);
+  // Divide by the largest component first: |q|^2 of (1e200, 0, 0, 0) overflows and of
+  // (1e-170, 0, 0, 0) underflows, though both have a direction.
+  const RScalar big = q.coeffs().cwiseAbs().maxCoeff();
+  if (big == 0) return std::nullopt;
+  RQuat r(q.coeffs() / big);
+  r.coeffs() /= r.norm();
   return r;
 }
 

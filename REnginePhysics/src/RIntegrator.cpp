@@ -35,6 +35,9 @@ void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
   CollisionDetection(bodies, dt);
   const auto t1 = Clock::now();
   UpdateObjects(bodies, dt);
+  // The bodies moved: a new stamp, so world forms that detection cached at the old poses
+  // are recomputed when game code asks after the step.
+  m_cacheStamp = NextCacheStamp();
   const auto t2 = Clock::now();
   m_profile.collisionDetection = Ms(t1 - t0);
   m_profile.updateObjects = Ms(t2 - t1);

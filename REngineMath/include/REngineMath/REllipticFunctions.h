@@ -18,8 +18,7 @@ struct RJacobiSnCnDn {
 // the Maclaurin series, about 40 flops. Otherwise the descending Landen transformation /
 // arithmetic-geometric mean (Abramowitz and Stegun 16.4), 4 to 7 iterations for mc > 1e-8,
 // at most 12 at mc = 1e-300, about 2 + 2n transcendental calls for n iterations; with the
-// exact limits sin/cos/1 at m = 0 and tanh/sech/sech for mc < 1e-17 (that limit's error is
-// O(mc), below rounding there).
+// exact limits sin/cos/1 at m = 0 and tanh/sech/sech at mc = 0.
 RJacobiSnCnDn JacobiSnCnDn(RScalar u, RScalar m, RScalar mc);
 
 // Complete elliptic integral of the first kind K(m), given mc = 1 - m for the reason above:

@@ -27,9 +27,6 @@ inline constexpr RScalar kPi = RScalar(3.14159265358979323846264338327950288);
 namespace RTol {
 // Machine epsilon of RScalar: the relative rounding unit.
 inline constexpr RScalar kEpsilon = std::numeric_limits<RScalar>::epsilon();
-// A quaternion whose squared norm is below this cannot be normalised: its direction is
-// rounding noise. Used to refuse zero quaternions instead of dividing by ~0.
-inline constexpr RScalar kMinQuatNormSq = 1e-24;
 // Two principal moments closer than this, relative to the larger, are treated as equal.
 // Equal moments give a symmetric body, whose torque-free motion is solved in closed form
 // with fewer operations; the difference ignored (1e-12 relative) is far below what any mass

@@ -28,9 +28,9 @@ RScalar QuatAngleBetween(const RQuat& a, const RQuat& b);
 // vectors, a half turn about an axis perpendicular to `from`.
 RQuat QuatFromTo(const RVec3& from, const RVec3& to);
 
-// q / |q|, or nothing when q has a non-finite component or is too short to have a direction
-// (|q|^2 < RTol::kMinQuatNormSq). Callers decide whether that is a user error or a bug;
-// nothing is silently turned into the identity.
+// q / |q|, or nothing when q has a non-finite component or is zero: the only quaternions
+// without a direction (any non-zero scale works, 1e-200 or 1e200). Callers decide whether
+// that is a user error or a bug; nothing is silently turned into the identity.
 std::optional<RQuat> QuatNormalized(const RQuat& q);
 
 // [w, x, y, z] as REngine's files write them.

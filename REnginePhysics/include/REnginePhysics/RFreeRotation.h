@@ -12,7 +12,8 @@
 // l to e and G is constant. The only quantity not in closed form is the angle psi, whose
 // rate is psi' = omega . (l + e) / (1 + l . e) (regular: l . e > 0 on every polhode about
 // e). It is integrated over each step with 3-point Gauss-Legendre quadrature at the exact
-// omega(t): error O(h^7) per step, so the orientation error is O(h^6) globally and
+// omega(t), on enough panels that each spans at most 0.25 rad of phase: error O(h^7) per
+// step, so the orientation error is O(h^6) globally and
 // conservation of L_W is untouched by it (Rot(e, psi) fixes e, whatever psi is).
 //
 // Cost per body-step. A symmetric or spherical body: two or one quaternion exponentials.
@@ -46,7 +47,8 @@ class RFreeRotation {
   void Advance(RScalar h, RVec3& w_B, RQuat& q_WB);
 
  private:
-  void ComputeConstants(RScalar h, const RVec3& w_B);
+  // Fills the polhode's constants for (h, w_B); false for a steady spin (omega constant).
+  bool ComputeConstants(RScalar h, const RVec3& w_B);
   // The body axis the polhode circles, signed to the side the angular momentum is on.
   RVec3 PoleAxis() const {
     RVec3 e = RVec3::Zero();
@@ -70,9 +72,13 @@ class RFreeRotation {
   RScalar m_invM = 0;                // 1 / |L|, 1/(kg m^2/s)
   RQuat m_align0 = RQuat::Identity();  // minimal rotation taking l of the last output to e
   RScalar m_amp[3] = {0, 0, 0};      // amplitudes of omega_a, omega_b, omega_c, rad/s
-  RScalar m_m = 0;                   // elliptic parameter k^2
+  RScalar m_m = 0, m_mc = 1;         // elliptic parameter k^2 and 1 - k^2
+  RScalar m_lambda = 0;              // phase rate, rad/s (signed)
+  int m_panels = 1;                  // quadrature panels per step
   RJacobiSnCnDn m_phase;             // Jacobi functions at the last output's phase
-  RJacobiSnCnDn m_node[4];           // at the phase offsets of the 3 Gauss nodes and of h
+  RJacobiSnCnDn m_node[3];           // at the phase offsets of a panel's 3 Gauss nodes
+  RJacobiSnCnDn m_panelStep;         // at the phase offset of one panel
+  RJacobiSnCnDn m_end;               // at the phase offset of the whole step
 };
 
 }  // namespace REngine

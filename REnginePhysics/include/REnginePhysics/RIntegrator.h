@@ -3,7 +3,8 @@
 //   Update(bodies, dt)
 //     1. bump the cache stamp      bodies move only inside Update, so any world-space form
 //                                  cached with an older stamp is stale, and one with the
-//                                  current stamp is reused by every pair that asks
+//                                  current stamp is reused by every pair that asks (it is
+//                                  bumped again after step 3, for queries between steps)
 //     2. CollisionDetection        pairs -> contacts -> FindImpulse -> accumulated impulses
 //     3. UpdateObjects             apply impulses; integrate forces and motion
 //
@@ -85,7 +86,9 @@ class RIntegrator {
   RWorldSettings& Settings() { return m_settings; }
   const RStepProfile& Profile() const { return m_profile; }
   std::uint64_t StepCount() const { return m_stepCount; }
-  // Stamp of the current (or last) step: world-space caches tagged with it are current.
+  // World-space caches tagged with this stamp are current. Update draws one before its
+  // collision detection and another after moving the bodies, so between steps this stamp
+  // describes the bodies' present poses.
   std::uint64_t CacheStamp() const { return m_cacheStamp; }
   // The first body that became non-finite, if any; stepping continues for the others.
   const std::optional<RNonFiniteBody>& NonFinite() const { return m_nonFinite; }
