@@ -398,3 +398,43 @@ TEST(Polyhedron, WorldFormAfterUpdateIsThePostStepPose) {
   EXPECT_NEAR(wf.aabbMin_W.x(), bodies[0].Position_W().x() - 0.5, 1e-14);
   EXPECT_NEAR(bodies[0].Position_W().x(), 1.0, 1e-14);
 }
+
+// Review findings, kept as regressions: near-coplanar points (a box sampled on its faces
+// with 1e-13 jitter) and a box 100 m out must both come back as the 8-corner, 6-face box,
+// with every face strictly convex and hill climbing exact from every start vertex.
+TEST(Polyhedron, NearCoplanarCloudsGiveTrueCornersAndMergedFaces) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<RScalar> u(-1, 1);
+  std::normal_distribution<RScalar> g;
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<RVec3> pts = BoxCorners(RVec3(1, 1, 1));
+    for (int i = 0; i < 600; ++i) {
+      RVec3 p(u(rng), u(rng), u(rng));
+      const int axis = i % 3;
+      p[axis] = (i % 2 ? 1 : -1) * (1 + 1e-13 * u(rng));
+      pts.push_back(p);
+    }
+    const RConvexPolyhedron h = RConvexPolyhedron::Hull(pts);
+    EXPECT_EQ(h.Vertices().size(), 8u) << trial;
+    EXPECT_EQ(h.Faces().size(), 6u) << trial;
+    ExpectValidHull(h, pts, "jittered box");
+    const auto& v = h.Vertices();
+    const auto n = static_cast<std::uint32_t>(v.size());
+    for (int k = 0; k < 200; ++k) {
+      const RVec3 d(g(rng), g(rng), g(rng));
+      const RScalar best = v[RConvexPolyhedron::SupportLinear(v.data(), n, d)].dot(d);
+      for (std::uint32_t start = 0; start < n; ++start) {
+        EXPECT_NEAR(v[h.SupportHillClimb(v.data(), d, start)].dot(d), best, 1e-12);
+      }
+    }
+  }
+  for (int trial = 0; trial < 100; ++trial) {
+    const RQuat q = QuatExp(RVec3(u(rng), u(rng), u(rng)) * 3);
+    const RVec3 t = RVec3(u(rng), u(rng), u(rng)) * 100;
+    std::vector<RVec3> pts;
+    for (const RVec3& p : BoxCorners(RVec3(1, 1.5, 2))) pts.push_back(q * p + t);
+    const RConvexPolyhedron h = RConvexPolyhedron::Hull(pts);
+    EXPECT_EQ(h.Faces().size(), 6u) << trial;
+    for (const RFace& f : h.Faces()) EXPECT_EQ(f.vertexCount, 4u) << trial;
+  }
+}

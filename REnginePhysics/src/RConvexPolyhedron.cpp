@@ -18,6 +18,9 @@ namespace {
 // Relative thickness below which a cloud counts as flat: a hull thinner than this fraction
 // of its extent has no usable volume or inertia (and its face normals would be noise).
 constexpr RScalar kFlatTolerance = 1e-9;
+// Face planes closer than this (unit normals, and offsets relative to the extent) are one
+// plane: 1e-9 rad is far above rounding (1e-14) and far below any modelled bevel.
+constexpr RScalar kCoplanar = 1e-9;
 
 // Newell's normal of a polygon loop: robust for nearly degenerate and non-planar loops,
 // and its length is twice the polygon's area.
@@ -152,17 +155,97 @@ RConvexPolyhedron RConvexPolyhedron::Hull(const std::vector<RVec3>& points) {
     std::rotate(f.loop.begin(), std::min_element(f.loop.begin(), f.loop.end()), f.loop.end());
     raw.push_back(std::move(f));
   }
-  std::sort(raw.begin(), raw.end(),
+  // Qhull merges facets within its own roundoff estimate, which comes from the centred
+  // coordinates and misses the rounding of the input (a box 100 m out can come back with
+  // a face split in two), and a merged facet keeps vertices that are corners only to
+  // rounding. Either breaks what the narrow phase relies on: strictly convex faces (for
+  // clipping) and vertices that are true corners (else hill climbing can stop at a reflex
+  // corner far from the maximum). So: faces whose planes agree within kCoplanar are one
+  // face, and a vertex stays only where at least three distinct face planes meet.
+  const std::size_t nRaw = raw.size();
+  std::vector<RVec3> rawN(nRaw);
+  std::vector<RVec3> rawNewell(nRaw);
+  std::vector<RScalar> rawD(nRaw);
+  for (std::size_t f = 0; f < nRaw; ++f) {
+    rawNewell[f] = NewellNormal(poly.m_vertices, raw[f].loop.data(),
+                                static_cast<std::uint32_t>(raw[f].loop.size()));
+    rawN[f] = rawNewell[f].norm() > 0 ? rawNewell[f].normalized() : raw[f].normal.normalized();
+    rawD[f] = rawN[f].dot(poly.m_vertices[raw[f].loop[0]]);
+  }
+  // Group by plane (two faces of a convex polyhedron in one plane are parts of one face).
+  std::vector<std::size_t> group(nRaw);
+  for (std::size_t f = 0; f < nRaw; ++f) {
+    group[f] = f;
+    for (std::size_t g = 0; g < f; ++g) {
+      if (group[g] == g && (rawN[f] - rawN[g]).norm() <= kCoplanar &&
+          std::abs(rawD[f] - rawD[g]) <= kCoplanar * extent) {
+        group[f] = g;
+        break;
+      }
+    }
+  }
+  // Distinct planes at each vertex.
+  std::vector<std::vector<std::size_t>> planesAt(poly.m_vertices.size());
+  for (std::size_t f = 0; f < nRaw; ++f) {
+    for (std::uint32_t v : raw[f].loop) {
+      auto& list = planesAt[v];
+      if (std::find(list.begin(), list.end(), group[f]) == list.end()) list.push_back(group[f]);
+    }
+  }
+  std::vector<int> newIndex(poly.m_vertices.size(), -1);
+  std::vector<RVec3> corners;
+  for (std::size_t v = 0; v < poly.m_vertices.size(); ++v) {
+    if (planesAt[v].size() >= 3) {
+      newIndex[v] = static_cast<int>(corners.size());
+      corners.push_back(poly.m_vertices[v]);
+    }
+  }
+  poly.m_vertices = std::move(corners);
+  // One face per plane: its corners ordered by angle about their centroid (a strictly
+  // convex polygon now), counter-clockwise about the area-weighted normal.
+  std::vector<RawFace> faces;
+  for (std::size_t g = 0; g < nRaw; ++g) {
+    if (group[g] != g) continue;
+    RVec3 newell = RVec3::Zero();
+    std::vector<std::uint32_t> members;
+    for (std::size_t f = 0; f < nRaw; ++f) {
+      if (group[f] != g) continue;
+      newell += rawNewell[f];
+      for (std::uint32_t v : raw[f].loop) {
+        if (newIndex[v] >= 0) members.push_back(static_cast<std::uint32_t>(newIndex[v]));
+      }
+    }
+    std::sort(members.begin(), members.end());
+    members.erase(std::unique(members.begin(), members.end()), members.end());
+    if (members.size() < 3) continue;
+    RawFace face;
+    face.normal = newell.normalized();
+    RVec3 c = RVec3::Zero();
+    for (std::uint32_t i : members) c += poly.m_vertices[i];
+    c /= static_cast<RScalar>(members.size());
+    RVec3 u, w;
+    OrthonormalBasis(face.normal, u, w);
+    std::vector<std::pair<RScalar, std::uint32_t>> byAngle;
+    for (std::uint32_t i : members) {
+      const RVec3 d = poly.m_vertices[i] - c;
+      byAngle.emplace_back(std::atan2(d.dot(w), d.dot(u)), i);
+    }
+    std::sort(byAngle.begin(), byAngle.end());
+    for (const auto& [angle, i] : byAngle) face.loop.push_back(i);
+    std::rotate(face.loop.begin(), std::min_element(face.loop.begin(), face.loop.end()),
+                face.loop.end());
+    faces.push_back(std::move(face));
+  }
+  std::sort(faces.begin(), faces.end(),
             [](const RawFace& a, const RawFace& b) { return a.loop < b.loop; });
-  for (const RawFace& f : raw) {
+  for (const RawFace& f : faces) {
     RFace face;
     face.firstVertex = static_cast<std::uint32_t>(poly.m_loops.size());
     face.vertexCount = static_cast<std::uint32_t>(f.loop.size());
     poly.m_loops.insert(poly.m_loops.end(), f.loop.begin(), f.loop.end());
-    RVec3 n = NewellNormal(poly.m_vertices, f.loop.data(), face.vertexCount);
-    n = (n.norm() > 0 ? n.normalized() : f.normal.normalized());
-    // The plane must support every vertex of the hull, not just the loop's: take the
-    // largest offset over the loop (merged facets are planar only to rounding).
+    const RVec3& n = f.normal;
+    // The plane must support every vertex of the face: the largest offset over its loop
+    // (the merged face is planar only to rounding).
     RScalar d = -std::numeric_limits<RScalar>::infinity();
     for (std::uint32_t i : f.loop) d = std::max(d, n.dot(poly.m_vertices[i]));
     face.plane = RPlane{n, d};
