@@ -383,7 +383,7 @@ TEST(Polyhedron, SpinningIrregularHullConservesInvariants) {
 // Update shows where the body is now, even if collision detection cached it during the step.
 TEST(Polyhedron, WorldFormAfterUpdateIsThePostStepPose) {
   std::vector<RRigidBody> bodies;
-  for (RScalar x : {0.0, 0.9}) {
+  for (RScalar x : {0.0, 1.1}) {  // 0.1 m apart, moving together: near, never touching
     RBodyDef d;
     d.shape.type = RShapeType::kBox;
     d.shape.halfExtents = RVec3(0.5, 0.5, 0.5);

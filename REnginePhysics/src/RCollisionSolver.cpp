@@ -16,6 +16,8 @@ constexpr RScalar kFaceContactCos = RScalar(0.9998);
 // The reference face is A's unless B's is clearly better aligned: the bias keeps the
 // choice, hence the feature ids, from flickering between equally good faces.
 constexpr RScalar kReferenceBias = RScalar(1e-3);
+// Clipping tolerance, relative to the reference face's size.
+constexpr RScalar kClipTolerance = RScalar(1e-4);
 
 RCollisionStatus StatusOf(RScalar separation, RScalar band) {
   if (separation > band) return RCollisionStatus::kSeparated;
@@ -290,14 +292,23 @@ RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvex
     in[nIn++] = {inc.Vertex(i), 0x8000u | i};
   }
   const std::uint32_t refCount = ref.Count();
+  // Side planes are pushed out by 1e-4 of the face's size: an incident vertex exactly on a
+  // reference edge (equal boxes stacked) stays one feature instead of flickering between
+  // "inside" and "clipped" with rounding, which would lose its warm start every other step.
+  RScalar faceSize = 0;
+  for (std::uint32_t e = 0; e < refCount; ++e) {
+    faceSize = std::max(faceSize, (ref.Vertex(e) - ref.Vertex(0)).norm());
+  }
+  const RScalar clipTolerance = kClipTolerance * faceSize;
   for (std::uint32_t e = 0; e < refCount && nIn > 0; ++e) {
     const RVec3 v0 = ref.Vertex(e), v1 = ref.Vertex((e + 1) % refCount);
-    const RVec3 outward = (v1 - v0).cross(refN);  // CCW loop about refN: points out
+    const RVec3 outward = (v1 - v0).cross(refN).normalized();  // CCW about refN: points out
     int nOut = 0;
     for (int i = 0; i < nIn; ++i) {
       const ClipPoint& p = in[i];
       const ClipPoint& q2 = in[(i + 1) % nIn];
-      const RScalar dp = outward.dot(p.p - v0), dq = outward.dot(q2.p - v0);
+      const RScalar dp = outward.dot(p.p - v0) - clipTolerance;
+      const RScalar dq = outward.dot(q2.p - v0) - clipTolerance;
       if (dp <= 0 && nOut < kMaxClip) out[nOut++] = p;
       if ((dp < 0) != (dq < 0) && dp != dq && nOut < kMaxClip) {
         const RScalar t = dp / (dp - dq);

@@ -1,5 +1,7 @@
 #include <REnginePhysics/RIntegrator.h>
 
+#include <REngineMath/RQuaternion.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -25,6 +27,9 @@ RScalar Combine(RCombineMode mode, RScalar a, RScalar b) {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+struct RSettingsView {
+  RScalar restitutionThreshold, slop, correction;
+};
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 }  // namespace
 
@@ -98,6 +103,196 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
   m_pairStats.rejectedBounds = m_pairStats.pairs - m_pairStats.rejectedFilter -
                                m_pairStats.rejectedBoxes - m_pairStats.narrowPhase;
   m_pairStats.contacts = m_contacts.size();
+  FindImpulses(bodies, dt);
+}
+
+namespace {
+
+// Inverse effective mass of the pair along direction d at the contact offsets rA, rB:
+// 1/mA + 1/mB + (IA^-1 (rA x d)) x rA . d + (IB^-1 (rB x d)) x rB . d.
+RScalar InverseMass(const RVec3& d, const RVec3& rA, const RVec3& rB, RScalar invMA,
+                    const RMat3& invIA, RScalar invMB, const RMat3& invIB) {
+  const RVec3 ra = rA.cross(d), rb = rB.cross(d);
+  return invMA + invMB + ra.dot(invIA * ra) + rb.dot(invIB * rb);
+}
+
+std::uint64_t WarmKey(std::uint32_t a, std::uint32_t b, std::uint32_t feature) {
+  // 20 bits per body index and the 24 low bits of the feature id (ids are small hashes).
+  return (std::uint64_t(a & 0xfffffu) << 44) | (std::uint64_t(b & 0xfffffu) << 24) |
+         (feature & 0xffffffu);
+}
+
+}  // namespace
+
+// Sequential impulses (Catto 2005) over every contact point, with the velocities each body
+// will move with during the step (its pending impulses and half the step's acceleration
+// included: kick-drift-kick moves bodies with the mid-step velocity, so a resting contact
+// that holds that velocity at zero does not sink at all). Accumulated normal impulses are
+// clamped at zero (a contact pushes, never pulls: the separating-velocity guard), friction
+// to the Coulomb disc mu * lambda_n, and every row starts from last step's impulses for the
+// same features. Penetration beyond a slop is removed by pseudo-velocities (split
+// impulses), solved apart so that position correction never adds kinetic energy.
+void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
+  m_rows.clear();
+  const std::size_t n = bodies.size();
+  m_solverBodies.resize(n);
+  const RScalar halfDt = RScalar(0.5) * dt;
+  bool anyRow = false;
+  for (const RContact& c : m_contacts) {
+    const RRigidBody& a = bodies[c.a];
+    const RRigidBody& b = bodies[c.b];
+    anyRow = anyRow || (a.m_responds && b.m_responds && (!a.m_isStatic || !b.m_isStatic));
+  }
+  if (!anyRow) {
+    m_warm.clear();
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const RRigidBody& b = bodies[i];
+    RSolverBody& s = m_solverBodies[i];
+    s.invM = b.m_invMass;
+    s.vp.setZero(), s.wp.setZero();
+    if (b.m_isStatic) {
+      s.v.setZero(), s.w.setZero(), s.invI.setZero();
+      continue;
+    }
+    const RMat3 R = b.m_q_WB.toRotationMatrix();
+    s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
+    s.v = b.m_v_W + b.m_linearImpulse_W * b.m_invMass +
+          (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
+    s.w = R * b.m_w_B + s.invI * (b.m_angularImpulse_W + b.m_torque_W * halfDt);
+  }
+
+  const RSettingsView set{m_settings.restitutionThreshold, m_settings.penetrationSlop,
+                          m_settings.positionCorrection};
+  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
+    RContact& c = m_contacts[ci];
+    const RRigidBody& A = bodies[c.a];
+    const RRigidBody& B = bodies[c.b];
+    c.resolved = A.m_responds && B.m_responds && (!A.m_isStatic || !B.m_isStatic);
+    if (!c.resolved) continue;
+    const RSolverBody& sa = m_solverBodies[c.a];
+    const RSolverBody& sb = m_solverBodies[c.b];
+    const RScalar e = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
+    const RScalar mu = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      const RContactPoint& p = c.manifold.points[k];
+      RContactRow r;
+      r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
+      r.n = c.manifold.query.normal;
+      OrthonormalBasis(r.n, r.t1, r.t2);
+      r.rA = p.position - A.m_x_W;
+      r.rB = p.position - B.m_x_W;
+      r.kN = InverseMass(r.n, r.rA, r.rB, sa.invM, sa.invI, sb.invM, sb.invI);
+      r.kT1 = InverseMass(r.t1, r.rA, r.rB, sa.invM, sa.invI, sb.invM, sb.invI);
+      r.kT2 = InverseMass(r.t2, r.rA, r.rB, sa.invM, sa.invI, sb.invM, sb.invI);
+      r.friction = mu;
+      const RVec3 vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
+      const RScalar vn = vRel.dot(r.n);
+      const RScalar gap = p.separation;
+      // An impact: approaching faster than the threshold and reaching contact within the
+      // step. It bounces with the restitution's closed-form outcome. Otherwise the contact
+      // may close its gap (speculative: a fast body stops at the surface, not inside it)
+      // but not approach beyond it.
+      const bool impact = vn < -set.restitutionThreshold && gap <= -vn * dt;
+      r.target = impact ? -e * vn : -std::max(gap, RScalar(0)) / dt;
+      r.pseudoTarget = gap < -set.slop ? set.correction * (-gap - set.slop) / dt : 0;
+      r.lambdaN = r.lambdaT1 = r.lambdaT2 = r.lambdaP = 0;
+      // Warm start from the same features last step.
+      const std::uint64_t key = WarmKey(c.a, c.b, p.featureId);
+      const auto it = std::lower_bound(m_warm.begin(), m_warm.end(), key,
+                                       [](const RWarmStart& w, std::uint64_t k2) { return w.key < k2; });
+      if (it != m_warm.end() && it->key == key && !impact) {
+        ++m_pairStats.warmStarted;
+        r.lambdaN = it->lambdaN;
+        r.lambdaT1 = it->tangentImpulse.dot(r.t1);
+        r.lambdaT2 = it->tangentImpulse.dot(r.t2);
+      }
+      m_rows.push_back(r);
+    }
+  }
+
+  m_pairStats.contactPoints = m_rows.size();
+  auto apply = [&](const RContactRow& r, const RVec3& J, bool pseudo) {
+    RSolverBody& sa = m_solverBodies[r.a];
+    RSolverBody& sb = m_solverBodies[r.b];
+    RVec3& va = pseudo ? sa.vp : sa.v;
+    RVec3& wa = pseudo ? sa.wp : sa.w;
+    RVec3& vb = pseudo ? sb.vp : sb.v;
+    RVec3& wb = pseudo ? sb.wp : sb.w;
+    va -= sa.invM * J;
+    wa -= sa.invI * r.rA.cross(J);
+    vb += sb.invM * J;
+    wb += sb.invI * r.rB.cross(J);
+  };
+  for (const RContactRow& r : m_rows) {
+    if (r.lambdaN != 0 || r.lambdaT1 != 0 || r.lambdaT2 != 0) {
+      apply(r, r.lambdaN * r.n + r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2, false);
+    }
+  }
+  const int iterations = std::max(1, m_settings.solverIterations);
+  const std::size_t nRows = m_rows.size();
+  for (int it = 0; it < iterations; ++it) {
+    // Alternate the sweep's direction: a one-way Gauss-Seidel sweep favours the first
+    // points of each manifold, leaving a small torque that tilts stacked bodies.
+    for (std::size_t rr = 0; rr < nRows; ++rr) {
+      RContactRow& r = m_rows[(it % 2 == 0) ? rr : nRows - 1 - rr];
+      const RSolverBody& sa = m_solverBodies[r.a];
+      const RSolverBody& sb = m_solverBodies[r.b];
+      // Friction first, bounded by the normal impulse of the previous pass.
+      RVec3 vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
+      const RScalar lt1 = r.lambdaT1 - vRel.dot(r.t1) / r.kT1;
+      const RScalar lt2 = r.lambdaT2 - vRel.dot(r.t2) / r.kT2;
+      const RScalar limit = r.friction * r.lambdaN;
+      const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
+      const RScalar scale = norm > limit ? limit / norm : RScalar(1);
+      const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
+      r.lambdaT1 += d1, r.lambdaT2 += d2;
+      if (d1 != 0 || d2 != 0) apply(r, d1 * r.t1 + d2 * r.t2, false);
+      // Normal: reach the target, never pull.
+      vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
+      const RScalar ln = std::max(r.lambdaN - (vRel.dot(r.n) - r.target) / r.kN, RScalar(0));
+      const RScalar dn = ln - r.lambdaN;
+      r.lambdaN = ln;
+      if (dn != 0) apply(r, dn * r.n, false);
+      // Position correction on the pseudo-velocities.
+      if (r.pseudoTarget > 0 || r.lambdaP > 0) {
+        const RVec3 pRel = sb.vp + sb.wp.cross(r.rB) - sa.vp - sa.wp.cross(r.rA);
+        const RScalar lp = std::max(r.lambdaP - (pRel.dot(r.n) - r.pseudoTarget) / r.kN, RScalar(0));
+        const RScalar dp = lp - r.lambdaP;
+        r.lambdaP = lp;
+        if (dp != 0) apply(r, dp * r.n, true);
+      }
+    }
+  }
+
+  // Accumulate on the bodies (applied by UpdateObjects), report, and remember.
+  m_warmNext.clear();
+  for (const RContactRow& r : m_rows) {
+    const RVec3 J = r.lambdaN * r.n + r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2;
+    RRigidBody& A = bodies[r.a];
+    RRigidBody& B = bodies[r.b];
+    if (!A.m_isStatic) {
+      A.m_linearImpulse_W -= J;
+      A.m_angularImpulse_W -= r.rA.cross(J);
+    }
+    if (!B.m_isStatic) {
+      B.m_linearImpulse_W += J;
+      B.m_angularImpulse_W += r.rB.cross(J);
+    }
+    m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN;
+    m_warmNext.push_back(RWarmStart{
+        WarmKey(r.a, r.b, m_contacts[r.contact].manifold.points[r.point].featureId), r.lambdaN,
+        r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2});
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (bodies[i].m_isStatic) continue;
+    bodies[i].m_pseudoVelocity_W = m_solverBodies[i].vp;
+    bodies[i].m_pseudoAngular_W = m_solverBodies[i].wp;
+  }
+  std::sort(m_warmNext.begin(), m_warmNext.end(),
+            [](const RWarmStart& x, const RWarmStart& y) { return x.key < y.key; });
+  std::swap(m_warm, m_warmNext);
 }
 
 void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
@@ -129,6 +324,14 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
     b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
     if (torque) {
       b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * (b.m_torque_W * halfDt));
+    }
+
+    // Position correction: displacement without velocity (split impulses).
+    if (!b.m_pseudoVelocity_W.isZero(0) || !b.m_pseudoAngular_W.isZero(0)) {
+      b.m_x_W += b.m_pseudoVelocity_W * dt;
+      b.m_q_WB = QuatExp(b.m_pseudoAngular_W * dt) * b.m_q_WB;
+      b.m_q_WB.normalize();
+      b.m_pseudoVelocity_W.setZero(), b.m_pseudoAngular_W.setZero();
     }
 
     b.m_force_W.setZero(), b.m_torque_W.setZero();

@@ -35,6 +35,15 @@ struct RWorldSettings {
   RCombineMode restitutionCombine = RCombineMode::kMin;
   RCombineMode frictionCombine = RCombineMode::kGeometric;
   int solverIterations = 10;        // contact solver passes per step
+  // Approach speed (m/s) below which restitution is ignored: resting and slowly settling
+  // bodies do not bounce. Above it a collision keeps its closed-form outcome.
+  RScalar restitutionThreshold = 0.5;
+  // Penetration (m) left alone by position correction: removing the last fraction of a
+  // millimetre every step would make stacked bodies jitter.
+  RScalar penetrationSlop = 5e-4;
+  // Fraction of the penetration beyond the slop removed per step by position correction
+  // (split impulses: positions move, velocities and energy do not change).
+  RScalar positionCorrection = 0.5;
 };
 
 // Wall-clock time of each stage of the last Update, milliseconds.
@@ -57,6 +66,10 @@ struct RNonFiniteBody {
 struct RContact {
   std::uint32_t a = 0, b = 0;  // indices into the bodies vector, a < b
   RContactManifold manifold;
+  // Normal impulse the solver applied at each manifold point this step, N s (0 when either
+  // body does not respond: such contacts are reported, not resolved).
+  RScalar normalImpulse[4] = {0, 0, 0, 0};
+  bool resolved = false;  // both bodies respond and at least one is dynamic
 };
 
 // Game code's veto on a pair (a missile leaving its own launch tube): return false to skip
@@ -71,6 +84,8 @@ struct RPairStats {
   std::uint64_t rejectedBoxes = 0;  // then: world bounding boxes (grown by motion) apart
   std::uint64_t narrowPhase = 0;    // CheckCollision calls
   std::uint64_t contacts = 0;       // pairs reported
+  std::uint64_t contactPoints = 0;  // solver rows (points of resolved contacts)
+  std::uint64_t warmStarted = 0;    // rows that found last step's impulses
 };
 
 class RIntegrator {
@@ -100,7 +115,37 @@ class RIntegrator {
 
  private:
   void CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt);
+  // Solves the contacts found this step for impulses (sequential impulses over all points,
+  // warm-started) and accumulates them on the bodies; called from CollisionDetection.
+  void FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt);
   void UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt);
+
+  // One contact point's constraint, built once per step (solver scratch).
+  struct RContactRow {
+    std::uint32_t a, b;        // body indices
+    std::uint32_t contact;     // index into m_contacts
+    int point;                 // index into its manifold
+    RVec3 n, t1, t2;           // normal (A to B) and tangents, world
+    RVec3 rA, rB;              // contact point from each centre of mass, world, m
+    RScalar kN, kT1, kT2;      // inverse effective masses along n, t1, t2, 1/kg
+    RScalar target;            // normal relative velocity to reach, m/s
+    RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
+    RScalar friction;          // combined Coulomb coefficient
+    RScalar lambdaN, lambdaT1, lambdaT2, lambdaP;  // accumulated impulses, N s
+  };
+  // Working state of a body during the solve: velocities that include every pending change.
+  struct RSolverBody {
+    RVec3 v, w;                // linear and angular velocity, world
+    RVec3 vp, wp;              // pseudo-velocities (position correction), world
+    RMat3 invI;                // inverse inertia, world, 1/(kg m^2)
+    RScalar invM;              // 1/kg
+  };
+  // Warm-start memory: last step's impulses by (body a, body b, feature id).
+  struct RWarmStart {
+    std::uint64_t key;
+    RScalar lambdaN;
+    RVec3 tangentImpulse;      // world, N s
+  };
 
   RWorldSettings m_settings;
   RStepProfile m_profile;
@@ -109,6 +154,9 @@ class RIntegrator {
   std::optional<RNonFiniteBody> m_nonFinite;
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
+  std::vector<RContactRow> m_rows;
+  std::vector<RSolverBody> m_solverBodies;
+  std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by key
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;

@@ -176,6 +176,10 @@ class RRigidBody {
   RVec3 m_torque_W = RVec3::Zero();
   RVec3 m_linearImpulse_W = RVec3::Zero();
   RVec3 m_angularImpulse_W = RVec3::Zero();
+  // Position correction from the contact solver (split impulses): displacement rates that
+  // move the body this step without touching its velocities, m/s and rad/s, world.
+  RVec3 m_pseudoVelocity_W = RVec3::Zero();
+  RVec3 m_pseudoAngular_W = RVec3::Zero();
 
   RFreeRotation m_rotation;
 

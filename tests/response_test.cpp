@@ -1,0 +1,154 @@
+// Collision response against closed forms and conservation laws (first part of the
+// response issue: impulses, restitution, the separating-velocity guard, reporting).
+#include <REnginePhysics/RIntegrator.h>
+#include <REnginePhysics/RScene.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace REngine;
+
+namespace {
+
+RBodyDef Ball(const char* name, RScalar r, RScalar m, const RVec3& x, const RVec3& v, RScalar e) {
+  RBodyDef d;
+  d.name = name;
+  d.shape.type = RShapeType::kSphere;
+  d.shape.radius = r;
+  d.mass = m;
+  d.position_W = x;
+  d.velocity_W = v;
+  d.restitution = e;
+  d.friction = 0;
+  return d;
+}
+
+RVec3 Momentum(const std::vector<RRigidBody>& bodies) {
+  RVec3 p = RVec3::Zero();
+  for (const RRigidBody& b : bodies) p += b.Mass() * b.Velocity_W();
+  return p;
+}
+RScalar KineticEnergy(const std::vector<RRigidBody>& bodies) {
+  RScalar e = 0;
+  for (const RRigidBody& b : bodies) e += b.LinearKineticEnergy() + b.RotationalKineticEnergy();
+  return e;
+}
+// About the world origin: orbital plus spin.
+RVec3 AngularMomentum(const std::vector<RRigidBody>& bodies) {
+  RVec3 l = RVec3::Zero();
+  for (const RRigidBody& b : bodies) {
+    l += b.Position_W().cross(b.Mass() * b.Velocity_W()) + b.AngularMomentum_W();
+  }
+  return l;
+}
+
+}  // namespace
+
+// Head-on collision of two spheres: v1' = (m1 v1 + m2 v2 - m2 e (v1 - v2)) / (m1 + m2) and
+// symmetrically; exact for one contact point, so to rounding (1e-9 relative asked).
+TEST(Response, HeadOnCollisionsMatchTheClosedForm) {
+  for (RScalar e : {0.0, 0.3, 0.7, 1.0}) {
+    for (RScalar m2 : {1.0, 3.0, 1000.0}) {
+      const RScalar m1 = 1, v1 = 3, v2 = -1;
+      std::vector<RRigidBody> bodies{RRigidBody(Ball("a", 0.5, m1, RVec3(-2, 0, 0), RVec3(v1, 0, 0), e)),
+                                     RRigidBody(Ball("b", 0.5, m2, RVec3(2, 0, 0), RVec3(v2, 0, 0), e))};
+      RIntegrator integrator;
+      for (int i = 0; i < 240; ++i) integrator.Update(bodies, 1.0 / 120);
+      const RScalar u1 = (m1 * v1 + m2 * v2 - m2 * e * (v1 - v2)) / (m1 + m2);
+      const RScalar u2 = (m1 * v1 + m2 * v2 + m1 * e * (v1 - v2)) / (m1 + m2);
+      EXPECT_NEAR(bodies[0].Velocity_W().x(), u1, 1e-9 * std::abs(v1)) << e << " " << m2;
+      EXPECT_NEAR(bodies[1].Velocity_W().x(), u2, 1e-9 * std::abs(v1)) << e << " " << m2;
+      EXPECT_TRUE(bodies[0].Velocity_W().tail<2>().isZero(1e-15));
+    }
+  }
+}
+
+// The shared reference scene, through the scene loader.
+TEST(Response, SharedHeadOnElasticScene) {
+  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/head_on_elastic.json");
+  std::vector<RRigidBody> bodies = CreateBodies(scene);
+  RIntegrator integrator(scene.settings);
+  for (std::uint64_t i = 0; i < scene.steps; ++i) integrator.Update(bodies, scene.dt);
+  // m = 1 at 3 m/s against m = 3 at -1 m/s, e = 1: -3 and +1 m/s.
+  EXPECT_NEAR(bodies[0].Velocity_W().x(), -3, 1e-12);
+  EXPECT_NEAR(bodies[1].Velocity_W().x(), 1, 1e-12);
+}
+
+// debris_cloud_1000: 1000 cubes in zero g, restitution 1, no friction. Every impulse is
+// applied equal and opposite, so momentum is conserved to rounding (1e-12 relative to the
+// sum of |m v|), and no step may gain kinetic energy beyond rounding.
+TEST(Response, DebrisCloudConservesMomentumAndNeverGainsEnergy) {
+  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/debris_cloud_1000.json");
+  std::vector<RRigidBody> bodies = CreateBodies(scene);
+  RIntegrator integrator(scene.settings);
+  const RVec3 p0 = Momentum(bodies);
+  RScalar scale = 0;
+  for (const RRigidBody& b : bodies) scale += b.Mass() * b.Velocity_W().norm();
+  RScalar ePrev = KineticEnergy(bodies), worstP = 0, worstGain = 0;
+  std::uint64_t contacts = 0;
+  for (std::uint64_t i = 0; i < scene.steps; ++i) {
+    integrator.Update(bodies, scene.dt);
+    contacts += integrator.Contacts().size();
+    worstP = std::max(worstP, (Momentum(bodies) - p0).norm() / scale);
+    const RScalar e = KineticEnergy(bodies);
+    worstGain = std::max(worstGain, (e - ePrev) / ePrev);
+    ePrev = e;
+  }
+  std::printf("debris cloud: %llu contacts, max momentum drift %.3g of sum |m v|, max energy "
+              "gain per step %.3g\n", static_cast<unsigned long long>(contacts), worstP, worstGain);
+  EXPECT_GT(contacts, 100u) << "the scene must actually collide";
+  EXPECT_LT(worstP, 1e-12);
+  EXPECT_LT(worstGain, 1e-12);
+}
+
+// Without position correction (whose pseudo-velocities move bodies without momentum), the
+// impulses also conserve angular momentum about any point: equal and opposite at the same
+// contact point.
+TEST(Response, ImpulsesConserveAngularMomentum) {
+  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/debris_cloud_1000.json");
+  std::vector<RRigidBody> bodies = CreateBodies(scene);
+  RWorldSettings settings = scene.settings;
+  settings.positionCorrection = 0;
+  RIntegrator integrator(settings);
+  const RVec3 l0 = AngularMomentum(bodies);
+  RScalar scale = 0;
+  for (const RRigidBody& b : bodies) {
+    scale += b.Position_W().norm() * b.Mass() * b.Velocity_W().norm() + b.AngularMomentum_W().norm();
+  }
+  RScalar worst = 0;
+  for (int i = 0; i < 300; ++i) {
+    integrator.Update(bodies, scene.dt);
+    worst = std::max(worst, (AngularMomentum(bodies) - l0).norm() / scale);
+  }
+  EXPECT_LT(worst, 1e-12);
+}
+
+// Bodies that overlap but already separate get no impulse (the separating-velocity guard),
+// and a body with responds = false is reported, not bounced, and pushes nothing.
+TEST(Response, SeparatingGuardAndNonRespondingBodies) {
+  {
+    std::vector<RRigidBody> bodies{
+        RRigidBody(Ball("a", 0.5, 1, RVec3(0, 0, 0), RVec3(-1, 0, 0), 1)),
+        RRigidBody(Ball("b", 0.5, 1, RVec3(0.9, 0, 0), RVec3(1, 0, 0), 1))};
+    RWorldSettings settings;
+    settings.positionCorrection = 0;
+    RIntegrator integrator(settings);
+    integrator.Update(bodies, 1.0 / 60);
+    ASSERT_EQ(integrator.Contacts().size(), 1u);
+    EXPECT_EQ(integrator.Contacts()[0].normalImpulse[0], 0);
+    EXPECT_EQ(bodies[0].Velocity_W(), RVec3(-1, 0, 0));
+  }
+  {
+    RBodyDef missile = Ball("missile", 0.1, 1, RVec3(0, 0, 0.5), RVec3(0, 0, -30), 0);
+    missile.responds = false;
+    RBodyDef crate = Ball("crate", 0.5, 1, RVec3(0, 0, 0), RVec3::Zero(), 0);
+    std::vector<RRigidBody> bodies{RRigidBody(missile), RRigidBody(crate)};
+    RIntegrator integrator;
+    integrator.Update(bodies, 1.0 / 60);
+    ASSERT_EQ(integrator.Contacts().size(), 1u);
+    EXPECT_FALSE(integrator.Contacts()[0].resolved);
+    EXPECT_EQ(bodies[0].Velocity_W(), RVec3(0, 0, -30));
+    EXPECT_EQ(bodies[1].Velocity_W(), RVec3::Zero());
+  }
+}
