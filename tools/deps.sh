@@ -9,6 +9,7 @@ REngine_BUILD_PACKAGES=(
   libqhull-dev                  # convex hulls (RConvexPolyhedron::Hull)
   libgtest-dev                  # tests
   libbenchmark-dev              # tools/bench (Google Benchmark)
+  libccd-dev libfcl-dev         # independent oracles for the collision tests
 )
 
 rengine_install_deps() {

@@ -1,0 +1,975 @@
+// The narrow phase (RCollisionSolver) against independent references.
+//
+//  * Exact references (tests/support/CollisionOracles): the separating axis test over every
+//    facet normal of the Minkowski difference gives the minimum penetration depth and its
+//    axis; enumeration of vertex-face and edge-edge pairs gives the distance of separated
+//    shapes. Both are iteration-free and share nothing with GJK/EPA. Our answers are
+//    asserted against them.
+//  * libccd 2.1 (GJK, GJK+EPA, MPR) and FCL 0.7 (collide, distance): their accuracy against
+//    the exact references is measured and printed; only our agreement with FCL's distance,
+//    where FCL is accurate, is asserted.
+//
+// Every failure of a random pair prints it as a TEST that pastes into this file (after the
+// helpers) as a regression test.
+//
+// Tolerances. The API resolves separations to its touching band,
+// band = RCollisionSolver::kTouchingTolerance * (rA + rB) = 1e-9 of the pair's size: below
+// it, "touching" is the answer and the sign is not promised. Rounding in GJK/EPA is ~1e-16
+// of the size per operation, far below the band; an EPA that stops early or a GJK that picks
+// the wrong feature errs by much more. So values must match to 1e-6 relative plus the band,
+// verdicts must match wherever the reference is two bands from zero (the reference itself
+// is exact to ~1e-15 of the size), and normals must match to 1e-4 rad.
+#include <REngineMath/RQuaternion.h>
+#include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RRigidBody.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "support/CollisionOracles.h"
+
+using namespace REngine;
+using namespace REngine::test;
+
+namespace {
+
+// Normal tolerance: 1e-4 rad. An EPA that ends on the right facet of the Minkowski difference
+// has its normal to ~1e-15 rad times the facet's conditioning; one that ends on a
+// neighbouring facet is off by the angle between facets, which for hulls of <= 64 points
+// is >> 1e-4 rad except between near-tied facets, which the reference lists as alternatives.
+constexpr RScalar kNormalTolerance = 1e-4;
+// Relative value tolerance (depth or distance), on top of the band.
+constexpr RScalar kRelativeTolerance = 1e-6;
+
+// ---------------------------------------------------------------------------------------
+// Pasteable reproduction.
+
+std::string Cpp(const RVec3& v) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "RVec3(%.17g, %.17g, %.17g)", v.x(), v.y(), v.z());
+  return buf;
+}
+std::string Cpp(const RQuat& q) {  // RQuat's constructor takes (w, x, y, z)
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "RQuat(%.17g, %.17g, %.17g, %.17g)", q.w(), q.x(), q.y(), q.z());
+  return buf;
+}
+std::string Cpp(const std::vector<RVec3>& points) {
+  std::string s = "{";
+  for (std::size_t i = 0; i < points.size(); ++i) s += (i ? ",\n       " : "") + Cpp(points[i]);
+  return s + "}";
+}
+
+// A pair as the random suite makes it: hull input points in each shape's own frame, and the
+// world poses of those frames.
+struct PairCase {
+  std::vector<RVec3> pointsA, pointsB;  // m
+  OraclePose X_WA, X_WB;
+};
+
+std::string Reproduction(const PairCase& c, const std::string& name) {
+  return "TEST(CollisionRegression, " + name + ") {\n  const PairCase c{\n      " + Cpp(c.pointsA) +
+         ",\n      " + Cpp(c.pointsB) + ",\n      {" + Cpp(c.X_WA.position_W) + ", " +
+         Cpp(c.X_WA.q_WS) + "},\n      {" + Cpp(c.X_WB.position_W) + ", " + Cpp(c.X_WB.q_WS) +
+         "}};\n  ExpectPairMatchesReference(c);\n}\n";
+}
+
+// ---------------------------------------------------------------------------------------
+// One pair: the exact reference, our answer, and the checks.
+
+RScalar Angle(const RVec3& a, const RVec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));  // accurate for tiny angles
+}
+
+struct PairEval {
+  RScalar scale = 0;  // rA + rB, m
+  RScalar band = 0;   // touching band, m
+  // Reference, world frame.
+  RConvexPolyhedron posedA, posedB;
+  SatResult sat;
+  BruteDistance brute;  // only for separated pairs
+  RScalar refSeparation = 0;
+  RVec3 refNormal_W = RVec3::UnitX();  // separated: direction of the closest points
+  // Ours, converted to the world frame.
+  RDistanceResult ours;
+  RVec3 normal_W, witnessA_W, witnessB_W;
+  bool intersect = false;
+};
+
+RConvexShape ShapeFor(const OracleHull& h) {
+  RConvexShape s;
+  s.polyhedron = &h.Polyhedron();
+  s.boundingRadius = h.Radius();
+  return s;
+}
+
+// X_AB from the world poses: p_A = R_A^T (p_W - x_A).
+RRelativePose RelativeFromWorld(const OraclePose& X_WA, const OraclePose& X_WB) {
+  const RMat3 R_WA = X_WA.q_WS.toRotationMatrix(), R_WB = X_WB.q_WS.toRotationMatrix();
+  RRelativePose X;
+  X.R_AB = R_WA.transpose() * R_WB;
+  X.t_AB = R_WA.transpose() * (X_WB.position_W - X_WA.position_W);
+  return X;
+}
+
+// The exact reference for a pair (fills scale, band, the posed polyhedra and the reference
+// fields of `e`).
+PairEval EvaluateReference(const OracleHull& a, const OraclePose& X_WA, const OracleHull& b,
+                           const OraclePose& X_WB) {
+  PairEval e;
+  e.scale = a.Radius() + b.Radius();
+  e.band = RCollisionSolver::kTouchingTolerance * e.scale;
+  e.posedA = a.Polyhedron().Transformed(X_WA.q_WS.toRotationMatrix(), X_WA.position_W);
+  e.posedB = b.Polyhedron().Transformed(X_WB.q_WS.toRotationMatrix(), X_WB.position_W);
+  // Ties: facets whose depths differ by less than the band are equally right answers.
+  e.sat = SatSeparation(e.posedA, e.posedB, e.band, kNormalTolerance);
+  if (e.sat.separation > 0) {
+    e.brute = BruteForceDistance(e.posedA, e.posedB);
+    e.refSeparation = e.brute.distance;
+    e.refNormal_W = (e.brute.pointB - e.brute.pointA).normalized();
+  } else {
+    e.refSeparation = e.sat.separation;
+    e.refNormal_W = e.sat.axis;
+  }
+  return e;
+}
+
+// Our Distance and Intersect for the pair, in the frame of A as the engine poses them, with
+// the results taken back to the world.
+void EvaluateOurs(const OracleHull& a, const OraclePose& X_WA, const OracleHull& b,
+                  const OraclePose& X_WB, PairEval& e) {
+  const RConvexShape sa = ShapeFor(a), sb = ShapeFor(b);
+  const RRelativePose X_AB = RelativeFromWorld(X_WA, X_WB);
+  e.ours = RCollisionSolver::Distance(sa, sb, X_AB);
+  e.intersect = RCollisionSolver::Intersect(sa, sb, X_AB);
+  const RMat3 R_WA = X_WA.q_WS.toRotationMatrix();
+  e.normal_W = R_WA * e.ours.normal;
+  e.witnessA_W = R_WA * e.ours.witnessA + X_WA.position_W;
+  e.witnessB_W = R_WA * e.ours.witnessB + X_WA.position_W;
+}
+
+PairEval Evaluate(const OracleHull& a, const OraclePose& X_WA, const OracleHull& b,
+                  const OraclePose& X_WB) {
+  PairEval e = EvaluateReference(a, X_WA, b, X_WB);
+  EvaluateOurs(a, X_WA, b, X_WB, e);
+  return e;
+}
+
+const char* StatusName(RCollisionStatus s) {
+  switch (s) {
+    case RCollisionStatus::kSeparated:
+      return "separated";
+    case RCollisionStatus::kTouching:
+      return "touching";
+    case RCollisionStatus::kPenetrating:
+      return "penetrating";
+    case RCollisionStatus::kIterationCap:
+      return "iteration cap";
+  }
+  return "?";
+}
+
+// What is wrong with our answer, or an empty list.
+std::vector<std::string> CheckOurs(const PairEval& e) {
+  std::vector<std::string> bad;
+  char buf[512];
+  auto fail = [&](const char* what) { bad.emplace_back(what); };
+  const RDistanceResult& r = e.ours;
+  std::snprintf(buf, sizeof buf,
+                "ours: %s separation %.17g normal_W (%.17g, %.17g, %.17g), gjk %d epa %d "
+                "iterations; reference separation %.17g axis (%.17g, %.17g, %.17g) "
+                "(%zu near-optimal axes); band %.3g",
+                StatusName(r.status), r.separation, e.normal_W.x(), e.normal_W.y(), e.normal_W.z(),
+                r.gjkIterations, r.epaIterations, e.refSeparation, e.refNormal_W.x(),
+                e.refNormal_W.y(), e.refNormal_W.z(), e.sat.nearOptimalAxes.size(), e.band);
+  const std::string summary = buf;
+  if (!std::isfinite(r.separation) || !AllFinite(r.normal) || !AllFinite(r.witnessA) ||
+      !AllFinite(r.witnessB))
+    fail("non-finite result");
+  if (r.status == RCollisionStatus::kIterationCap) fail("iteration cap on a valid pair");
+  if (r.gjkIterations > RCollisionSolver::kMaxGjkIterations ||
+      r.epaIterations > RCollisionSolver::kMaxEpaIterations)
+    fail("iterations beyond the documented caps");
+  if (std::abs(r.normal.norm() - 1) > 1e-12) fail("normal not unit");
+
+  // The status must classify our own separation as the header says.
+  const RScalar s = r.separation;
+  if (r.status != RCollisionStatus::kIterationCap) {
+    const RCollisionStatus expect = s > e.band    ? RCollisionStatus::kSeparated
+                                    : s < -e.band ? RCollisionStatus::kPenetrating
+                                                  : RCollisionStatus::kTouching;
+    if (r.status != expect && std::abs(std::abs(s) - e.band) > 1e-6 * e.band)
+      fail("status does not match our own separation and the band");
+  }
+  // Verdict against the exact reference, two bands away from contact; inside half a band,
+  // touching (our error is far below half a band).
+  const RScalar ref = e.refSeparation;
+  if (ref > 2 * e.band && r.status != RCollisionStatus::kSeparated) fail("verdict: not separated");
+  if (ref < -2 * e.band && r.status != RCollisionStatus::kPenetrating)
+    fail("verdict: not penetrating");
+  if (std::abs(ref) < 0.5 * e.band && r.status != RCollisionStatus::kTouching)
+    fail("verdict: not touching inside the band");
+  if (std::abs(ref) > 2 * e.band && e.intersect != (ref < 0)) fail("Intersect() verdict");
+  // Value.
+  if (!(std::abs(s - ref) <= kRelativeTolerance * std::abs(ref) + e.band))
+    fail(ref < 0 ? "depth differs from the SAT minimum" : "distance differs from brute force");
+  // Normal: for penetration, any of the near-optimal SAT axes; for separation, the (unique)
+  // direction of the closest points.
+  if (std::abs(ref) > 2 * e.band) {
+    RScalar angle = Angle(e.normal_W, e.refNormal_W);
+    if (ref < 0)
+      for (const RVec3& n : e.sat.nearOptimalAxes) angle = std::min(angle, Angle(e.normal_W, n));
+    if (!(angle <= kNormalTolerance)) fail("normal differs from the reference");
+  }
+  // Witnesses: on the surfaces, and witnessB - witnessA = separation * normal.
+  if (!(std::abs(SurfaceOffset(e.posedA, e.witnessA_W)) <= e.band))
+    fail("witnessA off A's surface");
+  if (!(std::abs(SurfaceOffset(e.posedB, e.witnessB_W)) <= e.band))
+    fail("witnessB off B's surface");
+  if (!((e.witnessB_W - e.witnessA_W - s * e.normal_W).norm() <=
+        kRelativeTolerance * std::abs(s) + e.band))
+    fail("witnessB - witnessA != separation * normal");
+  for (std::string& b : bad) b += "\n    " + summary;
+  return bad;
+}
+
+[[maybe_unused]] void ExpectPairMatchesReference(const PairCase& c) {
+  const OracleHull a(c.pointsA), b(c.pointsB);
+  for (const std::string& f : CheckOurs(Evaluate(a, c.X_WA, b, c.X_WB))) ADD_FAILURE() << f;
+}
+
+// ---------------------------------------------------------------------------------------
+// Random pairs.
+
+RScalar LogUniform(std::mt19937_64& rng, RScalar lo, RScalar hi) {
+  std::uniform_real_distribution<RScalar> u(std::log(lo), std::log(hi));
+  return std::exp(u(rng));
+}
+
+RQuat RandomRotation(std::mt19937_64& rng) {
+  std::normal_distribution<RScalar> g;
+  RQuat q(g(rng), g(rng), g(rng), g(rng));
+  q.normalize();
+  return q;
+}
+
+// A hull's input points in its own frame, centred on their mean: a box (a quarter of the
+// shapes) or a cloud of 4 to 64 points in or on a ball; size 1 cm to 100 m log-uniform;
+// stretched by up to 10:1 along axes of a random rotation.
+std::vector<RVec3> RandomShapePoints(std::mt19937_64& rng) {
+  std::uniform_real_distribution<RScalar> u(0, 1);
+  std::normal_distribution<RScalar> g;
+  const RScalar size = LogUniform(rng, 0.01, 100);
+  RVec3 stretch(LogUniform(rng, 1, 10), LogUniform(rng, 1, 10), LogUniform(rng, 1, 10));
+  stretch /= stretch.maxCoeff();
+  const RMat3 R = RandomRotation(rng).toRotationMatrix();
+  std::vector<RVec3> p;
+  if (u(rng) < 0.25) {
+    for (int i = 0; i < 8; ++i)
+      p.push_back(size * RVec3((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1));
+  } else {
+    const int n = std::uniform_int_distribution<int>(4, 64)(rng);
+    const bool onSphere = u(rng) < 0.5;
+    for (int i = 0; i < n; ++i) {
+      RVec3 v(g(rng), g(rng), g(rng));
+      v.normalize();
+      if (!onSphere) v *= std::cbrt(u(rng));
+      p.push_back(size * v);
+    }
+  }
+  RVec3 mean = RVec3::Zero();
+  for (RVec3& v : p) {
+    v = R * stretch.cwiseProduct(v);
+    mean += v;
+  }
+  mean /= static_cast<RScalar>(p.size());
+  for (RVec3& v : p) v -= mean;
+  return p;
+}
+
+RScalar SupportExtent(const OracleHull& h, const RQuat& q, const RVec3& d) {
+  const RVec3 d_S = q.conjugate() * d;
+  RScalar m = -1e300;
+  for (const RVec3& v : h.Polyhedron().Vertices()) m = std::max(m, v.dot(d_S));
+  return m;
+}
+
+// Pair `index` of the suite. Offsets: B is placed along a random direction u at g times the
+// distance T = h_A(u) + h_B(-u) beyond which the two are surely apart, g uniform in
+// [0.3, 1.1]: about half the pairs overlap (the suite asserts the rate). Every 8th pair is
+// then slid along the reference normal to a separation of +-10^[-10, -4] of its size, so
+// that near-contact, inside and just outside the band, is well represented.
+struct Generated {
+  PairCase c;
+  std::unique_ptr<OracleHull> a, b;
+};
+
+Generated MakePair(std::mt19937_64& rng, int index) {
+  std::uniform_real_distribution<RScalar> u(0, 1);
+  Generated out;
+  for (;;) {
+    out.c.pointsA = RandomShapePoints(rng);
+    out.c.pointsB = RandomShapePoints(rng);
+    try {
+      out.a = std::make_unique<OracleHull>(out.c.pointsA);
+      out.b = std::make_unique<OracleHull>(out.c.pointsB);
+      break;
+    } catch (const RHullError&) {
+      // A 4-point cloud can be flat to 1e-9: draw again (rare, and deterministic).
+    }
+  }
+  out.c.X_WA.q_WS = RandomRotation(rng);
+  out.c.X_WB.q_WS = RandomRotation(rng);
+  out.c.X_WA.position_W = RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+  const RVec3 dir = RandomRotation(rng) * RVec3::UnitX();
+  const RScalar T =
+      SupportExtent(*out.a, out.c.X_WA.q_WS, dir) + SupportExtent(*out.b, out.c.X_WB.q_WS, -dir);
+  const RScalar g = 0.3 + 0.8 * u(rng);
+  out.c.X_WB.position_W = out.c.X_WA.position_W + g * T * dir;
+  if (index % 8 == 7) {
+    const PairEval e = EvaluateReference(*out.a, out.c.X_WA, *out.b, out.c.X_WB);
+    const RScalar target = (u(rng) < 0.5 ? -1 : 1) * e.scale * std::pow(10.0, -10 + 6 * u(rng));
+    // Sliding B by delta along the reference normal changes the separation by exactly
+    // delta, for the distance and for the depth alike (while the sign does not change; the
+    // reference is recomputed anyway).
+    out.c.X_WB.position_W += (target - e.refSeparation) * e.refNormal_W;
+  }
+  return out;
+}
+
+// Error statistics: count, median, 99th percentile, maximum, and how many exceed 1e-6
+// (the relative tolerance ours is held to).
+struct Stats {
+  std::vector<RScalar> v;
+  void Add(RScalar x) { v.push_back(x); }
+  RScalar Quantile(RScalar q) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[static_cast<std::size_t>(q * static_cast<RScalar>(v.size() - 1))];
+  }
+  void Print(const char* name) {
+    const auto over = std::count_if(v.begin(), v.end(), [](RScalar x) { return x > 1e-6; });
+    std::printf("  %-44s n=%5zu  median %9.2e  p99 %9.2e  max %9.2e  >1e-6: %4td\n", name, v.size(),
+                Quantile(0.5), Quantile(0.99), Quantile(1.0), over);
+  }
+};
+
+// Verdict agreement with the exact reference; for the disagreements, the largest
+// |reference separation| / size, which tells near-contact misses from gross ones.
+struct Agreement {
+  int compared = 0, agreed = 0, failed = 0;
+  RScalar worstMiss = 0;
+  void Add(bool ok, RScalar relativeSeparation) {
+    ++compared;
+    agreed += ok;
+    if (!ok) worstMiss = std::max(worstMiss, std::abs(relativeSeparation));
+  }
+  void Print(const char* name) const {
+    std::printf("  %-44s %5d / %5d agree (%7.3f%%)", name, agreed, compared,
+                compared ? 100.0 * agreed / compared : 100.0);
+    if (agreed < compared) std::printf(", misses up to |separation| = %.2g of size", worstMiss);
+    if (failed) std::printf(", %d oracle failures", failed);
+    std::printf("\n");
+  }
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+
+// The references themselves: the pruned SAT (facet normals of the Minkowski difference
+// only) equals the full enumeration over every edge pair for overlapping pairs, and for
+// separated pairs both are positive lower bounds of the brute-force distance, which FCL's
+// distance confirms independently.
+TEST(CollisionCrosscheck, ReferencesAgreeWithEachOther) {
+  std::mt19937_64 rng(0xC0FFEE'2024);
+  int overlapping = 0, separated = 0;
+  RScalar worstSat = 0, worstBrute = 0;
+  for (int i = 0; i < 150; ++i) {
+    Generated p = MakePair(rng, i);
+    const RMat3 R_A = p.c.X_WA.q_WS.toRotationMatrix(), R_B = p.c.X_WB.q_WS.toRotationMatrix();
+    const RConvexPolyhedron A = p.a->Polyhedron().Transformed(R_A, p.c.X_WA.position_W);
+    const RConvexPolyhedron B = p.b->Polyhedron().Transformed(R_B, p.c.X_WB.position_W);
+    const RScalar scale = p.a->Radius() + p.b->Radius();
+    const SatResult pruned = SatSeparation(A, B, 0, kNormalTolerance, true);
+    const SatResult full = SatSeparation(A, B, 0, kNormalTolerance, false);
+    // Rounding of one support loop: ~1e-15 of the size.
+    const RScalar tol = 1e-13 * scale;
+    if (full.separation < 0) {
+      ++overlapping;
+      worstSat = std::max(worstSat, std::abs(pruned.separation - full.separation) / scale);
+      EXPECT_NEAR(pruned.separation, full.separation, tol)
+          << Reproduction(p.c, "Sat" + std::to_string(i));
+    } else {
+      ++separated;
+      const BruteDistance d = BruteForceDistance(A, B);
+      EXPECT_GT(pruned.separation, 0) << Reproduction(p.c, "Sat" + std::to_string(i));
+      EXPECT_LE(pruned.separation, d.distance + tol);
+      EXPECT_LE(full.separation, d.distance + tol);
+      // The brute-force witnesses lie on the surfaces and realise the distance.
+      EXPECT_NEAR(SurfaceOffset(A, d.pointA), 0, tol);
+      EXPECT_NEAR(SurfaceOffset(B, d.pointB), 0, tol);
+      EXPECT_NEAR((d.pointB - d.pointA).norm(), d.distance, tol);
+      // FCL's GJK distance (GST_LIBCCD) stops when an iteration changes it by less than its
+      // tolerance (1e-14 of the size here); it then matches to ~1e-15 of the size, which is
+      // up to a few 1e-7 relative on the nearly touching pairs.
+      const OracleDistance f =
+          FclDistance(*p.a, p.c.X_WA, *p.b, p.c.X_WB, FclSolver::kLibccd, 1e-14 * scale);
+      worstBrute = std::max(worstBrute, std::abs(f.distance - d.distance) / d.distance);
+      EXPECT_NEAR(f.distance, d.distance, 1e-6 * d.distance + tol)
+          << Reproduction(p.c, "Brute" + std::to_string(i));
+    }
+  }
+  std::printf(
+      "references: %d overlapping pairs, pruned SAT vs full enumeration max %.2e of "
+      "size; %d separated, FCL distance vs brute force max rel %.2e\n",
+      overlapping, worstSat, separated, worstBrute);
+  EXPECT_GT(overlapping, 30);
+  EXPECT_GT(separated, 30);
+}
+
+// 10 000 random pairs: ours against the exact references (asserted), libccd and FCL against
+// the same references (measured and printed).
+TEST(CollisionCrosscheck, RandomHullPairs) {
+  constexpr int kPairs = 10000;
+  constexpr int kMaxPrinted = 5;
+  std::mt19937_64 rng(0x5EED'0C01'1DE5);
+  int penetrating = 0, withinTwoBands = 0, nearContact = 0, insideHalfBand = 0, failures = 0,
+      tiedNormals = 0;
+  Stats oursDepth, oursDepthAbs, oursDist, oursDistAbs, oursNormalPen, oursNormalSep;
+  Stats ccdEpaDepth, ccdEpaNormal, fclIndepDepth, fclIndepNormal;
+  Stats fclDistLibccd, fclDistIndep, fclDistLibccdAbs, fclDistIndepAbs, oursVsFcl;
+  Agreement vOurs, vIntersect, vCcdGjk, vCcdEpa, vCcdMpr, vFclLibccd, vFclIndep;
+  double oursSeconds = 0;
+
+  for (int i = 0; i < kPairs; ++i) {
+    Generated p = MakePair(rng, i);
+    PairEval e = EvaluateReference(*p.a, p.c.X_WA, *p.b, p.c.X_WB);
+    const auto t0 = std::chrono::steady_clock::now();
+    EvaluateOurs(*p.a, p.c.X_WA, *p.b, p.c.X_WB, e);
+    oursSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const RScalar ref = e.refSeparation;
+    const bool decided = std::abs(ref) > 2 * e.band;  // verdicts compared only there
+    if (ref < 0) ++penetrating;
+    if (!decided) ++withinTwoBands;
+    if (std::abs(ref) < 0.5 * e.band) ++insideHalfBand;
+    if (std::abs(ref) <= 1e-4 * e.scale) ++nearContact;
+    if (!e.sat.unique) ++tiedNormals;
+
+    // FCL's distance for separated pairs. Its GJK stops when the distance changes by less
+    // than distance_tolerance between iterations; 1e-14 of the size is near rounding, and
+    // GST_LIBCCD then matches brute force to ~1e-15 of the size (printed below), far inside
+    // the band: so ours must match it as it must match brute force. GST_INDEP is measured
+    // only (it fails outright on some pairs).
+    OracleDistance fclDist;
+    fclDist.ok = false;
+    std::vector<std::string> bad = CheckOurs(e);
+    if (ref > 2 * e.band) {
+      fclDist = FclDistance(*p.a, p.c.X_WA, *p.b, p.c.X_WB, FclSolver::kLibccd, 1e-14 * e.scale);
+      const OracleDistance di =
+          FclDistance(*p.a, p.c.X_WA, *p.b, p.c.X_WB, FclSolver::kIndep, 1e-14 * e.scale);
+      if (fclDist.ok) {
+        fclDistLibccd.Add(std::abs(fclDist.distance - ref) / ref);
+        fclDistLibccdAbs.Add(std::abs(fclDist.distance - ref) / e.scale);
+        const RScalar diff = std::abs(e.ours.separation - fclDist.distance);
+        oursVsFcl.Add(diff / ref);
+        if (!(diff <= kRelativeTolerance * ref + e.band)) {
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "distance differs from FCL's %.17g", fclDist.distance);
+          bad.emplace_back(buf);
+        }
+      }
+      if (di.ok) {
+        fclDistIndep.Add(std::abs(di.distance - ref) / ref);
+        fclDistIndepAbs.Add(std::abs(di.distance - ref) / e.scale);
+      }
+    }
+    if (!bad.empty()) {
+      ++failures;
+      if (failures <= kMaxPrinted) {
+        std::string msg = "pair " + std::to_string(i) + ":";
+        for (const std::string& b : bad) msg += "\n  " + b;
+        ADD_FAILURE() << msg << "\n" << Reproduction(p.c, "RandomPair" + std::to_string(i));
+      }
+    }
+    if (decided) {
+      vOurs.Add((e.ours.separation < 0) == (ref < 0), ref / e.scale);
+      vIntersect.Add(e.intersect == (ref < 0), ref / e.scale);
+    }
+    if (ref < 0) {
+      oursDepth.Add(std::abs(e.ours.separation - ref) / -ref);
+      oursDepthAbs.Add(std::abs(e.ours.separation - ref) / e.scale);
+      if (decided) {
+        RScalar angle = Angle(e.normal_W, e.sat.axis);
+        for (const RVec3& n : e.sat.nearOptimalAxes) angle = std::min(angle, Angle(e.normal_W, n));
+        oursNormalPen.Add(angle);
+      }
+    } else {
+      oursDist.Add(std::abs(e.ours.separation - ref) / ref);
+      oursDistAbs.Add(std::abs(e.ours.separation - ref) / e.scale);
+      if (decided) oursNormalSep.Add(Angle(e.normal_W, e.refNormal_W));
+    }
+
+    // libccd, in the world frame, tolerances relative to the pair's size.
+    const CcdPosedHull ca = PoseForCcd(*p.a, p.c.X_WA), cb = PoseForCcd(*p.b, p.c.X_WB);
+    const ccd_t config = MakeCcdConfig(e.scale);
+    const int gjk = CcdGJKIntersect(ca, cb, config);
+    const OraclePenetration epa = CcdGJKPenetration(ca, cb, config);
+    // MPR's depth is measured along the line between the two interior points, not the
+    // minimum translation: only its verdict is compared.
+    const OraclePenetration mpr = CcdMPRPenetration(ca, cb, config);
+    const RScalar tol = 1e-12 * e.scale;
+    const OraclePenetration fl =
+        FclCollide(*p.a, p.c.X_WA, *p.b, p.c.X_WB, FclSolver::kLibccd, tol);
+    const OraclePenetration fi = FclCollide(*p.a, p.c.X_WA, *p.b, p.c.X_WB, FclSolver::kIndep, tol);
+    if (gjk < 0) ++vCcdGjk.failed;
+    if (!epa.ok) ++vCcdEpa.failed;
+    if (!mpr.ok) ++vCcdMpr.failed;
+    if (!fl.ok) ++vFclLibccd.failed;
+    if (!fi.ok) ++vFclIndep.failed;
+    if (decided) {
+      const RScalar rel = ref / e.scale;
+      if (gjk >= 0) vCcdGjk.Add((gjk == 1) == (ref < 0), rel);
+      if (epa.ok) vCcdEpa.Add(epa.overlap == (ref < 0), rel);
+      if (mpr.ok) vCcdMpr.Add(mpr.overlap == (ref < 0), rel);
+      if (fl.ok) vFclLibccd.Add(fl.overlap == (ref < 0), rel);
+      if (fi.ok) vFclIndep.Add(fi.overlap == (ref < 0), rel);
+    }
+    if (ref < -2 * e.band) {
+      auto normalErr = [&](const RVec3& n) {
+        RScalar angle = Angle(n, e.sat.axis);
+        for (const RVec3& m : e.sat.nearOptimalAxes) angle = std::min(angle, Angle(n, m));
+        return angle;
+      };
+      if (epa.ok && epa.overlap) {
+        ccdEpaDepth.Add(std::abs(epa.depth + ref) / -ref);
+        ccdEpaNormal.Add(normalErr(epa.normal_W));
+      }
+      if (fi.ok && fi.overlap) {
+        fclIndepDepth.Add(std::abs(fi.depth + ref) / -ref);
+        fclIndepNormal.Add(normalErr(fi.normal_W));
+      }
+    }
+  }
+
+  std::printf(
+      "random hull pairs: %d, penetrating %d (%.1f%%); |separation| <= 1e-4 of the "
+      "size: %d, within two bands: %d, within half a band: %d; tied SAT minima: %d; "
+      "our Distance + Intersect: %.3f s in total\n",
+      kPairs, penetrating, 100.0 * penetrating / kPairs, nearContact, withinTwoBands,
+      insideHalfBand, tiedNormals, oursSeconds);
+  std::printf("accuracy against the exact references (depth: SAT; distance: brute force):\n");
+  oursDepth.Print("ours depth, relative");
+  oursDepthAbs.Print("ours depth, absolute / size");
+  oursNormalPen.Print("ours penetration normal, rad");
+  oursDist.Print("ours distance, relative");
+  oursDistAbs.Print("ours distance, absolute / size");
+  oursNormalSep.Print("ours separation normal, rad");
+  ccdEpaDepth.Print("libccd GJK+EPA depth, relative");
+  ccdEpaNormal.Print("libccd GJK+EPA normal, rad");
+  fclIndepDepth.Print("FCL collide GST_INDEP (EPA) depth, relative");
+  fclIndepNormal.Print("FCL collide GST_INDEP (EPA) normal, rad");
+  fclDistLibccd.Print("FCL distance GST_LIBCCD, relative");
+  fclDistLibccdAbs.Print("FCL distance GST_LIBCCD, absolute / size");
+  fclDistIndep.Print("FCL distance GST_INDEP, relative");
+  fclDistIndepAbs.Print("FCL distance GST_INDEP, absolute / size");
+  oursVsFcl.Print("ours vs FCL distance GST_LIBCCD, relative");
+  std::printf("verdicts outside two bands of contact (exact reference: SAT):\n");
+  vOurs.Print("ours Distance()");
+  vIntersect.Print("ours Intersect()");
+  vCcdGjk.Print("libccd ccdGJKIntersect");
+  vCcdEpa.Print("libccd ccdGJKPenetration");
+  vCcdMpr.Print("libccd ccdMPRPenetration");
+  vFclLibccd.Print("FCL collide GST_LIBCCD (MPR)");
+  vFclIndep.Print("FCL collide GST_INDEP (GJK+EPA)");
+
+  EXPECT_EQ(failures, 0) << "pairs where ours disagrees with the exact reference (first "
+                         << kMaxPrinted << " printed)";
+  // The suite must not pass on easy cases: about half the pairs overlap.
+  EXPECT_GE(penetrating, kPairs / 4);
+  EXPECT_LE(penetrating, 3 * kPairs / 4);
+  // Near contact is represented: every 8th pair is slid to 10^[-10, -4] of its size, so
+  // ~1250 pairs, of which ~22% (log10(20) of 6 decades) within two bands, ~8% within half.
+  EXPECT_GE(nearContact, kPairs / 10);
+  EXPECT_GE(withinTwoBands, kPairs / 50);
+  EXPECT_GE(insideHalfBand, kPairs / 200);
+}
+
+// ---------------------------------------------------------------------------------------
+// Adversarial pairs, each at offsets 0, 1e6 m and 1e7 m: both bodies translated by the same
+// offset along (1, 1, 1)/sqrt(3) (or x where stated). The exact reference is computed once,
+// at offset 0; at an offset, the bodies' positions round to ulp(offset) per coordinate, so
+// their difference (all the pair frame sees) moves by up to ~2 ulp: the tolerance grows by
+// 4 ulp(offset) (7.5e-9 m at 1e7 m).
+
+namespace {
+
+const RVec3 kDiagonal = RVec3::Ones().normalized();
+
+RShape BoxShape(const RVec3& halfExtents) {
+  RShape s;
+  s.type = RShapeType::kBox;
+  s.halfExtents = halfExtents;
+  return s;
+}
+RShape HullShape(const std::vector<RVec3>& points) {
+  RShape s;
+  s.type = RShapeType::kHull;
+  s.points = points;
+  return s;
+}
+
+struct BodySpec {
+  RShape shape;
+  RVec3 position_W = RVec3::Zero();  // of the shape frame S
+  RQuat q_WS = RQuat::Identity();
+};
+
+RRigidBody MakeBody(const BodySpec& spec, const RVec3& offset) {
+  RBodyDef def;
+  def.shape = spec.shape;
+  def.position_W = spec.position_W + offset;
+  def.q_WS = spec.q_WS;
+  return RRigidBody(def);
+}
+
+RConvexPolyhedron WorldPolyhedron(const RRigidBody& body) {
+  return body.Polyhedron_B()->Transformed(body.Orientation_WB().toRotationMatrix(),
+                                          body.Position_W());
+}
+
+// The vertex of a posed shape furthest along d, relative to its shape frame's origin (to
+// place bodies at a chosen gap).
+RVec3 SupportVertex(const BodySpec& spec, const RVec3& d) {
+  const RConvexPolyhedron posed = WorldPolyhedron(MakeBody(spec, RVec3::Zero()));
+  const RVec3* best = &posed.Vertices()[0];
+  for (const RVec3& v : posed.Vertices())
+    if (d.dot(v) > d.dot(*best)) best = &v;
+  return *best - spec.position_W;
+}
+RScalar Extent(const BodySpec& spec, const RVec3& d) { return d.dot(SupportVertex(spec, d)); }
+
+struct Reference {
+  RScalar separation = 0;
+  std::vector<RVec3> normals;  // acceptable normals (the near-optimal SAT axes, or the
+                               // closest-point direction for separated pairs)
+  RScalar band = 0;
+};
+
+Reference ReferenceFor(const BodySpec& sa, const BodySpec& sb) {
+  const RRigidBody a = MakeBody(sa, RVec3::Zero()), b = MakeBody(sb, RVec3::Zero());
+  const RConvexPolyhedron A = WorldPolyhedron(a), B = WorldPolyhedron(b);
+  Reference ref;
+  ref.band = RCollisionSolver::kTouchingTolerance * (a.BoundingRadius() + b.BoundingRadius());
+  const SatResult sat = SatSeparation(A, B, ref.band, kNormalTolerance);
+  if (sat.separation > 0) {
+    const BruteDistance d = BruteForceDistance(A, B);
+    ref.separation = d.distance;
+    ref.normals = {(d.pointB - d.pointA).normalized()};
+  } else {
+    ref.separation = sat.separation;
+    ref.normals = sat.nearOptimalAxes;
+  }
+  return ref;
+}
+
+RScalar Ulp(RScalar x) { return std::nextafter(std::abs(x), 1e300) - std::abs(x); }
+
+struct OffsetAnswer {
+  RScalar offset = 0;
+  RDistanceResult r;  // pair frame
+  RVec3 normal_W, witnessA_W, witnessB_W;
+  bool contact = false;       // CheckCollision(dt = 0)
+  RContactManifold manifold;  // world frame, when contact
+};
+
+// Runs the pair at offsets 0, 1e6 and 1e7 m along `dir`, checks every answer against the
+// reference, and returns the answers for case-specific checks.
+std::vector<OffsetAnswer> CheckAtOffsets(const char* name, const BodySpec& sa, const BodySpec& sb,
+                                         const Reference& ref, const RVec3& dir = kDiagonal) {
+  std::vector<OffsetAnswer> out;
+  for (const RScalar offset : {0.0, 1e6, 1e7}) {
+    SCOPED_TRACE(std::string(name) + " at offset " + std::to_string(offset) + " m");
+    const RRigidBody a = MakeBody(sa, offset * dir), b = MakeBody(sb, offset * dir);
+    OffsetAnswer ans;
+    ans.offset = offset;
+    EXPECT_NO_THROW({
+      ans.r = RCollisionSolver::Distance(ShapeOf(a), ShapeOf(b), RelativePose(a, b));
+      ans.contact = RCollisionSolver::CheckCollision(a, b, 0, ans.manifold);
+    });
+    const RDistanceResult& r = ans.r;
+    ans.normal_W = a.Orientation_WB() * r.normal;
+    ans.witnessA_W = a.Orientation_WB() * r.witnessA + a.Position_W();
+    ans.witnessB_W = a.Orientation_WB() * r.witnessB + a.Position_W();
+    const RScalar tol = kRelativeTolerance * std::abs(ref.separation) + ref.band + 4 * Ulp(offset);
+    RScalar angle = 10;
+    for (const RVec3& n : ref.normals) angle = std::min(angle, Angle(ans.normal_W, n));
+    std::printf(
+        "  %-34s offset %7.0e m: %-11s separation %+.17g (reference %+.17g, error "
+        "%.1e), normal error %.1e rad, gjk %d epa %d\n",
+        name, offset, StatusName(r.status), r.separation, ref.separation,
+        std::abs(r.separation - ref.separation), angle, r.gjkIterations, r.epaIterations);
+    EXPECT_TRUE(std::isfinite(r.separation) && AllFinite(r.normal) && AllFinite(r.witnessA) &&
+                AllFinite(r.witnessB));
+    EXPECT_NE(r.status, RCollisionStatus::kIterationCap);
+    EXPECT_NEAR(r.separation, ref.separation, tol);
+    EXPECT_NEAR(r.normal.norm(), 1, 1e-12);
+    if (std::abs(ref.separation) > 2 * ref.band) {
+      EXPECT_EQ(r.status,
+                ref.separation > 0 ? RCollisionStatus::kSeparated : RCollisionStatus::kPenetrating);
+      EXPECT_LE(angle, kNormalTolerance);
+      EXPECT_EQ(ans.contact, ref.separation < 0);
+    } else if (std::abs(ref.separation) < 0.5 * ref.band) {
+      EXPECT_EQ(r.status, RCollisionStatus::kTouching);
+      EXPECT_TRUE(ans.contact);
+    }
+    // Witnesses on the surfaces (reference polyhedra moved by the same offset) and apart by
+    // separation * normal.
+    const RRigidBody a0 = MakeBody(sa, offset * dir), b0 = MakeBody(sb, offset * dir);
+    EXPECT_LE(std::abs(SurfaceOffset(WorldPolyhedron(a0), ans.witnessA_W)),
+              ref.band + 4 * Ulp(offset));
+    EXPECT_LE(std::abs(SurfaceOffset(WorldPolyhedron(b0), ans.witnessB_W)),
+              ref.band + 4 * Ulp(offset));
+    EXPECT_LE((r.witnessB - r.witnessA - r.separation * r.normal).norm(),
+              kRelativeTolerance * std::abs(r.separation) + ref.band);
+    if (ans.contact) {
+      EXPECT_TRUE(AllFinite(ans.manifold.query.normal));
+      EXPECT_GE(ans.manifold.pointCount, 1);
+      EXPECT_LE(ans.manifold.pointCount, 4);
+      for (int i = 0; i < ans.manifold.pointCount; ++i)
+        EXPECT_TRUE(AllFinite(ans.manifold.points[i].position) &&
+                    std::isfinite(ans.manifold.points[i].separation));
+    }
+    out.push_back(ans);
+  }
+  // The pair frame makes the answer independent of the offset, to its rounding.
+  for (const OffsetAnswer& ans : out)
+    EXPECT_NEAR(ans.r.separation, out[0].r.separation, 4 * Ulp(ans.offset) + 1e-15 * ref.band)
+        << name << " at offset " << ans.offset;
+  return out;
+}
+
+}  // namespace
+
+TEST(CollisionAdversarial, FaceAlignedCubes) {
+  const BodySpec a{BoxShape(RVec3::Ones()), RVec3::Zero()};
+  const BodySpec b{BoxShape(RVec3::Ones()), RVec3(0, 0, 1.9)};
+  const Reference ref = ReferenceFor(a, b);
+  // Closed form: depth 0.1 along +z; the SAT reference must say so too.
+  EXPECT_NEAR(ref.separation, -0.1, 1e-15);
+  ASSERT_EQ(ref.normals.size(), 1u);
+  EXPECT_LE(Angle(ref.normals[0], RVec3::UnitZ()), 1e-15);
+  for (const OffsetAnswer& ans : CheckAtOffsets("face-aligned cubes", a, b, ref)) {
+    // Face contact: the manifold keeps the four corners of the overlap square, each 0.1 deep,
+    // midway between the faces (z = 0.95 before the offset).
+    EXPECT_EQ(ans.manifold.pointCount, 4) << "offset " << ans.offset;
+    for (int i = 0; i < ans.manifold.pointCount; ++i) {
+      const RVec3 p = ans.manifold.points[i].position - ans.offset * kDiagonal;
+      EXPECT_NEAR(ans.manifold.points[i].separation, -0.1, 1e-9 + 4 * Ulp(ans.offset));
+      EXPECT_NEAR(p.z(), 0.95, 1e-9 + 4 * Ulp(ans.offset));
+      EXPECT_LE(std::max(std::abs(p.x()), std::abs(p.y())), 1 + 1e-9 + 4 * Ulp(ans.offset));
+    }
+  }
+}
+
+TEST(CollisionAdversarial, ExactlyTouchingBoxes) {
+  const BodySpec a{BoxShape(RVec3::Ones()), RVec3::Zero()};
+  // Face on face, aligned; then shifted in the plane and turned about z (z stays exact).
+  const BodySpec aligned{BoxShape(RVec3::Ones()), RVec3(0, 0, 2)};
+  const BodySpec turned{BoxShape(RVec3(1, 0.5, 1)), RVec3(0.7, -0.4, 2),
+                        QuatAxisAngle(RVec3::UnitZ(), 0.3)};
+  for (const BodySpec* b : {&aligned, &turned}) {
+    const Reference ref = ReferenceFor(a, *b);
+    EXPECT_EQ(ref.separation, 0);
+    for (const OffsetAnswer& ans : CheckAtOffsets("exactly touching boxes", a, *b, ref)) {
+      EXPECT_EQ(ans.r.status, RCollisionStatus::kTouching);
+      EXPECT_LE(std::abs(ans.r.separation), ref.band);
+      EXPECT_TRUE(ans.contact);
+      // The origin lies inside the +z facet of the Minkowski difference: the normal is +z.
+      EXPECT_LE(Angle(ans.normal_W, RVec3::UnitZ()), kNormalTolerance);
+    }
+  }
+}
+
+TEST(CollisionAdversarial, ThinSlabAgainstRotatedBox) {
+  const BodySpec slab{BoxShape(RVec3(1, 0.005, 1)), RVec3::Zero()};
+  const RQuat q = QuatAxisAngle(RVec3(1, 2, 3).normalized(), 0.7);
+  const RShape box = BoxShape(RVec3(0.3, 0.2, 0.25));
+  const RScalar hy = Extent({box, RVec3::Zero(), q}, -RVec3::UnitY());
+  // The box's leftmost corner, put 1 mm inside the slab's side face, midway through its
+  // thickness.
+  const RVec3 left = SupportVertex({box, RVec3::Zero(), q}, -RVec3::UnitX());
+  const struct {
+    const char* name;
+    RVec3 position;
+  } cases[] = {
+      {"slab face, 2 mm deep", RVec3(0.1, 0.005 + hy - 0.002, -0.2)},
+      {"slab face, 1 mm apart", RVec3(0.1, 0.005 + hy + 0.001, -0.2)},
+      {"box through the slab", RVec3(0.1, 0, -0.2)},
+      {"slab side face, corner 1 mm in", RVec3(1 - 0.001, 0, 0.3) - left},
+  };
+  for (const auto& c : cases) {
+    const BodySpec b{box, c.position, q};
+    CheckAtOffsets(c.name, slab, b, ReferenceFor(slab, b));
+  }
+}
+
+// The pair from the issue: a 2.75 x 6 x 0.05 m plate and a small rotated box just below it.
+TEST(CollisionAdversarial, PlateAndRotatedBoxFromTheIssue) {
+  const BodySpec plate{BoxShape(RVec3(1.375, 3, 0.025)), RVec3(1.625, 0, 0.5)};
+  const BodySpec box{BoxShape(RVec3(0.424, 0.15, 0.1686) / 2), RVec3(0.192, -0.278, 0.274),
+                     RQuat(0.673, 0.341, 0.155, 0.638).normalized()};
+  const Reference ref = ReferenceFor(plate, box);
+  // Separated, by the exact references.
+  ASSERT_GT(ref.separation, 2 * ref.band);
+  for (const OffsetAnswer& ans : CheckAtOffsets("plate and rotated box", plate, box, ref)) {
+    EXPECT_EQ(ans.r.status, RCollisionStatus::kSeparated);
+    EXPECT_GT(ans.r.separation, 0);
+    EXPECT_TRUE(AllFinite(ans.witnessA_W) && AllFinite(ans.witnessB_W));
+    EXPECT_FALSE(ans.contact);
+  }
+}
+
+TEST(CollisionAdversarial, LargeBoxAgainstSmallBox) {
+  const BodySpec big{BoxShape(RVec3::Constant(2.5)), RVec3::Zero()};
+  const RShape small = BoxShape(RVec3::Constant(0.1));
+  const RQuat q = QuatAxisAngle(RVec3(-2, 1, 0.5).normalized(), 1.1);
+  const RScalar hz = Extent({small, RVec3::Zero(), q}, -RVec3::UnitZ());
+  const struct {
+    const char* name;
+    RVec3 position;
+  } cases[] = {
+      {"small box 1 cm into the face", RVec3(0.3, -0.7, 2.5 + hz - 0.01)},
+      {"small box 1 cm above the face", RVec3(0.3, -0.7, 2.5 + hz + 0.01)},
+      {"small box over the edge", RVec3(2.45, 0.2, 2.5 + hz - 0.005)},
+      {"small box inside", RVec3(1.9, 0.5, -0.3)},
+  };
+  for (const auto& c : cases) {
+    const BodySpec b{small, c.position, q};
+    CheckAtOffsets(c.name, big, b, ReferenceFor(big, b));
+  }
+}
+
+TEST(CollisionAdversarial, HullsWithDuplicateAndCoplanarVertices) {
+  // A box's corners, each three times, plus face centres, edge midpoints, points inside
+  // faces and interior points.
+  std::vector<RVec3> boxish;
+  const RVec3 e(0.5, 0.4, 0.3);
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 8; ++i)
+      boxish.emplace_back((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(),
+                          (i & 4) ? e.z() : -e.z());
+  for (int axis = 0; axis < 3; ++axis)
+    for (const RScalar sign : {-1.0, 1.0}) {
+      RVec3 c = RVec3::Zero();
+      c[axis] = sign * e[axis];
+      boxish.push_back(c);
+      RVec3 f = c;
+      f[(axis + 1) % 3] = 0.3 * e[(axis + 1) % 3];
+      f[(axis + 2) % 3] = -0.6 * e[(axis + 2) % 3];
+      boxish.push_back(f);
+      RVec3 m = c;
+      m[(axis + 1) % 3] = e[(axis + 1) % 3];  // an edge midpoint
+      boxish.push_back(m);
+    }
+  boxish.push_back(RVec3::Zero());
+  boxish.push_back(RVec3(0.1, -0.1, 0.05));
+  // A hexagonal prism with points on its side faces and duplicated rims.
+  std::vector<RVec3> prism;
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 6; ++i) {
+      const RScalar t = kPi / 3 * i;
+      prism.emplace_back(0.35 * std::cos(t), 0.35 * std::sin(t), -0.45);
+      prism.emplace_back(0.35 * std::cos(t), 0.35 * std::sin(t), 0.45);
+      const RScalar u = kPi / 3 * (i + 0.5);
+      prism.emplace_back(0.35 * std::cos(kPi / 6) * std::cos(u),
+                         0.35 * std::cos(kPi / 6) * std::sin(u), 0.1 * (i - 2.5));
+    }
+  const BodySpec a{HullShape(boxish), RVec3(0.2, 0.1, -0.3),
+                   QuatAxisAngle(RVec3(1, 1, 0).normalized(), 0.4)};
+  const RQuat qb = QuatAxisAngle(RVec3(0, 1, 1).normalized(), -0.9);
+  const RVec3 dir = RVec3(0.3, -0.5, 0.8).normalized();
+  const RScalar reach = Extent(a, dir) + Extent({HullShape(prism), RVec3::Zero(), qb}, -dir);
+  int overlapping = 0, apart = 0;
+  for (const RScalar g : {0.6, 0.9, 0.97, 1.05}) {
+    const BodySpec b{HullShape(prism), a.position_W + g * reach * dir, qb};
+    const Reference ref = ReferenceFor(a, b);
+    (ref.separation < 0 ? overlapping : apart) += 1;
+    const std::string name = "dup/coplanar hulls at " + std::to_string(g).substr(0, 4) + " reach";
+    CheckAtOffsets(name.c_str(), a, b, ref);
+  }
+  EXPECT_GT(overlapping, 0);
+  EXPECT_GT(apart, 0);
+}
+
+TEST(CollisionAdversarial, IdenticalShapesAtIdenticalPoses) {
+  // A box: the depth is its smallest width, along its local x.
+  const RQuat q = QuatAxisAngle(RVec3(1, -2, 0.5).normalized(), 0.8);
+  const BodySpec box{BoxShape(RVec3(1, 2, 3)), RVec3(0.3, -0.2, 0.1), q};
+  const Reference boxRef = ReferenceFor(box, box);
+  EXPECT_NEAR(boxRef.separation, -2, 1e-14);
+  for (const OffsetAnswer& ans : CheckAtOffsets("identical boxes", box, box, boxRef))
+    EXPECT_GE(std::abs(ans.normal_W.dot(q * RVec3::UnitX())), std::cos(kNormalTolerance));
+  // A random hull: the depth is its minimal width (the SAT reference), either sign.
+  std::mt19937_64 rng(7);
+  std::normal_distribution<RScalar> g;
+  std::vector<RVec3> cloud;
+  for (int i = 0; i < 24; ++i) cloud.emplace_back(0.9 * g(rng), 0.5 * g(rng), 0.3 * g(rng));
+  const BodySpec hull{HullShape(cloud), RVec3(-0.4, 0.2, 0.7),
+                      RQuat(0.3, -0.2, 0.9, 0.1).normalized()};
+  const Reference hullRef = ReferenceFor(hull, hull);
+  EXPECT_GE(hullRef.normals.size(), 2u);  // n and -n tie: D = A - A is centrally symmetric
+  CheckAtOffsets("identical hulls", hull, hull, hullRef);
+}
+
+// Two face-aligned boxes of half size 0.1 (band 3.5e-10 m) swept through contact, gap -1e-9
+// to +1e-9 m in steps of 1e-11 m. The offsets run along x: along the diagonal, 1e7 m rounds
+// positions to 9e-10 m, coarser than the sweep.
+TEST(CollisionAdversarial, SignedDistanceSweepThroughContact) {
+  const BodySpec a{BoxShape(RVec3::Constant(0.1)), RVec3::Zero()};
+  RScalar band = 0;
+  for (const RScalar offset : {0.0, 1e6, 1e7}) {
+    RScalar previous = -1e300;
+    int touching = 0;
+    for (int k = -100; k <= 100; ++k) {
+      const RScalar gap = 1e-11 * k;
+      const BodySpec b{BoxShape(RVec3::Constant(0.1)), RVec3(0.03, -0.02, 0.2 + gap)};
+      const RRigidBody A = MakeBody(a, offset * RVec3::UnitX()),
+                       B = MakeBody(b, offset * RVec3::UnitX());
+      band = RCollisionSolver::kTouchingTolerance * (A.BoundingRadius() + B.BoundingRadius());
+      RDistanceResult r;
+      EXPECT_NO_THROW(r = RCollisionSolver::Distance(ShapeOf(A), ShapeOf(B), RelativePose(A, B)));
+      // The gap actually posed: 0.2 + gap rounds to ulp(0.2) = 2.8e-17.
+      const RScalar posed = (B.Position_W().z() - A.Position_W().z()) - 0.2;
+      SCOPED_TRACE("offset " + std::to_string(offset) + ", gap " + std::to_string(gap));
+      ASSERT_TRUE(std::isfinite(r.separation));
+      // Support points of face-aligned boxes are exact, so GJK/EPA see the gap to a few
+      // roundings of coordinates <= 0.3 (ulp 5.6e-17): 1e-15 is 18 of them.
+      EXPECT_NEAR(r.separation, posed, 1e-15);
+      EXPECT_GE(r.separation, previous) << "not monotone";
+      previous = r.separation;
+      if (std::abs(posed) > band * (1 + 1e-3)) {
+        EXPECT_EQ(r.status,
+                  posed > 0 ? RCollisionStatus::kSeparated : RCollisionStatus::kPenetrating);
+      } else if (std::abs(posed) < band * (1 - 1e-3)) {
+        EXPECT_EQ(r.status, RCollisionStatus::kTouching);
+      }
+      touching += r.status == RCollisionStatus::kTouching;
+      if (std::abs(posed) > 2 * band) {
+        EXPECT_LE(Angle(a.q_WS * r.normal, RVec3::UnitZ()), kNormalTolerance);
+      }
+    }
+    // The band (3.5e-10 m) covers ~70 of the 201 steps.
+    std::printf("  sweep at offset %7.0e m: %d of 201 steps touching (band %.3g m)\n", offset,
+                touching, band);
+    EXPECT_GT(touching, 50);
+    EXPECT_LT(touching, 100);
+  }
+}
