@@ -269,7 +269,6 @@ struct EpaFace {
   int v[3];
   RVec3 n;
   RScalar d;
-  bool alive;
 };
 
 struct Epa {
@@ -283,7 +282,6 @@ struct Epa {
     f.v[0] = i, f.v[1] = j, f.v[2] = k;
     const RVec3 n = (verts[j].w - verts[i].w).cross(verts[k].w - verts[i].w);
     const RScalar len = n.norm();
-    f.alive = true;
     if (len > 0) {
       f.n = n / len;
       f.d = f.n.dot(verts[i].w);
@@ -369,31 +367,39 @@ REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
   }
 
   int horizon[kMaxEpaFaces * 3][2];
+  // The faces array holds only the live polytope: each iteration's visibility pass also
+  // compacts it and finds the nearest surviving face, so nothing scans dead faces.
   int nearest = -1;
-  for (r.iterations = 0; r.iterations < RCollisionSolver::kMaxEpaIterations; ++r.iterations) {
-    nearest = -1;
+  {
     RScalar best = kInf;
     for (int f = 0; f < e.nf; ++f) {
-      if (e.faces[f].alive && e.faces[f].d < best) best = e.faces[f].d, nearest = f;
+      if (e.faces[f].d < best) best = e.faces[f].d, nearest = f;
     }
+  }
+  for (r.iterations = 0; r.iterations < RCollisionSolver::kMaxEpaIterations; ++r.iterations) {
     if (nearest < 0) break;
     const EpaFace face = e.faces[nearest];
     const RVec3 a = sup.SupportA(face.n), b = sup.SupportB(-face.n);
     const RVec3 w = a - b;
     const RScalar dist = face.n.dot(w);
-    if (dist - face.d <= kEpaRelativeGap * std::abs(face.d) + kEpaAbsoluteGap * size ||
-        e.nv >= kMaxEpaVertices) {
-      r.converged = dist - face.d <= kEpaRelativeGap * std::abs(face.d) + kEpaAbsoluteGap * size;
+    const bool done = dist - face.d <= kEpaRelativeGap * std::abs(face.d) + kEpaAbsoluteGap * size;
+    if (done || e.nv >= kMaxEpaVertices) {
+      r.converged = done;
       break;
     }
     const int wi = e.nv++;
     e.verts[wi] = {w, a, b};
     // Faces that see w go; the edges they share with faces that stay form the horizon.
-    int nh = 0;
+    int nh = 0, out = 0;
+    nearest = -1;
+    RScalar best = kInf;
     for (int f = 0; f < e.nf; ++f) {
-      EpaFace& g = e.faces[f];
-      if (!g.alive || g.n.dot(w - e.verts[g.v[0]].w) <= 0) continue;
-      g.alive = false;
+      const EpaFace& g = e.faces[f];
+      if (g.n.dot(w - e.verts[g.v[0]].w) <= 0) {
+        if (g.d < best) best = g.d, nearest = out;
+        e.faces[out++] = g;
+        continue;
+      }
       for (int k = 0; k < 3; ++k) {
         const int i = g.v[k], j = g.v[(k + 1) % 3];
         // An edge met in both directions is interior to the removed region.
@@ -409,16 +415,15 @@ REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
         if (!cancelled) horizon[nh][0] = i, horizon[nh][1] = j, ++nh;
       }
     }
+    e.nf = out;
     bool ok = true;
-    for (int h = 0; h < nh && ok; ++h) ok = e.AddFace(horizon[h][0], horizon[h][1], wi);
-    if (!ok) break;
-    // Compact dead faces now and then, so the array holds the live polytope.
-    if (e.nf > kMaxEpaFaces - 64) {
-      int out = 0;
-      for (int f = 0; f < e.nf; ++f) {
-        if (e.faces[f].alive) e.faces[out++] = e.faces[f];
-      }
-      e.nf = out;
+    for (int h = 0; h < nh && ok; ++h) {
+      ok = e.AddFace(horizon[h][0], horizon[h][1], wi);
+      if (ok && e.faces[e.nf - 1].d < best) best = e.faces[e.nf - 1].d, nearest = e.nf - 1;
+    }
+    if (!ok) {
+      nearest = -1;  // out of room: no verdict (reported as the iteration cap)
+      break;
     }
   }
   if (nearest < 0) return r;
