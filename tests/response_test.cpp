@@ -152,3 +152,57 @@ TEST(Response, SeparatingGuardAndNonRespondingBodies) {
     EXPECT_EQ(bodies[1].Velocity_W(), RVec3::Zero());
   }
 }
+
+// ../shared/scenes/box_stack_10.json stands for its 600 steps: the top box moves at most
+// 1 mm sideways, no resting contact (the second half of the run, after the cold start's
+// transient) overlaps more than 2 mm, and the top sinks at most 2 cm.
+TEST(Response, TenBoxStackStands) {
+  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/box_stack_10.json");
+  std::vector<RRigidBody> bodies = CreateBodies(scene);
+  RIntegrator integrator(scene.settings);
+  const RVec3 top0 = bodies.back().ShapePosition_W();
+  RScalar worstOverlap = 0, worstSideways = 0, transientOverlap = 0;
+  for (std::uint64_t i = 0; i < scene.steps; ++i) {
+    integrator.Update(bodies, scene.dt);
+    for (const RContact& c : integrator.Contacts()) {
+      RScalar& worst = i < scene.steps / 2 ? transientOverlap : worstOverlap;
+      worst = std::max(worst, -c.manifold.query.separation);
+    }
+    const RVec3 d = bodies.back().ShapePosition_W() - top0;
+    worstSideways = std::max(worstSideways, std::hypot(d.x(), d.z()));
+  }
+  const RScalar sink = top0.y() - bodies.back().ShapePosition_W().y();
+  std::printf("box_stack_10: top moved %.3g mm sideways, sank %.3g mm; resting overlap %.3g mm "
+              "(%.3g mm in the first 300 steps)\n", worstSideways * 1e3, sink * 1e3,
+              worstOverlap * 1e3, transientOverlap * 1e3);
+  EXPECT_LT(worstSideways, 1e-3);
+  EXPECT_LT(worstOverlap, 2e-3);
+  EXPECT_LT(sink, 2e-2);
+  EXPECT_GT(sink, -1e-3) << "no box is pushed up";
+}
+
+// Coulomb friction: a box sliding at v0 on a floor stops after v0^2 / (2 mu g).
+TEST(Response, SlidingBoxStopsAtTheCoulombDistance) {
+  RBodyDef ground;
+  ground.name = "ground";
+  ground.shape.type = RShapeType::kBox;
+  ground.shape.halfExtents = RVec3(50, 0.5, 50);
+  ground.isStatic = true;
+  ground.position_W = RVec3(0, -0.5, 0);
+  ground.friction = 0.5;
+  RBodyDef box = ground;
+  box.name = "box";
+  box.isStatic = false;
+  box.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
+  box.mass = 1;
+  box.position_W = RVec3(0, 0.5, 0);
+  box.velocity_W = RVec3(5, 0, 0);
+  std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(box)};
+  RWorldSettings settings;
+  settings.gravity_W = RVec3(0, -9.81, 0);
+  RIntegrator integrator(settings);
+  for (int i = 0; i < 180; ++i) integrator.Update(bodies, 1.0 / 60);
+  const RScalar expected = 25 / (2 * 0.5 * 9.81);
+  EXPECT_NEAR(bodies[1].Position_W().x(), expected, 0.01 * expected);
+  EXPECT_LT(std::abs(bodies[1].Velocity_W().x()), 1e-9) << "stopped";
+}

@@ -2,6 +2,8 @@
 
 #include <REngineMath/RQuaternion.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -116,11 +118,12 @@ RScalar InverseMass(const RVec3& d, const RVec3& rA, const RVec3& rB, RScalar in
   return invMA + invMB + ra.dot(invIA * ra) + rb.dot(invIB * rb);
 }
 
-std::uint64_t WarmKey(std::uint32_t a, std::uint32_t b, std::uint32_t feature) {
-  // 20 bits per body index and the 24 low bits of the feature id (ids are small hashes).
-  return (std::uint64_t(a & 0xfffffu) << 44) | (std::uint64_t(b & 0xfffffu) << 24) |
-         (feature & 0xffffffu);
-}
+std::uint64_t PairKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
+
+// A previous point closer than this fraction of the pair's size to a new one is taken as
+// the same contact when no feature id matches (a corner sliding past a reference edge
+// changes its id, not its place).
+constexpr RScalar kWarmMatchDistance = RScalar(0.05);
 
 }  // namespace
 
@@ -175,7 +178,26 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     const RSolverBody& sb = m_solverBodies[c.b];
     const RScalar e = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
     const RScalar mu = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
+    // An impact (approaching faster than the threshold, reaching contact within the step)
+    // bounces with the restitution's closed-form outcome. Restitution targets at several
+    // points of one manifold, solved one after another, can return more energy than came
+    // in; so a manifold that impacts is resolved at its deepest point alone, a single
+    // constraint for which the outcome is exact (and energy-conserving at e = 1).
+    auto approach = [&](const RContactPoint& p) {
+      const RVec3 rA = p.position - A.m_x_W, rB = p.position - B.m_x_W;
+      return (sb.v + sb.w.cross(rB) - sa.v - sa.w.cross(rA)).dot(c.manifold.query.normal);
+    };
+    bool manifoldImpacts = false;
+    int deepest = 0;
     for (int k = 0; k < c.manifold.pointCount; ++k) {
+      const RContactPoint& p = c.manifold.points[k];
+      const RScalar vn = approach(p);
+      manifoldImpacts = manifoldImpacts ||
+                        (vn < -set.restitutionThreshold && p.separation <= -vn * dt);
+      if (p.separation < c.manifold.points[deepest].separation) deepest = k;
+    }
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      if (manifoldImpacts && k != deepest) continue;
       const RContactPoint& p = c.manifold.points[k];
       RContactRow r;
       r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
@@ -190,23 +212,36 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RVec3 vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
       const RScalar vn = vRel.dot(r.n);
       const RScalar gap = p.separation;
-      // An impact: approaching faster than the threshold and reaching contact within the
-      // step. It bounces with the restitution's closed-form outcome. Otherwise the contact
-      // may close its gap (speculative: a fast body stops at the surface, not inside it)
-      // but not approach beyond it.
-      const bool impact = vn < -set.restitutionThreshold && gap <= -vn * dt;
+      // Not an impact: the contact may close its gap (speculative: a fast body stops at
+      // the surface, not inside it) but not approach beyond it.
+      const bool impact = manifoldImpacts && vn < 0;
+      r.impact = impact;
       r.target = impact ? -e * vn : -std::max(gap, RScalar(0)) / dt;
       r.pseudoTarget = gap < -set.slop ? set.correction * (-gap - set.slop) / dt : 0;
       r.lambdaN = r.lambdaT1 = r.lambdaT2 = r.lambdaP = 0;
-      // Warm start from the same features last step.
-      const std::uint64_t key = WarmKey(c.a, c.b, p.featureId);
-      const auto it = std::lower_bound(m_warm.begin(), m_warm.end(), key,
-                                       [](const RWarmStart& w, std::uint64_t k2) { return w.key < k2; });
-      if (it != m_warm.end() && it->key == key && !impact) {
+      // Warm start from the same features last step, or else from the nearest of last
+      // step's points of this pair (in a's frame, where a resting contact stays put).
+      const std::uint64_t pair = PairKey(c.a, c.b);
+      auto it = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
+                                 [](const RWarmStart& w, std::uint64_t k) { return w.pair < k; });
+      const RVec3 point_A = A.m_q_WB.conjugate() * (p.position - A.m_x_W);
+      const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());
+      const RWarmStart* match = nullptr;
+      RScalar bestD2 = reach * reach;
+      for (; it != m_warm.end() && it->pair == pair; ++it) {
+        if (it->feature == p.featureId) {
+          match = &*it;
+          break;
+        }
+        const RScalar d2 = (it->point_A - point_A).squaredNorm();
+        if (d2 < bestD2) bestD2 = d2, match = &*it;
+      }
+      if (match && !impact) {
+        const auto it2 = match;
         ++m_pairStats.warmStarted;
-        r.lambdaN = it->lambdaN;
-        r.lambdaT1 = it->tangentImpulse.dot(r.t1);
-        r.lambdaT2 = it->tangentImpulse.dot(r.t2);
+        r.lambdaN = it2->lambdaN;
+        r.lambdaT1 = it2->tangentImpulse.dot(r.t1);
+        r.lambdaT2 = it2->tangentImpulse.dot(r.t2);
       }
       m_rows.push_back(r);
     }
@@ -231,37 +266,102 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     }
   }
   const int iterations = std::max(1, m_settings.solverIterations);
-  const std::size_t nRows = m_rows.size();
+  // Rows come grouped by contact. A manifold's normal rows are solved together: its points
+  // share two bodies, and solving them one after another favours the first, leaving a
+  // small torque that tilts stacked bodies step after step. The block's matrix is rank
+  // deficient (four points of one face constrain three degrees of freedom), so the
+  // minimum-norm least-squares inverse is precomputed once per step; when its answer
+  // would pull at a point, that manifold falls back to one point at a time.
+  m_blocks.clear();
+  for (std::size_t first = 0; first < m_rows.size();) {
+    std::size_t last = first + 1;
+    while (last < m_rows.size() && m_rows[last].contact == m_rows[first].contact) ++last;
+    RBlock blk;
+    blk.first = static_cast<std::uint32_t>(first);
+    blk.count = static_cast<int>(last - first);
+    // Impacts keep the point-by-point solve: its impulses never overshoot a restitution
+    // target, so an elastic collision cannot gain energy; a least-squares block could.
+    blk.useBlock = blk.count > 1;
+    for (std::size_t i = first; i < last; ++i) blk.useBlock = blk.useBlock && !m_rows[i].impact;
+    if (blk.useBlock) {
+      const RSolverBody& sa = m_solverBodies[m_rows[first].a];
+      const RSolverBody& sb = m_solverBodies[m_rows[first].b];
+      Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Identity();
+      for (int i = 0; i < blk.count; ++i) {
+        const RContactRow& ri = m_rows[first + i];
+        const RVec3 ai = ri.rA.cross(ri.n), bi = ri.rB.cross(ri.n);
+        for (int j = 0; j < blk.count; ++j) {
+          const RContactRow& rj = m_rows[first + j];
+          const RVec3 aj = rj.rA.cross(rj.n), bj = rj.rB.cross(rj.n);
+          K(i, j) = (sa.invM + sb.invM) * ri.n.dot(rj.n) + ai.dot(sa.invI * aj) +
+                    bi.dot(sb.invI * bj);
+        }
+      }
+      blk.pinv.setZero();
+      blk.pinv.topLeftCorner(blk.count, blk.count) =
+          K.topLeftCorner(blk.count, blk.count).completeOrthogonalDecomposition().pseudoInverse();
+    }
+    m_blocks.push_back(blk);
+    first = last;
+  }
+
+  const std::size_t nBlocks = m_blocks.size();
   for (int it = 0; it < iterations; ++it) {
-    // Alternate the sweep's direction: a one-way Gauss-Seidel sweep favours the first
-    // points of each manifold, leaving a small torque that tilts stacked bodies.
-    for (std::size_t rr = 0; rr < nRows; ++rr) {
-      RContactRow& r = m_rows[(it % 2 == 0) ? rr : nRows - 1 - rr];
-      const RSolverBody& sa = m_solverBodies[r.a];
-      const RSolverBody& sb = m_solverBodies[r.b];
-      // Friction first, bounded by the normal impulse of the previous pass.
-      RVec3 vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
-      const RScalar lt1 = r.lambdaT1 - vRel.dot(r.t1) / r.kT1;
-      const RScalar lt2 = r.lambdaT2 - vRel.dot(r.t2) / r.kT2;
-      const RScalar limit = r.friction * r.lambdaN;
-      const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
-      const RScalar scale = norm > limit ? limit / norm : RScalar(1);
-      const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
-      r.lambdaT1 += d1, r.lambdaT2 += d2;
-      if (d1 != 0 || d2 != 0) apply(r, d1 * r.t1 + d2 * r.t2, false);
-      // Normal: reach the target, never pull.
-      vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
-      const RScalar ln = std::max(r.lambdaN - (vRel.dot(r.n) - r.target) / r.kN, RScalar(0));
-      const RScalar dn = ln - r.lambdaN;
-      r.lambdaN = ln;
-      if (dn != 0) apply(r, dn * r.n, false);
-      // Position correction on the pseudo-velocities.
-      if (r.pseudoTarget > 0 || r.lambdaP > 0) {
-        const RVec3 pRel = sb.vp + sb.wp.cross(r.rB) - sa.vp - sa.wp.cross(r.rA);
-        const RScalar lp = std::max(r.lambdaP - (pRel.dot(r.n) - r.pseudoTarget) / r.kN, RScalar(0));
-        const RScalar dp = lp - r.lambdaP;
-        r.lambdaP = lp;
-        if (dp != 0) apply(r, dp * r.n, true);
+    // Alternate the sweep's direction, for the same reason as the blocks across manifolds.
+    for (std::size_t bb = 0; bb < nBlocks; ++bb) {
+      const RBlock& blk = m_blocks[(it % 2 == 0) ? bb : nBlocks - 1 - bb];
+      RContactRow* rows = &m_rows[blk.first];
+      const RSolverBody& sa = m_solverBodies[rows[0].a];
+      const RSolverBody& sb = m_solverBodies[rows[0].b];
+      auto normalVelocity = [&](const RContactRow& r) {
+        return (sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA)).dot(r.n);
+      };
+      // Normal: reach the targets, never pull.
+      bool solved = false;
+      if (blk.useBlock) {
+        Eigen::Matrix<RScalar, 4, 1> rhs = Eigen::Matrix<RScalar, 4, 1>::Zero();
+        for (int i = 0; i < blk.count; ++i) rhs[i] = rows[i].target - normalVelocity(rows[i]);
+        const Eigen::Matrix<RScalar, 4, 1> delta = blk.pinv * rhs;
+        bool valid = true;
+        for (int i = 0; i < blk.count; ++i) valid = valid && rows[i].lambdaN + delta[i] >= 0;
+        if (valid) {
+          for (int i = 0; i < blk.count; ++i) {
+            rows[i].lambdaN += delta[i];
+            if (delta[i] != 0) apply(rows[i], delta[i] * rows[i].n, false);
+          }
+          solved = true;
+        }
+      }
+      if (!solved) {
+        for (int i = 0; i < blk.count; ++i) {
+          RContactRow& r = rows[i];
+          const RScalar ln = std::max(r.lambdaN - (normalVelocity(r) - r.target) / r.kN, RScalar(0));
+          const RScalar dn = ln - r.lambdaN;
+          r.lambdaN = ln;
+          if (dn != 0) apply(r, dn * r.n, false);
+        }
+      }
+      for (int i = 0; i < blk.count; ++i) {
+        RContactRow& r = rows[i];
+        // Friction, bounded by this pass's normal impulse.
+        const RVec3 vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
+        const RScalar lt1 = r.lambdaT1 - vRel.dot(r.t1) / r.kT1;
+        const RScalar lt2 = r.lambdaT2 - vRel.dot(r.t2) / r.kT2;
+        const RScalar limit = r.friction * r.lambdaN;
+        const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
+        const RScalar scale = norm > limit ? limit / norm : RScalar(1);
+        const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
+        r.lambdaT1 += d1, r.lambdaT2 += d2;
+        if (d1 != 0 || d2 != 0) apply(r, d1 * r.t1 + d2 * r.t2, false);
+        // Position correction on the pseudo-velocities.
+        if (r.pseudoTarget > 0 || r.lambdaP > 0) {
+          const RVec3 pRel = sb.vp + sb.wp.cross(r.rB) - sa.vp - sa.wp.cross(r.rA);
+          const RScalar lp =
+              std::max(r.lambdaP - (pRel.dot(r.n) - r.pseudoTarget) / r.kN, RScalar(0));
+          const RScalar dp = lp - r.lambdaP;
+          r.lambdaP = lp;
+          if (dp != 0) apply(r, dp * r.n, true);
+        }
       }
     }
   }
@@ -281,17 +381,22 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       B.m_angularImpulse_W += r.rB.cross(J);
     }
     m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN;
-    m_warmNext.push_back(RWarmStart{
-        WarmKey(r.a, r.b, m_contacts[r.contact].manifold.points[r.point].featureId), r.lambdaN,
-        r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2});
+    // An impact's impulse is a one-off: carried into the next step it would push apart
+    // bodies that are already separating, energy from nowhere.
+    if (r.impact) continue;
+    const RContactPoint& p = m_contacts[r.contact].manifold.points[r.point];
+    m_warmNext.push_back(RWarmStart{PairKey(r.a, r.b), p.featureId,
+                                    A.m_q_WB.conjugate() * (p.position - A.m_x_W), r.lambdaN,
+                                    r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2});
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (bodies[i].m_isStatic) continue;
     bodies[i].m_pseudoVelocity_W = m_solverBodies[i].vp;
     bodies[i].m_pseudoAngular_W = m_solverBodies[i].wp;
   }
-  std::sort(m_warmNext.begin(), m_warmNext.end(),
-            [](const RWarmStart& x, const RWarmStart& y) { return x.key < y.key; });
+  std::sort(m_warmNext.begin(), m_warmNext.end(), [](const RWarmStart& x, const RWarmStart& y) {
+    return x.pair < y.pair || (x.pair == y.pair && x.feature < y.feature);
+  });
   std::swap(m_warm, m_warmNext);
 }
 

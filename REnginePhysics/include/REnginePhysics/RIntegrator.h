@@ -131,6 +131,7 @@ class RIntegrator {
     RScalar target;            // normal relative velocity to reach, m/s
     RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
     RScalar friction;          // combined Coulomb coefficient
+    bool impact;               // bounces with restitution this step
     RScalar lambdaN, lambdaT1, lambdaT2, lambdaP;  // accumulated impulses, N s
   };
   // Working state of a body during the solve: velocities that include every pending change.
@@ -142,7 +143,9 @@ class RIntegrator {
   };
   // Warm-start memory: last step's impulses by (body a, body b, feature id).
   struct RWarmStart {
-    std::uint64_t key;
+    std::uint64_t pair;        // (body a, body b)
+    std::uint32_t feature;
+    RVec3 point_A;             // contact point in body a's frame, m
     RScalar lambdaN;
     RVec3 tangentImpulse;      // world, N s
   };
@@ -156,7 +159,15 @@ class RIntegrator {
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
   std::vector<RContactRow> m_rows;
   std::vector<RSolverBody> m_solverBodies;
-  std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by key
+  // A manifold's rows and the minimum-norm inverse of their normal block (up to 4 x 4).
+  struct RBlock {
+    std::uint32_t first;
+    int count;
+    bool useBlock;
+    Eigen::Matrix<RScalar, 4, 4> pinv;
+  };
+  std::vector<RBlock> m_blocks;
+  std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;
