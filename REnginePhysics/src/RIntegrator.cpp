@@ -112,15 +112,33 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
 
 namespace {
 
-// Inverse effective mass of the pair along direction d at the contact offsets rA, rB:
-// 1/mA + 1/mB + (IA^-1 (rA x d)) x rA . d + (IB^-1 (rB x d)) x rB . d.
-RScalar InverseMass(const RVec3& d, const RVec3& rA, const RVec3& rB, RScalar invMA,
-                    const RMat3& invIA, RScalar invMB, const RMat3& invIB) {
-  const RVec3 ra = rA.cross(d), rb = rB.cross(d);
-  return invMA + invMB + ra.dot(invIA * ra) + rb.dot(invIB * rb);
+std::uint64_t PairKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
+
+template <class Dir, class Body>
+void SetDirection(Dir& dir, const RVec3& d, const RVec3& rA, const RVec3& rB, const Body& a,
+                  const Body& b) {
+  dir.d = d;
+  dir.rAxd = rA.cross(d);
+  dir.rBxd = rB.cross(d);
+  dir.iA = a.invI * dir.rAxd;
+  dir.iB = b.invI * dir.rBxd;
+  dir.k = a.invM + b.invM + dir.rAxd.dot(dir.iA) + dir.rBxd.dot(dir.iB);
 }
 
-std::uint64_t PairKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
+template <class Dir>
+RScalar Speed(const Dir& dir, const RVec3& va, const RVec3& wa, const RVec3& vb,
+              const RVec3& wb) {
+  return dir.d.dot(vb - va) + dir.rBxd.dot(wb) - dir.rAxd.dot(wa);
+}
+
+template <class Dir>
+void Push(const Dir& dir, RScalar lambda, RScalar invMA, RScalar invMB, RVec3& va, RVec3& wa,
+          RVec3& vb, RVec3& wb) {
+  va -= (invMA * lambda) * dir.d;
+  wa -= lambda * dir.iA;
+  vb += (invMB * lambda) * dir.d;
+  wb += lambda * dir.iB;
+}
 
 // A previous point closer than this fraction of the pair's size to a new one is taken as
 // the same contact when no feature id matches (a corner sliding past a reference edge
@@ -203,16 +221,16 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RContactPoint& p = c.manifold.points[k];
       RContactRow r;
       r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
-      r.n = c.manifold.query.normal;
-      OrthonormalBasis(r.n, r.t1, r.t2);
+      const RVec3& n = c.manifold.query.normal;
+      RVec3 t1, t2;
+      OrthonormalBasis(n, t1, t2);
       r.rA = p.position - A.m_x_W;
       r.rB = p.position - B.m_x_W;
-      r.kN = InverseMass(r.n, r.rA, r.rB, sa.invM, sa.invI, sb.invM, sb.invI);
-      r.kT1 = InverseMass(r.t1, r.rA, r.rB, sa.invM, sa.invI, sb.invM, sb.invI);
-      r.kT2 = InverseMass(r.t2, r.rA, r.rB, sa.invM, sa.invI, sb.invM, sb.invI);
+      SetDirection(r.dir[0], n, r.rA, r.rB, sa, sb);
+      SetDirection(r.dir[1], t1, r.rA, r.rB, sa, sb);
+      SetDirection(r.dir[2], t2, r.rA, r.rB, sa, sb);
       r.friction = mu;
-      const RVec3 vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
-      const RScalar vn = vRel.dot(r.n);
+      const RScalar vn = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
       const RScalar gap = p.separation;
       // Not an impact: the contact may close its gap (speculative: a fast body stops at
       // the surface, not inside it) but not approach beyond it.
@@ -242,30 +260,27 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
         const auto it2 = match;
         ++m_pairStats.warmStarted;
         r.lambdaN = it2->lambdaN;
-        r.lambdaT1 = it2->tangentImpulse.dot(r.t1);
-        r.lambdaT2 = it2->tangentImpulse.dot(r.t2);
+        r.lambdaT1 = it2->tangentImpulse.dot(r.dir[1].d);
+        r.lambdaT2 = it2->tangentImpulse.dot(r.dir[2].d);
       }
       m_rows.push_back(r);
     }
   }
 
   m_pairStats.contactPoints = m_rows.size();
-  auto apply = [&](const RContactRow& r, const RVec3& J, bool pseudo) {
+  auto push = [&](const RContactRow& r, int k, RScalar lambda, bool pseudo) {
     RSolverBody& sa = m_solverBodies[r.a];
     RSolverBody& sb = m_solverBodies[r.b];
-    RVec3& va = pseudo ? sa.vp : sa.v;
-    RVec3& wa = pseudo ? sa.wp : sa.w;
-    RVec3& vb = pseudo ? sb.vp : sb.v;
-    RVec3& wb = pseudo ? sb.wp : sb.w;
-    va -= sa.invM * J;
-    wa -= sa.invI * r.rA.cross(J);
-    vb += sb.invM * J;
-    wb += sb.invI * r.rB.cross(J);
+    if (pseudo) {
+      Push(r.dir[k], lambda, sa.invM, sb.invM, sa.vp, sa.wp, sb.vp, sb.wp);
+    } else {
+      Push(r.dir[k], lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+    }
   };
   for (const RContactRow& r : m_rows) {
-    if (r.lambdaN != 0 || r.lambdaT1 != 0 || r.lambdaT2 != 0) {
-      apply(r, r.lambdaN * r.n + r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2, false);
-    }
+    if (r.lambdaN != 0) push(r, 0, r.lambdaN, false);
+    if (r.lambdaT1 != 0) push(r, 1, r.lambdaT1, false);
+    if (r.lambdaT2 != 0) push(r, 2, r.lambdaT2, false);
   }
   const int iterations = std::max(1, m_settings.solverIterations);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points
@@ -290,13 +305,10 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RSolverBody& sb = m_solverBodies[m_rows[first].b];
       Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Identity();
       for (int i = 0; i < blk.count; ++i) {
-        const RContactRow& ri = m_rows[first + i];
-        const RVec3 ai = ri.rA.cross(ri.n), bi = ri.rB.cross(ri.n);
+        const RDirection& di = m_rows[first + i].dir[0];
         for (int j = 0; j < blk.count; ++j) {
-          const RContactRow& rj = m_rows[first + j];
-          const RVec3 aj = rj.rA.cross(rj.n), bj = rj.rB.cross(rj.n);
-          K(i, j) = (sa.invM + sb.invM) * ri.n.dot(rj.n) + ai.dot(sa.invI * aj) +
-                    bi.dot(sb.invI * bj);
+          const RDirection& dj = m_rows[first + j].dir[0];
+          K(i, j) = (sa.invM + sb.invM) * di.d.dot(dj.d) + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
         }
       }
       blk.pinv.setZero();
@@ -316,7 +328,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RSolverBody& sa = m_solverBodies[rows[0].a];
       const RSolverBody& sb = m_solverBodies[rows[0].b];
       auto normalVelocity = [&](const RContactRow& r) {
-        return (sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA)).dot(r.n);
+        return Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
       };
       // Normal: reach the targets, never pull.
       bool solved = false;
@@ -329,7 +341,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
         if (valid) {
           for (int i = 0; i < blk.count; ++i) {
             rows[i].lambdaN += delta[i];
-            if (delta[i] != 0) apply(rows[i], delta[i] * rows[i].n, false);
+            if (delta[i] != 0) push(rows[i], 0, delta[i], false);
           }
           solved = true;
         }
@@ -337,32 +349,32 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       if (!solved) {
         for (int i = 0; i < blk.count; ++i) {
           RContactRow& r = rows[i];
-          const RScalar ln = std::max(r.lambdaN - (normalVelocity(r) - r.target) / r.kN, RScalar(0));
+          const RScalar ln =
+              std::max(r.lambdaN - (normalVelocity(r) - r.target) / r.dir[0].k, RScalar(0));
           const RScalar dn = ln - r.lambdaN;
           r.lambdaN = ln;
-          if (dn != 0) apply(r, dn * r.n, false);
+          if (dn != 0) push(r, 0, dn, false);
         }
       }
       for (int i = 0; i < blk.count; ++i) {
         RContactRow& r = rows[i];
         // Friction, bounded by this pass's normal impulse.
-        const RVec3 vRel = sb.v + sb.w.cross(r.rB) - sa.v - sa.w.cross(r.rA);
-        const RScalar lt1 = r.lambdaT1 - vRel.dot(r.t1) / r.kT1;
-        const RScalar lt2 = r.lambdaT2 - vRel.dot(r.t2) / r.kT2;
+        const RScalar lt1 = r.lambdaT1 - Speed(r.dir[1], sa.v, sa.w, sb.v, sb.w) / r.dir[1].k;
+        const RScalar lt2 = r.lambdaT2 - Speed(r.dir[2], sa.v, sa.w, sb.v, sb.w) / r.dir[2].k;
         const RScalar limit = r.friction * r.lambdaN;
         const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
         const RScalar scale = norm > limit ? limit / norm : RScalar(1);
         const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
         r.lambdaT1 += d1, r.lambdaT2 += d2;
-        if (d1 != 0 || d2 != 0) apply(r, d1 * r.t1 + d2 * r.t2, false);
+        if (d1 != 0) push(r, 1, d1, false);
+        if (d2 != 0) push(r, 2, d2, false);
         // Position correction on the pseudo-velocities.
         if (r.pseudoTarget > 0 || r.lambdaP > 0) {
-          const RVec3 pRel = sb.vp + sb.wp.cross(r.rB) - sa.vp - sa.wp.cross(r.rA);
-          const RScalar lp =
-              std::max(r.lambdaP - (pRel.dot(r.n) - r.pseudoTarget) / r.kN, RScalar(0));
+          const RScalar pn = Speed(r.dir[0], sa.vp, sa.wp, sb.vp, sb.wp);
+          const RScalar lp = std::max(r.lambdaP - (pn - r.pseudoTarget) / r.dir[0].k, RScalar(0));
           const RScalar dp = lp - r.lambdaP;
           r.lambdaP = lp;
-          if (dp != 0) apply(r, dp * r.n, true);
+          if (dp != 0) push(r, 0, dp, true);
         }
       }
     }
@@ -371,7 +383,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   // Accumulate on the bodies (applied by UpdateObjects), report, and remember.
   m_warmNext.clear();
   for (const RContactRow& r : m_rows) {
-    const RVec3 J = r.lambdaN * r.n + r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2;
+    const RVec3 J = r.lambdaN * r.dir[0].d + r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d;
     RRigidBody& A = bodies[r.a];
     RRigidBody& B = bodies[r.b];
     if (!A.m_isStatic) {
@@ -389,7 +401,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     const RContactPoint& p = m_contacts[r.contact].manifold.points[r.point];
     m_warmNext.push_back(RWarmStart{PairKey(r.a, r.b), p.featureId,
                                     A.m_q_WB.conjugate() * (p.position - A.m_x_W), r.lambdaN,
-                                    r.lambdaT1 * r.t1 + r.lambdaT2 * r.t2});
+                                    r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d});
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (bodies[i].m_isStatic) continue;

@@ -121,14 +121,23 @@ class RIntegrator {
   void FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt);
   void UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt);
 
+  // One direction of a contact point's constraint, with everything the solver's inner
+  // loop needs precomputed (Catto's formulation): relative velocity along d is
+  // d.(vB - vA) + rBxd.wB - rAxd.wA, and an impulse lambda d changes wA by -lambda iA and
+  // wB by lambda iB.
+  struct RDirection {
+    RVec3 d;                   // unit direction, world
+    RVec3 rAxd, rBxd;          // lever arms crossed with d, m
+    RVec3 iA, iB;              // inverse inertia times the lever arms, 1/(kg m)
+    RScalar k;                 // inverse effective mass along d, 1/kg
+  };
   // One contact point's constraint, built once per step (solver scratch).
   struct RContactRow {
     std::uint32_t a, b;        // body indices
     std::uint32_t contact;     // index into m_contacts
     int point;                 // index into its manifold
-    RVec3 n, t1, t2;           // normal (A to B) and tangents, world
+    RDirection dir[3];         // normal (A to B) and two tangents
     RVec3 rA, rB;              // contact point from each centre of mass, world, m
-    RScalar kN, kT1, kT2;      // inverse effective masses along n, t1, t2, 1/kg
     RScalar target;            // normal relative velocity to reach, m/s
     RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
     RScalar friction;          // combined Coulomb coefficient
