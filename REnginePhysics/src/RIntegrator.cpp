@@ -221,12 +221,12 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RContactPoint& p = c.manifold.points[k];
       RContactRow r;
       r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
-      const RVec3& n = c.manifold.query.normal;
+      const RVec3& normal = c.manifold.query.normal;
       RVec3 t1, t2;
-      OrthonormalBasis(n, t1, t2);
+      OrthonormalBasis(normal, t1, t2);
       r.rA = p.position - A.m_x_W;
       r.rB = p.position - B.m_x_W;
-      SetDirection(r.dir[0], n, r.rA, r.rB, sa, sb);
+      SetDirection(r.dir[0], normal, r.rA, r.rB, sa, sb);
       SetDirection(r.dir[1], t1, r.rA, r.rB, sa, sb);
       SetDirection(r.dir[2], t2, r.rA, r.rB, sa, sb);
       r.friction = mu;
@@ -243,7 +243,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       // step's points of this pair (in a's frame, where a resting contact stays put).
       const std::uint64_t pair = PairKey(c.a, c.b);
       auto it = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
-                                 [](const RWarmStart& w, std::uint64_t k) { return w.pair < k; });
+                                 [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; });
       const RVec3 point_A = A.m_q_WB.conjugate() * (p.position - A.m_x_W);
       const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());
       const RWarmStart* match = nullptr;
