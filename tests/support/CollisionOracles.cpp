@@ -137,14 +137,18 @@ int CcdGJKIntersect(const CcdPosedHull& a, const CcdPosedHull& b, const ccd_t& c
   return rc == kCcdBudgetSpent ? -1 : (rc != 0 ? 1 : 0);
 }
 
-OraclePenetration CcdGJKPenetration(const CcdPosedHull& a, const CcdPosedHull& b,
-                                    const ccd_t& config) {
+namespace {
+// libccd's two penetration queries share one signature and one result convention.
+using CcdPenetrationFn = int (*)(const void*, const void*, const ccd_t*, ccd_real_t*,
+                                 ccd_vec3_t*, ccd_vec3_t*);
+OraclePenetration CcdPenetration(CcdPenetrationFn fn, const CcdPosedHull& a,
+                                 const CcdPosedHull& b, const ccd_t& config) {
   OraclePenetration r;
   ccd_real_t depth = 0;
   ccd_vec3_t dir, pos;
   ccdVec3Set(&dir, 1, 0, 0);
   ccdVec3Set(&pos, 0, 0, 0);
-  const int rc = GuardedCcd([&] { return ccdGJKPenetration(&a, &b, &config, &depth, &dir, &pos); });
+  const int rc = GuardedCcd([&] { return fn(&a, &b, &config, &depth, &dir, &pos); });
   r.ok = rc == 0 || rc == -1;
   r.overlap = rc == 0;
   if (r.overlap) {
@@ -154,23 +158,16 @@ OraclePenetration CcdGJKPenetration(const CcdPosedHull& a, const CcdPosedHull& b
   }
   return r;
 }
+}  // namespace
+
+OraclePenetration CcdGJKPenetration(const CcdPosedHull& a, const CcdPosedHull& b,
+                                    const ccd_t& config) {
+  return CcdPenetration(ccdGJKPenetration, a, b, config);
+}
 
 OraclePenetration CcdMPRPenetration(const CcdPosedHull& a, const CcdPosedHull& b,
                                     const ccd_t& config) {
-  OraclePenetration r;
-  ccd_real_t depth = 0;
-  ccd_vec3_t dir, pos;
-  ccdVec3Set(&dir, 1, 0, 0);
-  ccdVec3Set(&pos, 0, 0, 0);
-  const int rc = GuardedCcd([&] { return ccdMPRPenetration(&a, &b, &config, &depth, &dir, &pos); });
-  r.ok = rc == 0 || rc == -1;
-  r.overlap = rc == 0;
-  if (r.overlap) {
-    r.depth = depth;
-    r.normal_W = FromCcd(dir);
-    r.point_W = FromCcd(pos);
-  }
-  return r;
+  return CcdPenetration(ccdMPRPenetration, a, b, config);
 }
 
 OraclePenetration FclCollide(const OracleHull& a, const OraclePose& X_WA, const OracleHull& b,
