@@ -365,15 +365,19 @@ RRelativePose RelativePose(const RRigidBody& a, const RRigidBody& b) {
 
 bool RCollisionSolver::CheckCollision(const RRigidBody& a, const RRigidBody& b, RScalar dt,
                                       RContactManifold& out) {
-  const RConvexShape sa = ShapeOf(a), sb = ShapeOf(b);
-  const RRelativePose X = RelativePose(a, b);
   // How fast any point of B can approach any point of A: a bound for the speculative
   // margin, so a contact that may close within this step is kept.
   const RScalar approach = (b.Velocity_W() - a.Velocity_W()).norm() +
-                           a.AngularVelocity_B().norm() * sa.boundingRadius +
-                           b.AngularVelocity_B().norm() * sb.boundingRadius;
-  const RScalar margin = approach * dt + Band(sa, sb);
-  out = Manifold(sa, sb, X, margin);
+                           a.AngularVelocity_B().norm() * a.BoundingRadius() +
+                           b.AngularVelocity_B().norm() * b.BoundingRadius();
+  return CheckCollisionWithMargin(a, b, approach * dt, out);
+}
+
+bool RCollisionSolver::CheckCollisionWithMargin(const RRigidBody& a, const RRigidBody& b,
+                                                RScalar margin, RContactManifold& out) {
+  const RConvexShape sa = ShapeOf(a), sb = ShapeOf(b);
+  const RRelativePose X = RelativePose(a, b);
+  out = Manifold(sa, sb, X, margin + Band(sa, sb));
   const RCollisionStatus st = out.query.status;
   if (st == RCollisionStatus::kSeparated && out.pointCount == 0) return false;
   // To world: rotate by A's orientation, then translate by its position.

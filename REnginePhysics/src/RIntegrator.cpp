@@ -60,12 +60,24 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
   // whose grown spheres are apart cannot touch before the next step. Stored as separate
   // arrays so the O(n^2) sweep below is a tight loop over contiguous doubles; the arrays
   // keep their capacity between steps.
+  // The velocities are those the body will move with this step: a missile given its
+  // launch impulse this step is as fast as one that has flown for a while.
   m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
+  m_moveV.resize(n), m_moveW.resize(n);
+  const RScalar halfDt = RScalar(0.5) * dt;
   for (std::size_t i = 0; i < n; ++i) {
     const RRigidBody& b = bodies[i];
     const RScalar r = b.BoundingRadius();
     m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
-    m_reach[i] = r + (b.m_v_W.norm() + b.m_w_B.norm() * r) * dt;
+    if (b.m_isStatic) {
+      m_moveV[i].setZero(), m_moveW[i] = 0;
+    } else {
+      m_moveV[i] = b.m_v_W + b.m_linearImpulse_W * b.m_invMass +
+                   (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
+      const RVec3 kick_B = b.m_q_WB.conjugate() * (b.m_angularImpulse_W + b.m_torque_W * halfDt);
+      m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
+    }
+    m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt;
   }
   // The touching band, and a relative allowance for the rounding of the squares.
   constexpr RScalar kGrow = 1 + 1e-9;
@@ -94,7 +106,9 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
       }
       ++m_pairStats.narrowPhase;
       RContact contact;
-      if (RCollisionSolver::CheckCollision(a, b, dt, contact.manifold)) {
+      const RScalar approach = (m_moveV[j] - m_moveV[i]).norm() +
+                               m_moveW[i] * a.BoundingRadius() + m_moveW[j] * b.BoundingRadius();
+      if (RCollisionSolver::CheckCollisionWithMargin(a, b, approach * dt, contact.manifold)) {
         contact.a = static_cast<std::uint32_t>(i);
         contact.b = static_cast<std::uint32_t>(j);
         m_contacts.push_back(contact);
@@ -158,6 +172,9 @@ constexpr RScalar kWarmMatchDistance = RScalar(0.05);
 void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   m_rows.clear();
   const std::size_t n = bodies.size();
+  // Warm-start memory is keyed by body index: when the game adds or removes bodies the
+  // indices shift, and another pair would inherit a stranger's impulses.
+  if (n != m_warmBodyCount) m_warm.clear(), m_warmBodyCount = n;
   m_solverBodies.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
   bool anyRow = false;
@@ -201,40 +218,62 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     // An impact (approaching faster than the threshold, reaching contact within the step)
     // bounces with the restitution's closed-form outcome. Restitution targets at several
     // points of one manifold, solved one after another, can return more energy than came
-    // in; so a manifold that impacts is resolved at its deepest point alone, a single
-    // constraint for which the outcome is exact (and energy-conserving at e = 1).
-    auto approach = [&](const RContactPoint& p) {
-      const RVec3 rA = p.position - A.m_x_W, rB = p.position - B.m_x_W;
+    // in; so a manifold that impacts bounces through one row at the centre of its leading
+    // points (those within the slop of the deepest: a whole face hitting flat bounces
+    // through the face's centre, with no torque; a corner through the corner), a single
+    // constraint whose outcome is exact and energy-conserving at e = 1. Its other points
+    // keep plain non-penetration rows, with no restitution.
+    auto approach = [&](const RVec3& position) {
+      const RVec3 rA = position - A.m_x_W, rB = position - B.m_x_W;
       return (sb.v + sb.w.cross(rB) - sa.v - sa.w.cross(rA)).dot(c.manifold.query.normal);
     };
     bool manifoldImpacts = false;
     int deepest = 0;
     for (int k = 0; k < c.manifold.pointCount; ++k) {
       const RContactPoint& p = c.manifold.points[k];
-      const RScalar vn = approach(p);
+      const RScalar vn = approach(p.position);
       manifoldImpacts = manifoldImpacts ||
                         (vn < -set.restitutionThreshold && p.separation <= -vn * dt);
       if (p.separation < c.manifold.points[deepest].separation) deepest = k;
     }
-    for (int k = 0; k < c.manifold.pointCount; ++k) {
-      if (manifoldImpacts && k != deepest) continue;
-      const RContactPoint& p = c.manifold.points[k];
+    const RScalar leadSeparation = c.manifold.points[deepest].separation;
+    RVec3 leadCentre = RVec3::Zero();
+    int leads = 0;
+    if (manifoldImpacts) {
+      for (int k = 0; k < c.manifold.pointCount; ++k) {
+        if (c.manifold.points[k].separation <= leadSeparation + set.slop) {
+          leadCentre += c.manifold.points[k].position;
+          ++leads;
+        }
+      }
+      leadCentre /= leads;
+    }
+    // Row k < pointCount: manifold point k (skipped when it leads an impact); the last
+    // row, when the manifold impacts: the bounce at the leading points' centre.
+    for (int k = 0; k <= c.manifold.pointCount; ++k) {
+      const bool bounceRow = k == c.manifold.pointCount;
+      if (bounceRow && !manifoldImpacts) break;
+      if (!bounceRow && manifoldImpacts &&
+          c.manifold.points[k].separation <= leadSeparation + set.slop) {
+        continue;
+      }
+      const RVec3 position = bounceRow ? leadCentre : c.manifold.points[k].position;
+      const RScalar gap = bounceRow ? leadSeparation : c.manifold.points[k].separation;
       RContactRow r;
-      r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
+      r.a = c.a, r.b = c.b, r.contact = ci, r.point = bounceRow ? deepest : k;
       const RVec3& normal = c.manifold.query.normal;
       RVec3 t1, t2;
       OrthonormalBasis(normal, t1, t2);
-      r.rA = p.position - A.m_x_W;
-      r.rB = p.position - B.m_x_W;
+      r.rA = position - A.m_x_W;
+      r.rB = position - B.m_x_W;
       SetDirection(r.dir[0], normal, r.rA, r.rB, sa, sb);
       SetDirection(r.dir[1], t1, r.rA, r.rB, sa, sb);
       SetDirection(r.dir[2], t2, r.rA, r.rB, sa, sb);
       r.friction = mu;
       const RScalar vn = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
-      const RScalar gap = p.separation;
       // Not an impact: the contact may close its gap (speculative: a fast body stops at
       // the surface, not inside it) but not approach beyond it.
-      const bool impact = manifoldImpacts && vn < 0;
+      const bool impact = bounceRow && vn < 0;
       r.impact = impact;
       r.target = impact ? -e * vn : -std::max(gap, RScalar(0)) / dt;
       r.pseudoTarget = gap < -set.slop ? set.correction * (-gap - set.slop) / dt : 0;
@@ -244,20 +283,26 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const std::uint64_t pair = PairKey(c.a, c.b);
       auto it = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
                                  [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; });
-      const RVec3 point_A = A.m_q_WB.conjugate() * (p.position - A.m_x_W);
+      const RVec3 point_A = A.m_q_WB.conjugate() * (position - A.m_x_W);
+      const std::uint32_t feature = c.manifold.points[r.point].featureId;
       const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());
-      const RWarmStart* match = nullptr;
+      // The same feature wins over any nearer point. Two new rows may take the same old
+      // point (a corner that became two clip points): each starts from its impulse, and
+      // the passes below redistribute.
+      RWarmStart* match = nullptr;
+      RWarmStart* nearest = nullptr;
       RScalar bestD2 = reach * reach;
       for (; it != m_warm.end() && it->pair == pair; ++it) {
-        if (it->feature == p.featureId) {
+        if (it->feature == feature) {
           match = &*it;
           break;
         }
         const RScalar d2 = (it->point_A - point_A).squaredNorm();
-        if (d2 < bestD2) bestD2 = d2, match = &*it;
+        if (d2 < bestD2) bestD2 = d2, nearest = &*it;
       }
+      if (!match) match = nearest;
       if (match && !impact) {
-        const auto it2 = match;
+        const RWarmStart* const it2 = match;
         ++m_pairStats.warmStarted;
         r.lambdaN = it2->lambdaN;
         r.lambdaT1 = it2->tangentImpulse.dot(r.dir[1].d);

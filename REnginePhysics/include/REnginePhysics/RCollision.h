@@ -91,11 +91,17 @@ class RCollisionSolver {
   static RContactManifold Manifold(const RConvexShape& a, const RConvexShape& b,
                                    const RRelativePose& X_AB, RScalar margin);
 
-  // The pair of bodies in world terms: whether they touch now or may touch within dt (the
-  // gap is closing faster than gap / dt at the witness points), and if so the manifold with
-  // world-space normal and points. Returns false (and leaves `out` unspecified) otherwise.
+  // The pair of bodies in world terms: whether they touch now or may touch within dt, and
+  // if so the manifold with world-space normal and points. "May touch": the gap is within
+  // a bound on how far any point of b can approach any point of a in dt, from the bodies'
+  // current velocities. Returns false (and leaves `out` unspecified) otherwise; true with
+  // no points when a query hit its iteration cap.
   static bool CheckCollision(const RRigidBody& a, const RRigidBody& b, RScalar dt,
                              RContactManifold& out);
+  // The same with the speculative margin (m) given: the integrator passes one from the
+  // velocities the bodies will move with this step (pending impulses and forces included).
+  static bool CheckCollisionWithMargin(const RRigidBody& a, const RRigidBody& b,
+                                       RScalar margin, RContactManifold& out);
 };
 
 // The shape of a body, as the narrow phase wants it.

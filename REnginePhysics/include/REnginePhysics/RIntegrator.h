@@ -5,7 +5,7 @@
 //                                  cached with an older stamp is stale, and one with the
 //                                  current stamp is reused by every pair that asks (it is
 //                                  bumped again after step 3, for queries between steps)
-//     2. CollisionDetection        pairs -> contacts -> FindImpulse -> accumulated impulses
+//     2. CollisionDetection        pairs -> contacts -> FindImpulses -> accumulated impulses
 //     3. UpdateObjects             apply impulses; integrate forces and motion
 //
 // Motion. Linear: kick-drift-kick with the step's constant acceleration a = F/m + g, which
@@ -36,7 +36,9 @@ struct RWorldSettings {
   RCombineMode frictionCombine = RCombineMode::kGeometric;
   int solverIterations = 10;        // contact solver passes per step
   // Approach speed (m/s) below which restitution is ignored: resting and slowly settling
-  // bodies do not bounce. Above it a collision keeps its closed-form outcome.
+  // bodies do not bounce. Above it a collision bounces with its restitution: exactly the
+  // closed-form outcome for a single point of contact (spheres, a corner, a flat face hitting
+  // flat), through one row at the centre of the manifold's leading points otherwise.
   RScalar restitutionThreshold = 0.5;
   // Penetration (m) left alone by position correction: removing the last fraction of a
   // millimetre every step would make stacked bodies jitter.
@@ -94,9 +96,13 @@ class RIntegrator {
   RIntegrator() = default;
   explicit RIntegrator(const RWorldSettings& settings) : m_settings(settings) {}
 
-  // Advances every body by dt seconds (dt > 0). The bodies vector must not be resized by
-  // the callee; bodies may be added or removed by the game between calls.
+  // Advances every body by dt seconds (dt > 0). Bodies may be added or removed by the game
+  // between calls; contact memory (warm starts) is keyed by index and forgotten when the
+  // count changes.
   void Update(std::vector<RRigidBody>& bodies, RScalar dt);
+  // Forgets last step's contact impulses: call after reordering bodies without changing
+  // their count, so no pair inherits another's warm start.
+  void ForgetContacts() { m_warm.clear(); }
 
   const RWorldSettings& Settings() const { return m_settings; }
   RWorldSettings& Settings() { return m_settings; }
@@ -116,8 +122,9 @@ class RIntegrator {
 
  private:
   void CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt);
-  // Solves the contacts found this step for impulses (sequential impulses over all points,
-  // warm-started) and accumulates them on the bodies; called from CollisionDetection.
+  // Solves the contacts found this step for impulses and accumulates them on the bodies;
+  // called from CollisionDetection. Sequential impulses, warm-started, with each manifold's
+  // normal rows solved as one block and an impacting manifold bouncing through one row.
   void FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt);
   void UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt);
 
@@ -167,6 +174,8 @@ class RIntegrator {
   std::optional<RNonFiniteBody> m_nonFinite;
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
+  std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
+  std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
   std::vector<RContactRow> m_rows;
   std::vector<RSolverBody> m_solverBodies;
   // A manifold's rows and the minimum-norm inverse of their normal block (up to 4 x 4).
@@ -178,6 +187,7 @@ class RIntegrator {
   };
   std::vector<RBlock> m_blocks;
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
+  std::size_t m_warmBodyCount = 0;
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;

@@ -99,7 +99,11 @@ class RRigidBody {
   RInertiaSymmetry Symmetry() const { return m_rotation.Symmetry(); }
 
   // Physics state: centre of mass (world, m), orientation of B, velocity of the centre of
-  // mass (world, m/s), angular velocity (body frame, rad/s).
+  // mass (world, m/s), angular velocity (body frame, rad/s). Velocities are those at the end
+  // of the last step. Contacts act on the velocity bodies move with during a step (kick-
+  // drift-kick's mid-step velocity), so a body resting under gravity reports -g dt / 2,
+  // the second half-kick that the next step's contact impulse cancels; its position does
+  // not change.
   const RVec3& Position_W() const { return m_x_W; }
   const RQuat& Orientation_WB() const { return m_q_WB; }
   const RVec3& Velocity_W() const { return m_v_W; }
