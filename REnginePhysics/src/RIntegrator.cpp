@@ -29,9 +29,6 @@ RScalar Combine(RCombineMode mode, RScalar a, RScalar b) {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-struct RSettingsView {
-  RScalar restitutionThreshold, slop, correction;
-};
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 }  // namespace
 
@@ -198,13 +195,10 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     }
     const RMat3 R = b.m_q_WB.toRotationMatrix();
     s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
-    s.v = b.m_v_W + b.m_linearImpulse_W * b.m_invMass +
-          (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
+    s.v = m_moveV[i];  // computed by CollisionDetection's pre-pass this step
     s.w = R * b.m_w_B + s.invI * (b.m_angularImpulse_W + b.m_torque_W * halfDt);
   }
 
-  const RSettingsView set{m_settings.restitutionThreshold, m_settings.penetrationSlop,
-                          m_settings.positionCorrection};
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
     RContact& c = m_contacts[ci];
     const RRigidBody& A = bodies[c.a];
@@ -233,7 +227,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RContactPoint& p = c.manifold.points[k];
       const RScalar vn = approach(p.position);
       manifoldImpacts = manifoldImpacts ||
-                        (vn < -set.restitutionThreshold && p.separation <= -vn * dt);
+                        (vn < -m_settings.restitutionThreshold && p.separation <= -vn * dt);
       if (p.separation < c.manifold.points[deepest].separation) deepest = k;
     }
     const RScalar leadSeparation = c.manifold.points[deepest].separation;
@@ -241,7 +235,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     int leads = 0;
     if (manifoldImpacts) {
       for (int k = 0; k < c.manifold.pointCount; ++k) {
-        if (c.manifold.points[k].separation <= leadSeparation + set.slop) {
+        if (c.manifold.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
           leadCentre += c.manifold.points[k].position;
           ++leads;
         }
@@ -254,7 +248,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const bool bounceRow = k == c.manifold.pointCount;
       if (bounceRow && !manifoldImpacts) break;
       if (!bounceRow && manifoldImpacts &&
-          c.manifold.points[k].separation <= leadSeparation + set.slop) {
+          c.manifold.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
         continue;
       }
       const RVec3 position = bounceRow ? leadCentre : c.manifold.points[k].position;
@@ -276,7 +270,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const bool impact = bounceRow && vn < 0;
       r.impact = impact;
       r.target = impact ? -e * vn : -std::max(gap, RScalar(0)) / dt;
-      r.pseudoTarget = gap < -set.slop ? set.correction * (-gap - set.slop) / dt : 0;
+      r.pseudoTarget = gap < -m_settings.penetrationSlop ? m_settings.positionCorrection * (-gap - m_settings.penetrationSlop) / dt : 0;
       r.lambdaN = r.lambdaT1 = r.lambdaT2 = r.lambdaP = 0;
       // Warm start from the same features last step, or else from the nearest of last
       // step's points of this pair (in a's frame, where a resting contact stays put).
