@@ -24,6 +24,26 @@ RBodyDef Ball(const char* name, RScalar r, RScalar m, const RVec3& x, const RVec
   return d;
 }
 
+// A static floor whose top face is y = 0, and a unit box (1 kg, half size 0.5) at height y.
+RBodyDef Floor() {
+  RBodyDef d;
+  d.name = "ground";
+  d.shape.type = RShapeType::kBox;
+  d.shape.halfExtents = RVec3(50, 0.5, 50);
+  d.isStatic = true;
+  d.position_W = RVec3(0, -0.5, 0);
+  return d;
+}
+RBodyDef Crate(RScalar y) {
+  RBodyDef d;
+  d.name = "box";
+  d.shape.type = RShapeType::kBox;
+  d.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
+  d.mass = 1;
+  d.position_W = RVec3(0, y, 0);
+  return d;
+}
+
 RVec3 Momentum(const std::vector<RRigidBody>& bodies) {
   RVec3 p = RVec3::Zero();
   for (const RRigidBody& b : bodies) p += b.Mass() * b.Velocity_W();
@@ -183,19 +203,10 @@ TEST(Response, TenBoxStackStands) {
 
 // Coulomb friction: a box sliding at v0 on a floor stops after v0^2 / (2 mu g).
 TEST(Response, SlidingBoxStopsAtTheCoulombDistance) {
-  RBodyDef ground;
-  ground.name = "ground";
-  ground.shape.type = RShapeType::kBox;
-  ground.shape.halfExtents = RVec3(50, 0.5, 50);
-  ground.isStatic = true;
-  ground.position_W = RVec3(0, -0.5, 0);
+  RBodyDef ground = Floor();
   ground.friction = 0.5;
-  RBodyDef box = ground;
-  box.name = "box";
-  box.isStatic = false;
-  box.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
-  box.mass = 1;
-  box.position_W = RVec3(0, 0.5, 0);
+  RBodyDef box = Crate(0.5);
+  box.friction = 0.5;
   box.velocity_W = RVec3(5, 0, 0);
   std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(box)};
   RWorldSettings settings;
@@ -211,19 +222,10 @@ TEST(Response, SlidingBoxStopsAtTheCoulombDistance) {
 // A box falling flat onto the ground bounces straight up at e times its speed: the bounce
 // acts at the centre of the face's leading points, so it adds no spin.
 TEST(Response, FlatImpactBouncesWithoutSpin) {
-  RBodyDef ground;
-  ground.name = "ground";
-  ground.shape.type = RShapeType::kBox;
-  ground.shape.halfExtents = RVec3(10, 0.5, 10);
-  ground.isStatic = true;
-  ground.position_W = RVec3(0, -0.5, 0);
+  RBodyDef ground = Floor();
   ground.restitution = 0.5;
-  RBodyDef box = ground;
-  box.name = "box";
-  box.isStatic = false;
-  box.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
-  box.mass = 1;
-  box.position_W = RVec3(0, 0.55, 0);
+  RBodyDef box = Crate(0.55);
+  box.restitution = 0.5;
   box.velocity_W = RVec3(0, -5, 0);
   std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(box)};
   RIntegrator integrator;  // zero gravity: the outcome is the closed form -e v
