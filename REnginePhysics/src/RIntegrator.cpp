@@ -366,35 +366,8 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       RContactRow* rows = &m_rows[blk.first];
       const RSolverBody& sa = m_solverBodies[rows[0].a];
       const RSolverBody& sb = m_solverBodies[rows[0].b];
-      auto normalVelocity = [&](const RContactRow& r) {
-        return Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
-      };
       // Normal: reach the targets, never pull.
-      bool solved = false;
-      if (blk.useBlock) {
-        Eigen::Matrix<RScalar, 4, 1> rhs = Eigen::Matrix<RScalar, 4, 1>::Zero();
-        for (int i = 0; i < blk.count; ++i) rhs[i] = rows[i].target - normalVelocity(rows[i]);
-        const Eigen::Matrix<RScalar, 4, 1> delta = blk.pinv * rhs;
-        bool valid = true;
-        for (int i = 0; i < blk.count; ++i) valid = valid && rows[i].lambdaN + delta[i] >= 0;
-        if (valid) {
-          for (int i = 0; i < blk.count; ++i) {
-            rows[i].lambdaN += delta[i];
-            if (delta[i] != 0) push(rows[i], 0, delta[i], false);
-          }
-          solved = true;
-        }
-      }
-      if (!solved) {
-        for (int i = 0; i < blk.count; ++i) {
-          RContactRow& r = rows[i];
-          const RScalar ln =
-              std::max(r.lambdaN - (normalVelocity(r) - r.target) / r.dir[0].k, RScalar(0));
-          const RScalar dn = ln - r.lambdaN;
-          r.lambdaN = ln;
-          if (dn != 0) push(r, 0, dn, false);
-        }
-      }
+      SolveNormalBlock(blk, rows, false);
       for (int i = 0; i < blk.count; ++i) {
         RContactRow& r = rows[i];
         // Friction, bounded by this pass's normal impulse.
@@ -407,15 +380,11 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
         r.lambdaT1 += d1, r.lambdaT2 += d2;
         if (d1 != 0) push(r, 1, d1, false);
         if (d2 != 0) push(r, 2, d2, false);
-        // Position correction on the pseudo-velocities.
-        if (r.pseudoTarget > 0 || r.lambdaP > 0) {
-          const RScalar pn = Speed(r.dir[0], sa.vp, sa.wp, sb.vp, sb.wp);
-          const RScalar lp = std::max(r.lambdaP - (pn - r.pseudoTarget) / r.dir[0].k, RScalar(0));
-          const RScalar dp = lp - r.lambdaP;
-          r.lambdaP = lp;
-          if (dp != 0) push(r, 0, dp, true);
-        }
       }
+      // Position correction on the pseudo-velocities, as a block like the velocities: one
+      // point at a time, the first point of a face would be favoured and the correction
+      // would tilt the box (a 20-box stack then leans further every step and falls).
+      SolveNormalBlock(blk, rows, true);
     }
   }
 
@@ -451,6 +420,48 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     return x.pair < y.pair || (x.pair == y.pair && x.feature < y.feature);
   });
   std::swap(m_warm, m_warmNext);
+}
+
+// One manifold's normal rows: the block's minimum-norm answer when it pushes at every point,
+// else one point at a time. On the velocities (towards the rows' targets, impulses lambdaN)
+// or on the pseudo-velocities of position correction (pseudoTarget, lambdaP).
+void RIntegrator::SolveNormalBlock(const RBlock& blk, RContactRow* rows, bool pseudo) {
+  RSolverBody& sa = m_solverBodies[rows[0].a];
+  RSolverBody& sb = m_solverBodies[rows[0].b];
+  RVec3& va = pseudo ? sa.vp : sa.v;
+  RVec3& wa = pseudo ? sa.wp : sa.w;
+  RVec3& vb = pseudo ? sb.vp : sb.v;
+  RVec3& wb = pseudo ? sb.wp : sb.w;
+  auto lambda = [pseudo](RContactRow& r) -> RScalar& { return pseudo ? r.lambdaP : r.lambdaN; };
+  auto target = [pseudo](const RContactRow& r) { return pseudo ? r.pseudoTarget : r.target; };
+  if (pseudo) {
+    // Most contacts need no correction: nothing to do unless some row does or did.
+    bool active = false;
+    for (int i = 0; i < blk.count; ++i) active = active || rows[i].pseudoTarget > 0 || rows[i].lambdaP > 0;
+    if (!active) return;
+  }
+  if (blk.useBlock) {
+    Eigen::Matrix<RScalar, 4, 1> rhs = Eigen::Matrix<RScalar, 4, 1>::Zero();
+    for (int i = 0; i < blk.count; ++i) rhs[i] = target(rows[i]) - Speed(rows[i].dir[0], va, wa, vb, wb);
+    const Eigen::Matrix<RScalar, 4, 1> delta = blk.pinv * rhs;
+    bool valid = true;
+    for (int i = 0; i < blk.count; ++i) valid = valid && lambda(rows[i]) + delta[i] >= 0;
+    if (valid) {
+      for (int i = 0; i < blk.count; ++i) {
+        lambda(rows[i]) += delta[i];
+        if (delta[i] != 0) Push(rows[i].dir[0], delta[i], sa.invM, sb.invM, va, wa, vb, wb);
+      }
+      return;
+    }
+  }
+  for (int i = 0; i < blk.count; ++i) {
+    RContactRow& r = rows[i];
+    const RScalar l = std::max(
+        lambda(r) - (Speed(r.dir[0], va, wa, vb, wb) - target(r)) / r.dir[0].k, RScalar(0));
+    const RScalar d = l - lambda(r);
+    lambda(r) = l;
+    if (d != 0) Push(r.dir[0], d, sa.invM, sb.invM, va, wa, vb, wb);
+  }
 }
 
 void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {

@@ -186,6 +186,7 @@ class RIntegrator {
     Eigen::Matrix<RScalar, 4, 4> pinv;
   };
   std::vector<RBlock> m_blocks;
+  void SolveNormalBlock(const RBlock& blk, RContactRow* rows, bool pseudo);
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   std::size_t m_warmBodyCount = 0;
   RPairStats m_pairStats;
