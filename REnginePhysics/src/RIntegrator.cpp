@@ -168,6 +168,7 @@ constexpr RScalar kWarmMatchDistance = RScalar(0.05);
 // impulses), solved apart so that position correction never adds kinetic energy.
 void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   m_rows.clear();
+  m_impacts.clear();
   const std::size_t n = bodies.size();
   // Warm-start memory is keyed by body index: when the game adds or removes bodies the
   // indices shift, and another pair would inherit a stranger's impulses.
@@ -209,67 +210,58 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     const RSolverBody& sb = m_solverBodies[c.b];
     const RScalar e = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
     const RScalar mu = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
-    // An impact (approaching faster than the threshold, reaching contact within the step)
-    // bounces with the restitution's closed-form outcome. Restitution targets at several
-    // points of one manifold, solved one after another, can return more energy than came
-    // in; so a manifold that impacts bounces through one row at the centre of its leading
-    // points (those within the slop of the deepest: a whole face hitting flat bounces
-    // through the face's centre, with no torque; a corner through the corner), a single
-    // constraint whose outcome is exact and energy-conserving at e = 1. Its other points
-    // keep plain non-penetration rows, with no restitution.
-    auto approach = [&](const RVec3& position) {
-      const RVec3 rA = position - A.m_x_W, rB = position - B.m_x_W;
-      return (sb.v + sb.w.cross(rB) - sa.v - sa.w.cross(rA)).dot(c.manifold.query.normal);
-    };
-    bool manifoldImpacts = false;
+    // Impacts bounce in a phase of their own, before the contacts are solved (below): each
+    // manifold gets one impact row at the centre of its leading points (those within the
+    // slop of the deepest). A whole face hitting flat bounces through the face's centre,
+    // with no torque, a corner through the corner: one constraint, whose outcome is the
+    // closed form and conserves energy at e = 1. Restitution targets at several points of
+    // one manifold, solved one after another, could return more energy than came in.
     int deepest = 0;
-    for (int k = 0; k < c.manifold.pointCount; ++k) {
-      const RContactPoint& p = c.manifold.points[k];
-      const RScalar vn = approach(p.position);
-      manifoldImpacts = manifoldImpacts ||
-                        (vn < -m_settings.restitutionThreshold && p.separation <= -vn * dt);
-      if (p.separation < c.manifold.points[deepest].separation) deepest = k;
+    for (int k = 1; k < c.manifold.pointCount; ++k) {
+      if (c.manifold.points[k].separation < c.manifold.points[deepest].separation) deepest = k;
     }
     const RScalar leadSeparation = c.manifold.points[deepest].separation;
     RVec3 leadCentre = RVec3::Zero();
     int leads = 0;
-    if (manifoldImpacts) {
-      for (int k = 0; k < c.manifold.pointCount; ++k) {
-        if (c.manifold.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
-          leadCentre += c.manifold.points[k].position;
-          ++leads;
-        }
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      if (c.manifold.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
+        leadCentre += c.manifold.points[k].position;
+        ++leads;
       }
-      leadCentre /= leads;
     }
-    // Row k < pointCount: manifold point k (skipped when it leads an impact); the last
-    // row, when the manifold impacts: the bounce at the leading points' centre.
-    for (int k = 0; k <= c.manifold.pointCount; ++k) {
-      const bool bounceRow = k == c.manifold.pointCount;
-      if (bounceRow && !manifoldImpacts) break;
-      if (!bounceRow && manifoldImpacts &&
-          c.manifold.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
-        continue;
-      }
-      const RVec3 position = bounceRow ? leadCentre : c.manifold.points[k].position;
-      const RScalar gap = bounceRow ? leadSeparation : c.manifold.points[k].separation;
+    leadCentre /= leads;
+    const RVec3& normal = c.manifold.query.normal;
+    RVec3 t1, t2;
+    OrthonormalBasis(normal, t1, t2);
+    {
+      RImpactRow r;
+      r.a = c.a, r.b = c.b, r.contact = ci, r.point = deepest;
+      const RVec3 rA = leadCentre - A.m_x_W, rB = leadCentre - B.m_x_W;
+      SetDirection(r.dir[0], normal, rA, rB, sa, sb);
+      SetDirection(r.dir[1], t1, rA, rB, sa, sb);
+      SetDirection(r.dir[2], t2, rA, rB, sa, sb);
+      r.rA = rA, r.rB = rB;
+      r.gap = leadSeparation;
+      r.restitution = e;
+      r.friction = mu;
+      r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
+      m_impacts.push_back(r);
+    }
+    // One contact row per manifold point: no restitution; the contact may close its gap
+    // within the step (speculative: a fast body stops at the surface, not inside it) but
+    // not approach beyond it.
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      const RVec3& position = c.manifold.points[k].position;
+      const RScalar gap = c.manifold.points[k].separation;
       RContactRow r;
-      r.a = c.a, r.b = c.b, r.contact = ci, r.point = bounceRow ? deepest : k;
-      const RVec3& normal = c.manifold.query.normal;
-      RVec3 t1, t2;
-      OrthonormalBasis(normal, t1, t2);
+      r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
       r.rA = position - A.m_x_W;
       r.rB = position - B.m_x_W;
       SetDirection(r.dir[0], normal, r.rA, r.rB, sa, sb);
       SetDirection(r.dir[1], t1, r.rA, r.rB, sa, sb);
       SetDirection(r.dir[2], t2, r.rA, r.rB, sa, sb);
       r.friction = mu;
-      const RScalar vn = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
-      // Not an impact: the contact may close its gap (speculative: a fast body stops at
-      // the surface, not inside it) but not approach beyond it.
-      const bool impact = bounceRow && vn < 0;
-      r.impact = impact;
-      r.target = impact ? -e * vn : -std::max(gap, RScalar(0)) / dt;
+      r.target = -std::max(gap, RScalar(0)) / dt;
       r.pseudoTarget = gap < -m_settings.penetrationSlop ? m_settings.positionCorrection * (-gap - m_settings.penetrationSlop) / dt : 0;
       r.lambdaN = r.lambdaT1 = r.lambdaT2 = r.lambdaP = 0;
       // Warm start from the same features last step, or else from the nearest of last
@@ -295,7 +287,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
         if (d2 < bestD2) bestD2 = d2, nearest = &*it;
       }
       if (!match) match = nearest;
-      if (match && !impact) {
+      if (match) {
         const RWarmStart* const it2 = match;
         ++m_pairStats.warmStarted;
         r.lambdaN = it2->lambdaN;
@@ -321,6 +313,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     if (r.lambdaT1 != 0) push(r, 1, r.lambdaT1, false);
     if (r.lambdaT2 != 0) push(r, 2, r.lambdaT2, false);
   }
+  SolveImpacts(dt);
   const int iterations = std::max(1, m_settings.solverIterations);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points
   // share two bodies, and solving them one after another favours the first, leaving a
@@ -335,10 +328,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     RBlock blk;
     blk.first = static_cast<std::uint32_t>(first);
     blk.count = static_cast<int>(last - first);
-    // Impacts keep the point-by-point solve: its impulses never overshoot a restitution
-    // target, so an elastic collision cannot gain energy; a least-squares block could.
     blk.useBlock = blk.count > 1;
-    for (std::size_t i = first; i < last; ++i) blk.useBlock = blk.useBlock && !m_rows[i].impact;
     if (blk.useBlock) {
       const RSolverBody& sa = m_solverBodies[m_rows[first].a];
       const RSolverBody& sb = m_solverBodies[m_rows[first].b];
@@ -389,27 +379,37 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   }
 
   // Accumulate on the bodies (applied by UpdateObjects), report, and remember.
-  m_warmNext.clear();
-  for (const RContactRow& r : m_rows) {
-    const RVec3 J = r.lambdaN * r.dir[0].d + r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d;
-    RRigidBody& A = bodies[r.a];
-    RRigidBody& B = bodies[r.b];
+  auto accumulate = [&bodies](std::uint32_t a, std::uint32_t b, const RVec3& rA,
+                              const RVec3& rB, const RVec3& J) {
+    RRigidBody& A = bodies[a];
+    RRigidBody& B = bodies[b];
     if (!A.m_isStatic) {
       A.m_linearImpulse_W -= J;
-      A.m_angularImpulse_W -= r.rA.cross(J);
+      A.m_angularImpulse_W -= rA.cross(J);
     }
     if (!B.m_isStatic) {
       B.m_linearImpulse_W += J;
-      B.m_angularImpulse_W += r.rB.cross(J);
+      B.m_angularImpulse_W += rB.cross(J);
     }
+  };
+  m_warmNext.clear();
+  for (const RContactRow& r : m_rows) {
+    accumulate(r.a, r.b, r.rA, r.rB,
+               r.lambdaN * r.dir[0].d + r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d);
     m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN;
-    // An impact's impulse is a one-off: carried into the next step it would push apart
-    // bodies that are already separating, energy from nowhere.
-    if (r.impact) continue;
     const RContactPoint& p = m_contacts[r.contact].manifold.points[r.point];
     m_warmNext.push_back(RWarmStart{PairKey(r.a, r.b), p.featureId,
-                                    A.m_q_WB.conjugate() * (p.position - A.m_x_W), r.lambdaN,
-                                    r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d});
+                                    bodies[r.a].m_q_WB.conjugate() * (p.position - bodies[r.a].m_x_W),
+                                    r.lambdaN, r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d});
+  }
+  // An impact's impulse is a one-off, not remembered: carried into the next step it would
+  // push apart bodies that are already separating, energy from nowhere. It is reported at
+  // the manifold's deepest point.
+  for (const RImpactRow& r : m_impacts) {
+    if (r.lambdaN == 0) continue;
+    accumulate(r.a, r.b, r.rA, r.rB,
+               r.lambdaN * r.dir[0].d + r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d);
+    m_contacts[r.contact].normalImpulse[r.point] += r.lambdaN;
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (bodies[i].m_isStatic) continue;
@@ -420,6 +420,43 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     return x.pair < y.pair || (x.pair == y.pair && x.feature < y.feature);
   });
   std::swap(m_warm, m_warmNext);
+}
+
+// The impact phase: every manifold approaching faster than the restitution threshold, and
+// reaching contact within the step, bounces through its impact row: the impulse that turns
+// the approach speed vn into -e vn, then friction at the same point bounded by mu times
+// that impulse. Passes repeat while some manifold still impacts, so an impulse travels
+// along a chain of touching bodies the way it does in a Newton's cradle (the striker stops,
+// the last ball leaves), instead of being shared out as a block. Each application changes
+// the kinetic energy by (e^2 - 1) vn^2 / (2 k) <= 0, and friction only removes sliding, so
+// no pass can add energy whatever the order.
+void RIntegrator::SolveImpacts(RScalar dt) {
+  const std::size_t count = m_impacts.size();
+  const int passes = std::max(1, m_settings.solverIterations);
+  for (int pass = 0; pass < passes; ++pass) {
+    bool any = false;
+    for (std::size_t ii = 0; ii < count; ++ii) {
+      RImpactRow& r = m_impacts[(pass % 2 == 0) ? ii : count - 1 - ii];
+      RSolverBody& sa = m_solverBodies[r.a];
+      RSolverBody& sb = m_solverBodies[r.b];
+      const RScalar vn = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
+      if (vn >= -m_settings.restitutionThreshold || r.gap > -vn * dt) continue;
+      any = true;
+      const RScalar dn = -(1 + r.restitution) * vn / r.dir[0].k;
+      r.lambdaN += dn;
+      Push(r.dir[0], dn, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      const RScalar lt1 = r.lambdaT1 - Speed(r.dir[1], sa.v, sa.w, sb.v, sb.w) / r.dir[1].k;
+      const RScalar lt2 = r.lambdaT2 - Speed(r.dir[2], sa.v, sa.w, sb.v, sb.w) / r.dir[2].k;
+      const RScalar limit = r.friction * r.lambdaN;
+      const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
+      const RScalar scale = norm > limit ? limit / norm : RScalar(1);
+      const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
+      r.lambdaT1 += d1, r.lambdaT2 += d2;
+      if (d1 != 0) Push(r.dir[1], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      if (d2 != 0) Push(r.dir[2], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+    }
+    if (!any) break;
+  }
 }
 
 // One manifold's normal rows: the block's minimum-norm answer when it pushes at every point,

@@ -148,8 +148,20 @@ class RIntegrator {
     RScalar target;            // normal relative velocity to reach, m/s
     RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
     RScalar friction;          // combined Coulomb coefficient
-    bool impact;               // bounces with restitution this step
     RScalar lambdaN, lambdaT1, lambdaT2, lambdaP;  // accumulated impulses, N s
+  };
+  // A manifold's impact constraint: one point at the centre of its leading points, where
+  // restitution acts (solver scratch, built once per step for every resolved contact).
+  struct RImpactRow {
+    std::uint32_t a, b;        // body indices
+    std::uint32_t contact;     // index into m_contacts
+    int point;                 // the manifold's deepest point, where the impulse is reported
+    RDirection dir[3];         // normal (A to B) and two tangents
+    RVec3 rA, rB;              // the point from each centre of mass, world, m
+    RScalar gap;               // the leading points' separation, m (negative: overlap)
+    RScalar restitution;       // combined coefficient
+    RScalar friction;          // combined Coulomb coefficient
+    RScalar lambdaN, lambdaT1, lambdaT2;  // accumulated impulses, N s
   };
   // Working state of a body during the solve: velocities that include every pending change.
   struct RSolverBody {
@@ -177,6 +189,7 @@ class RIntegrator {
   std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
   std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
   std::vector<RContactRow> m_rows;
+  std::vector<RImpactRow> m_impacts;
   std::vector<RSolverBody> m_solverBodies;
   // A manifold's rows and the minimum-norm inverse of their normal block (up to 4 x 4).
   struct RBlock {
@@ -187,6 +200,7 @@ class RIntegrator {
   };
   std::vector<RBlock> m_blocks;
   void SolveNormalBlock(const RBlock& blk, RContactRow* rows, bool pseudo);
+  void SolveImpacts(RScalar dt);
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   std::size_t m_warmBodyCount = 0;
   RPairStats m_pairStats;
