@@ -245,6 +245,80 @@ TEST(Response, NewtonsCradle) {
   }
 }
 
+// Mass ratio 1000:1: a 1000 kg box resting on a 1 kg box on the ground. Sequential
+// impulses alone pass the heavy box's weight down a fraction 1/1000 per pass, and it sinks
+// through; the island's direct solve holds it. Asked: at most 2 mm of overlap per contact.
+TEST(Response, HeavyBoxOnLightBoxHolds) {
+  for (RScalar heavyMass : {1000.0, 1e4}) {
+    RBodyDef ground = Floor();
+    ground.friction = 0.5;
+    RBodyDef light = Crate(0.5);
+    light.friction = 0.5;
+    RBodyDef heavy = Crate(1.5);
+    heavy.name = "heavy";
+    heavy.mass = heavyMass;
+    heavy.friction = 0.5;
+    std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(light), RRigidBody(heavy)};
+    RWorldSettings settings;
+    settings.gravity_W = RVec3(0, -9.81, 0);
+    RIntegrator integrator(settings);
+    RScalar worstOverlap = 0;
+    for (int i = 0; i < 600; ++i) {
+      integrator.Update(bodies, 1.0 / 60);
+      for (const RContact& c : integrator.Contacts()) {
+        worstOverlap = std::max(worstOverlap, -c.manifold.query.separation);
+      }
+    }
+    const RScalar sink = 1.5 - bodies[2].Position_W().y();
+    std::printf("%g:1 mass ratio: the heavy box sank %.3g mm, worst overlap %.3g mm\n",
+                heavyMass, sink * 1e3, worstOverlap * 1e3);
+    EXPECT_LT(worstOverlap, 2e-3) << heavyMass;
+    EXPECT_LT(std::abs(sink), 4e-3) << heavyMass;
+    EXPECT_LT(bodies[2].Velocity_W().norm(), 9.81 / 120 + 1e-5) << heavyMass;
+    EXPECT_NEAR(bodies[1].Position_W().y(), 0.5, 2e-3) << heavyMass;
+  }
+}
+
+// Coulomb friction on a 20 degree incline (the floor tilted about z): with mu = 0.5 >
+// tan 20 deg = 0.364 the box sticks; with mu = 0.2 it slides down with
+// a = g (sin 20 deg - mu cos 20 deg), asked within 1%.
+TEST(Response, BoxOnInclineSticksOrSlides) {
+  const RScalar theta = 20 * kPi / 180, g = 9.81;
+  const RQuat tilt(Eigen::AngleAxis<RScalar>(theta, RVec3::UnitZ()));
+  const RVec3 down = tilt * RVec3(-1, 0, 0);  // down the slope
+  for (RScalar mu : {0.5, 0.2}) {
+    RBodyDef ground = Floor();
+    ground.q_WS = tilt;
+    ground.position_W = tilt * RVec3(0, -0.5, 0);
+    ground.friction = mu;
+    RBodyDef box = Crate(0);
+    box.q_WS = tilt;
+    box.position_W = tilt * RVec3(0, 0.5, 0);
+    box.friction = mu;
+    std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(box)};
+    RWorldSettings settings;
+    settings.gravity_W = RVec3(0, -g, 0);
+    RIntegrator integrator(settings);
+    const int steps = 120;
+    const RScalar dt = 1.0 / 60, t = steps * dt;
+    const RVec3 x0 = bodies[1].Position_W();
+    for (int i = 0; i < steps; ++i) integrator.Update(bodies, dt);
+    const RScalar travelled = (bodies[1].Position_W() - x0).dot(down);
+    if (mu == 0.5) {
+      EXPECT_LT(std::abs(travelled), 1e-5) << "sticks";
+      EXPECT_LT(bodies[1].Velocity_W().norm(), 9.81 / 120 + 1e-6);
+    } else {
+      const RScalar a = g * (std::sin(theta) - mu * std::cos(theta));
+      std::printf("incline, mu 0.2: travelled %.6g m, closed form %.6g m; speed %.6g, closed "
+                  "form %.6g m/s\n", travelled, 0.5 * a * t * t,
+                  bodies[1].Velocity_W().dot(down), a * t);
+      EXPECT_NEAR(travelled, 0.5 * a * t * t, 0.01 * 0.5 * a * t * t);
+      EXPECT_NEAR(bodies[1].Velocity_W().dot(down), a * t, 0.01 * a * t);
+      EXPECT_LT(bodies[1].AngularVelocity_W().norm(), 1e-6) << "slides without tipping";
+    }
+  }
+}
+
 // Coulomb friction: a box sliding at v0 on a floor stops after v0^2 / (2 mu g).
 TEST(Response, SlidingBoxStopsAtTheCoulombDistance) {
   RBodyDef ground = Floor();
