@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace REngine {
 
@@ -163,6 +164,9 @@ void Push(const Dir& dir, RScalar lambda, RScalar invMA, RScalar invMB, RVec3& v
 // changes its id, not its place).
 constexpr RScalar kWarmMatchDistance = RScalar(0.05);
 
+// The target of a row that is not in contact at the end of the step: never reached.
+constexpr RScalar kNever = -std::numeric_limits<RScalar>::infinity();
+
 }  // namespace
 
 // Sequential impulses (Catto 2005) over every contact point, with the velocities each body
@@ -197,7 +201,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     const RRigidBody& b = bodies[i];
     RSolverBody& s = m_solverBodies[i];
     s.invM = b.m_invMass;
-    s.vp.setZero(), s.wp.setZero();
+    s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();
     if (b.m_isStatic) {
       s.v.setZero(), s.w.setZero(), s.invI.setZero();
       continue;
@@ -271,7 +275,9 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       r.block = static_cast<std::uint32_t>(m_blocks.size());
       r.target = -std::max(gap, RScalar(0)) / dt;
       r.pseudoTarget = gap < -m_settings.penetrationSlop ? m_settings.positionCorrection * (-gap - m_settings.penetrationSlop) / dt : 0;
-      r.lambdaN = r.lambdaP = 0;
+      r.gap = gap;
+      r.lambdaN = r.lambdaP = r.lambdaE = 0;
+      r.endTarget = kNever;
       r.lever = 0;  // set with the patch below
       // Warm start from the same features last step, or else from the nearest of last
       // step's points of this pair (in a's frame, where a resting contact stays put).
@@ -299,6 +305,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       if (match) {
         ++m_pairStats.warmStarted;
         r.lambdaN = match->lambdaN;
+        r.lambdaE = match->lambdaE;
         if (!patchWarm) patchWarm = match;
       }
       m_rows.push_back(r);
@@ -324,11 +331,13 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       m_rows[firstRow + k].lever = (c.manifold.points[k].position - centroid).norm();
     }
     blk.friction = mu;
-    blk.lambdaT1 = blk.lambdaT2 = blk.lambdaTwist = 0;
+    for (int ph = 0; ph < 2; ++ph) blk.lambdaT1[ph] = blk.lambdaT2[ph] = blk.lambdaTwist[ph] = 0;
     if (patchWarm) {
-      blk.lambdaT1 = patchWarm->tangentImpulse.dot(t1);
-      blk.lambdaT2 = patchWarm->tangentImpulse.dot(t2);
-      blk.lambdaTwist = patchWarm->twistImpulse;
+      for (int ph = 0; ph < 2; ++ph) {
+        blk.lambdaT1[ph] = patchWarm->tangentImpulse[ph].dot(t1);
+        blk.lambdaT2[ph] = patchWarm->tangentImpulse[ph].dot(t2);
+        blk.lambdaTwist[ph] = patchWarm->twistImpulse[ph];
+      }
     }
     m_blocks.push_back(blk);
   }
@@ -340,7 +349,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     RSolverBody& sb = m_solverBodies[r.b];
     Push(r.n, r.lambdaN, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
   }
-  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1, blk.lambdaT2, blk.lambdaTwist);
+  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[0], blk.lambdaT2[0], blk.lambdaTwist[0]);
   SolveImpacts(dt);
   const int iterations = std::max(1, m_settings.solverIterations);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points
@@ -374,16 +383,19 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       RBlock& blk = m_blocks[(it % 2 == 0) ? bb : nBlocks - 1 - bb];
       RContactRow* rows = &m_rows[blk.first];
       // Normal: reach the targets, never pull.
-      SolveNormalBlock(blk, rows, false);
+      SolveNormalBlock(blk, rows, RPhase::kVelocity);
       // Friction, bounded by this pass's normal impulses.
-      SolvePatch(blk, false);
+      SolvePatch(blk, false, RPhase::kVelocity);
       // Position correction on the pseudo-velocities, as a block like the velocities: one
       // point at a time, the first point of a face would be favoured and the correction
       // would tilt the box (a 20-box stack then leans further every step and falls).
-      SolveNormalBlock(blk, rows, true);
+      SolveNormalBlock(blk, rows, RPhase::kPosition);
     }
   }
-  SolveIslands(bodies);
+  BuildIslands(bodies);
+  SolveIslands(RPhase::kVelocity);
+  SolveIslands(RPhase::kPosition);
+  SolveEndOfStep(bodies, dt);
 
   // Accumulate on the bodies (applied by UpdateObjects), report, and remember.
   auto accumulate = [&bodies](std::uint32_t a, std::uint32_t b, const RVec3& rA,
@@ -400,22 +412,60 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     }
   };
   m_warmNext.clear();
+  // An impulse at the end of the step acts where the contact is then: the point moves with
+  // the bodies, with the lighter one's displacement when one is much heavier (the ground's
+  // contact with a sliding box moves with the box). The same point for both bodies keeps
+  // angular momentum exact. Lever arms are about the centres at the start of the step;
+  // UpdateObjects moves them to where the centres end.
+  auto accumulateEnd = [&bodies, this, dt](std::uint32_t a, std::uint32_t b, const RVec3& rA,
+                                           const RVec3& rB, const RVec3& J) {
+    RRigidBody& A = bodies[a];
+    RRigidBody& B = bodies[b];
+    if (J.isZero(0)) return;
+    const RSolverBody& sa = m_solverBodies[a];
+    const RSolverBody& sb = m_solverBodies[b];
+    const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
+    const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
+    if (!A.m_isStatic) {
+      A.m_endLinearImpulse_W -= J;
+      A.m_endAngularImpulse_W -= (rA + shift).cross(J);
+    }
+    if (!B.m_isStatic) {
+      B.m_endLinearImpulse_W += J;
+      B.m_endAngularImpulse_W += (rB + shift).cross(J);
+    }
+  };
   for (const RContactRow& r : m_rows) {
     accumulate(r.a, r.b, r.rA, r.rB, r.lambdaN * r.n.d);
-    m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN;
+    if (r.lambdaE != 0) accumulateEnd(r.a, r.b, r.rA, r.rB, r.lambdaE * r.n.d);
+    m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN + r.lambdaE;
     const RBlock& blk = m_blocks[r.block];
     const RContactPoint& p = m_contacts[r.contact].manifold.points[r.point];
-    m_warmNext.push_back(RWarmStart{PairKey(r.a, r.b), p.featureId,
-                                    bodies[r.a].m_q_WB.conjugate() * (p.position - bodies[r.a].m_x_W),
-                                    r.lambdaN, blk.lambdaT1 * blk.t[0].d + blk.lambdaT2 * blk.t[1].d,
-                                    blk.lambdaTwist});
+    RWarmStart w;
+    w.pair = PairKey(r.a, r.b);
+    w.feature = p.featureId;
+    w.point_A = bodies[r.a].m_q_WB.conjugate() * (p.position - bodies[r.a].m_x_W);
+    w.lambdaN = r.lambdaN;
+    w.lambdaE = r.lambdaE;
+    for (int ph = 0; ph < 2; ++ph) {
+      w.tangentImpulse[ph] = blk.lambdaT1[ph] * blk.t[0].d + blk.lambdaT2[ph] * blk.t[1].d;
+      w.twistImpulse[ph] = blk.lambdaTwist[ph];
+    }
+    m_warmNext.push_back(w);
   }
   for (const RBlock& blk : m_blocks) {
     const RContactRow& r = m_rows[blk.first];
-    accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1 * blk.t[0].d + blk.lambdaT2 * blk.t[1].d);
+    accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[0] * blk.t[0].d + blk.lambdaT2[0] * blk.t[1].d);
+    accumulateEnd(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[1] * blk.t[0].d + blk.lambdaT2[1] * blk.t[1].d);
     // The twist: a pure torque about the normal.
-    if (!bodies[r.a].m_isStatic) bodies[r.a].m_angularImpulse_W -= blk.lambdaTwist * blk.normal;
-    if (!bodies[r.b].m_isStatic) bodies[r.b].m_angularImpulse_W += blk.lambdaTwist * blk.normal;
+    if (!bodies[r.a].m_isStatic) {
+      bodies[r.a].m_angularImpulse_W -= blk.lambdaTwist[0] * blk.normal;
+      bodies[r.a].m_endAngularImpulse_W -= blk.lambdaTwist[1] * blk.normal;
+    }
+    if (!bodies[r.b].m_isStatic) {
+      bodies[r.b].m_angularImpulse_W += blk.lambdaTwist[0] * blk.normal;
+      bodies[r.b].m_endAngularImpulse_W += blk.lambdaTwist[1] * blk.normal;
+    }
   }
   // An impact's impulse is a one-off, not remembered: carried into the next step it would
   // push apart bodies that are already separating, energy from nowhere. It is reported at
@@ -500,7 +550,7 @@ void EnvelopeCholeskySolve(const RScalar* L, int m, int ld, const int* first, RS
 // meanwhile; the direct solve holds it exactly in the first step. Friction keeps its
 // iterated impulses, clamped again to the new cones. Larger islands (a whole pile) keep
 // the iterated answer: a dense solve grows as the cube of the rows.
-void RIntegrator::SolveIslands(std::vector<RRigidBody>& bodies) {
+void RIntegrator::BuildIslands(const std::vector<RRigidBody>& bodies) {
   const std::size_t n = bodies.size();
   m_islandParent.resize(n);
   for (std::size_t i = 0; i < n; ++i) m_islandParent[i] = static_cast<std::uint32_t>(i);
@@ -520,23 +570,26 @@ void RIntegrator::SolveIslands(std::vector<RRigidBody>& bodies) {
     m_islandRows.emplace_back(find(bodies[r.a].m_isStatic ? r.b : r.a), i);
   }
   std::sort(m_islandRows.begin(), m_islandRows.end());
+  m_islands.clear();
   for (std::size_t first = 0; first < m_islandRows.size();) {
     std::size_t last = first + 1;
     while (last < m_islandRows.size() && m_islandRows[last].first == m_islandRows[first].first) {
       ++last;
     }
-    const std::size_t m = last - first;
     // One manifold alone is already solved exactly by its block.
     const bool several = m_rows[m_islandRows[first].second].contact !=
                          m_rows[m_islandRows[last - 1].second].contact;
-    if (several && m <= kDirectRows) {
-      m_islandIndex.clear();
-      for (std::size_t k = first; k < last; ++k) m_islandIndex.push_back(m_islandRows[k].second);
-      m_islandKReady = false;
-      SolveIslandDirect(false);
-      SolveIslandDirect(true);
-    }
+    if (several && last - first <= std::size_t(kDirectRows)) m_islands.emplace_back(first, last);
     first = last;
+  }
+}
+
+void RIntegrator::SolveIslands(RPhase phase) {
+  for (const auto& [first, last] : m_islands) {
+    m_islandIndex.clear();
+    for (std::size_t k = first; k < last; ++k) m_islandIndex.push_back(m_islandRows[k].second);
+    m_islandKReady = false;
+    SolveIslandDirect(phase);
   }
 }
 
@@ -588,7 +641,8 @@ void RIntegrator::AssembleIslandMatrix() {
 // The active-set solve of one island's normal rows (m_islandIndex), on the velocities or on
 // the pseudo-velocities. Applies the answer and returns true if it converged; otherwise
 // leaves the iterated impulses as they are.
-bool RIntegrator::SolveIslandDirect(bool pseudo) {
+bool RIntegrator::SolveIslandDirect(RPhase phase) {
+  const bool pseudo = phase == RPhase::kPosition;
   const int m = static_cast<int>(m_islandIndex.size());
   const int ld = m;
   m_islandK.resize(std::size_t(kDirectRows) * kDirectRows);
@@ -600,8 +654,8 @@ bool RIntegrator::SolveIslandDirect(bool pseudo) {
   RScalar* K = m_islandK.data();
   RScalar* b = m_islandB.data();
   RScalar* x = m_islandX.data();
-  auto target = [pseudo](const RContactRow& r) { return pseudo ? r.pseudoTarget : r.target; };
-  auto lambda = [pseudo](const RContactRow& r) { return pseudo ? r.lambdaP : r.lambdaN; };
+  auto target = [phase](const RContactRow& r) { return Target(r, phase); };
+  auto lambda = [phase](RContactRow& r) -> RScalar& { return Lambda(r, phase); };
   // An island the iterations left solved (a row that pushes is at its target, one that
   // does not is at or above it) is left alone. Only to rounding: with a looser test
   // (1e-6 m/s) a 1000 kg box on a 1 kg one, skipped step after step, lost its hold after
@@ -610,7 +664,7 @@ bool RIntegrator::SolveIslandDirect(bool pseudo) {
   RScalar worst = 0;
   bool anyActive = false;
   for (int i = 0; i < m; ++i) {
-    const RContactRow& r = m_rows[m_islandIndex[i]];
+    RContactRow& r = m_rows[m_islandIndex[i]];
     const RSolverBody& sa = m_solverBodies[r.a];
     const RSolverBody& sb = m_solverBodies[r.b];
     const RScalar v = pseudo ? Speed(r.n, sa.vp, sa.wp, sb.vp, sb.wp)
@@ -683,7 +737,7 @@ bool RIntegrator::SolveIslandDirect(bool pseudo) {
     for (int i = 0; i < m; ++i) {
       RContactRow& r = m_rows[m_islandIndex[i]];
       const RScalar next = m_islandActive[i] ? x[p++] : RScalar(0);
-      RScalar& current = pseudo ? r.lambdaP : r.lambdaN;
+      RScalar& current = lambda(r);
       const RScalar d = next - current;
       current = next;
       if (d == 0) continue;
@@ -699,7 +753,7 @@ bool RIntegrator::SolveIslandDirect(bool pseudo) {
     if (!pseudo) {
       for (int i = 0; i < m; ++i) {
         const std::uint32_t blk = m_rows[m_islandIndex[i]].block;
-        if (i == 0 || blk != m_rows[m_islandIndex[i - 1]].block) SolvePatch(m_blocks[blk], true);
+        if (i == 0 || blk != m_rows[m_islandIndex[i - 1]].block) SolvePatch(m_blocks[blk], true, phase);
       }
     }
     return true;
@@ -726,13 +780,17 @@ void RIntegrator::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar 
 // point's impulse slightly off the sliding direction, which loses about 1% of the friction
 // of a box sliding down an incline. clampOnly: only bring the impulses back inside limits
 // that the normal impulses changed.
-void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly) {
-  const RContactRow* rows = &m_rows[blk.first];
+void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
+  const int ph = phase == RPhase::kEnd ? 1 : 0;
+  RContactRow* rows = &m_rows[blk.first];
   RScalar normal = 0, twistArm = 0;
-  for (int i = 0; i < blk.count; ++i) normal += rows[i].lambdaN, twistArm += rows[i].lambdaN * rows[i].lever;
+  for (int i = 0; i < blk.count; ++i) {
+    const RScalar l = Lambda(rows[i], phase);
+    normal += l, twistArm += l * rows[i].lever;
+  }
   const RSolverBody& sa = m_solverBodies[rows[0].a];
   const RSolverBody& sb = m_solverBodies[rows[0].b];
-  RScalar lt1 = blk.lambdaT1, lt2 = blk.lambdaT2, lw = blk.lambdaTwist;
+  RScalar lt1 = blk.lambdaT1[ph], lt2 = blk.lambdaT2[ph], lw = blk.lambdaTwist[ph];
   if (!clampOnly) {
     lt1 -= Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w) / blk.t[0].k;
     lt2 -= Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w) / blk.t[1].k;
@@ -743,9 +801,75 @@ void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly) {
   if (norm > limit) lt1 *= limit / norm, lt2 *= limit / norm;
   const RScalar twistLimit = blk.friction * twistArm;
   lw = std::clamp(lw, -twistLimit, twistLimit);
-  const RScalar d1 = lt1 - blk.lambdaT1, d2 = lt2 - blk.lambdaT2, dw = lw - blk.lambdaTwist;
-  blk.lambdaT1 = lt1, blk.lambdaT2 = lt2, blk.lambdaTwist = lw;
+  const RScalar d1 = lt1 - blk.lambdaT1[ph], d2 = lt2 - blk.lambdaT2[ph], dw = lw - blk.lambdaTwist[ph];
+  blk.lambdaT1[ph] = lt1, blk.lambdaT2[ph] = lt2, blk.lambdaTwist[ph] = lw;
   ApplyPatch(blk, d1, d2, dw);
+}
+
+// The end of the step. The contact impulses found so far act at its start, on the velocity
+// the bodies move with (the mid-step velocity of kick-drift-kick), which is what keeps a
+// resting box exactly in place; but the step's second half-kick of gravity then leaves it
+// with -g dt / 2 at the end, and a box stuck on a slope with g sin(theta) dt / 2 down the
+// slope: at rest, reported moving. So every contact that is closed at the end of the step
+// gets a second impulse there: no approach, friction within its cone, solved like the
+// first (blocks, patches, islands) on the end velocities. A resting body then ends each
+// step at rest, and the support it needs is shared between the two ends of the step, the
+// way kick-drift-kick shares a force; a sliding box's friction is shared the same way. The
+// impulses are inelastic (targets of zero, never pulling): they cannot add energy.
+void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar dt) {
+  const RScalar halfDt = RScalar(0.5) * dt;
+  bool any = false;
+  for (RContactRow& r : m_rows) {
+    const RSolverBody& sa = m_solverBodies[r.a];
+    const RSolverBody& sb = m_solverBodies[r.b];
+    // Closed at the end: the gap after moving with this step's velocities (a touching band
+    // of a micrometre per metre of size for rounding).
+    const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
+    const RScalar gapEnd = r.gap + vn * dt;
+    const RScalar band = 1e-6 * (bodies[r.a].BoundingRadius() + bodies[r.b].BoundingRadius());
+    // A contact that closes faster than the restitution threshold is an impact, and the
+    // next step's impact phase bounces it; stopped here it would end inelastic.
+    auto accel = [&](std::uint32_t i) -> RVec3 {
+      const RRigidBody& b = bodies[i];
+      return b.m_isStatic ? RVec3::Zero() : RVec3(b.m_force_W * b.m_invMass + m_settings.gravity_W);
+    };
+    const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
+    r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold ? RScalar(0) : kNever;
+    if (r.endTarget == kNever) r.lambdaE = 0;
+    any = any || r.endTarget == 0;
+  }
+  if (!any) {
+    for (RContactRow& r : m_rows) r.lambdaE = 0;
+    for (RBlock& blk : m_blocks) blk.lambdaT1[1] = blk.lambdaT2[1] = blk.lambdaTwist[1] = 0;
+    return;
+  }
+  // The end velocities: the second half-kick of the applied forces and gravity.
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const RRigidBody& b = bodies[i];
+    RSolverBody& s = m_solverBodies[i];
+    s.vMid = s.v;
+    if (b.m_isStatic) continue;
+    s.v += (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
+    s.w += s.invI * (b.m_torque_W * halfDt);
+  }
+  // Warm start (last step's end impulses, found with the rows).
+  for (const RContactRow& r : m_rows) {
+    if (r.lambdaE == 0) continue;
+    RSolverBody& sa = m_solverBodies[r.a];
+    RSolverBody& sb = m_solverBodies[r.b];
+    Push(r.n, r.lambdaE, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+  }
+  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[1], blk.lambdaT2[1], blk.lambdaTwist[1]);
+  const int iterations = std::max(1, m_settings.solverIterations);
+  const std::size_t nBlocks = m_blocks.size();
+  for (int it = 0; it < iterations; ++it) {
+    for (std::size_t bb = 0; bb < nBlocks; ++bb) {
+      RBlock& blk = m_blocks[(it % 2 == 0) ? bb : nBlocks - 1 - bb];
+      SolveNormalBlock(blk, &m_rows[blk.first], RPhase::kEnd);
+      SolvePatch(blk, false, RPhase::kEnd);
+    }
+  }
+  SolveIslands(RPhase::kEnd);
 }
 
 // The impact phase: every manifold approaching faster than the restitution threshold, and
@@ -788,22 +912,26 @@ void RIntegrator::SolveImpacts(RScalar dt) {
 // One manifold's normal rows: the block's minimum-norm answer when it pushes at every point,
 // else one point at a time. On the velocities (towards the rows' targets, impulses lambdaN)
 // or on the pseudo-velocities of position correction (pseudoTarget, lambdaP).
-void RIntegrator::SolveNormalBlock(const RBlock& blk, RContactRow* rows, bool pseudo) {
+void RIntegrator::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase) {
+  const bool pseudo = phase == RPhase::kPosition;
   RSolverBody& sa = m_solverBodies[rows[0].a];
   RSolverBody& sb = m_solverBodies[rows[0].b];
   RVec3& va = pseudo ? sa.vp : sa.v;
   RVec3& wa = pseudo ? sa.wp : sa.w;
   RVec3& vb = pseudo ? sb.vp : sb.v;
   RVec3& wb = pseudo ? sb.wp : sb.w;
-  auto lambda = [pseudo](RContactRow& r) -> RScalar& { return pseudo ? r.lambdaP : r.lambdaN; };
-  auto target = [pseudo](const RContactRow& r) { return pseudo ? r.pseudoTarget : r.target; };
-  if (pseudo) {
-    // Most contacts need no correction: nothing to do unless some row does or did.
+  auto lambda = [phase](RContactRow& r) -> RScalar& { return Lambda(r, phase); };
+  auto target = [phase](const RContactRow& r) { return Target(r, phase); };
+  if (phase != RPhase::kVelocity) {
+    // Most contacts need no position correction, and many are not in contact at the end of
+    // the step: nothing to do unless some row does or did.
     bool active = false;
-    for (int i = 0; i < blk.count; ++i) active = active || rows[i].pseudoTarget > 0 || rows[i].lambdaP > 0;
+    for (int i = 0; i < blk.count; ++i) active = active || target(rows[i]) > 0 || lambda(rows[i]) > 0 || (phase == RPhase::kEnd && target(rows[i]) == 0);
     if (!active) return;
   }
-  if (blk.useBlock) {
+  bool allTargets = true;
+  for (int i = 0; i < blk.count; ++i) allTargets = allTargets && target(rows[i]) != kNever;
+  if (blk.useBlock && allTargets) {
     Eigen::Matrix<RScalar, 4, 1> rhs = Eigen::Matrix<RScalar, 4, 1>::Zero();
     for (int i = 0; i < blk.count; ++i) rhs[i] = target(rows[i]) - Speed(rows[i].n, va, wa, vb, wb);
     const Eigen::Matrix<RScalar, 4, 1> delta = blk.pinv * rhs;
@@ -834,6 +962,7 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
     if (b.m_isStatic) {
       b.m_force_W.setZero(), b.m_torque_W.setZero();
       b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+      b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
       continue;
     }
     const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
@@ -858,12 +987,24 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
       b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * (b.m_torque_W * halfDt));
     }
 
+
     // Position correction: displacement without velocity (split impulses).
     if (!b.m_pseudoVelocity_W.isZero(0) || !b.m_pseudoAngular_W.isZero(0)) {
       b.m_x_W += b.m_pseudoVelocity_W * dt;
       b.m_q_WB = QuatExp(b.m_pseudoAngular_W * dt) * b.m_q_WB;
       b.m_q_WB.normalize();
       b.m_pseudoVelocity_W.setZero(), b.m_pseudoAngular_W.setZero();
+    }
+
+    // Contact impulses at the end of the step, in the body frame the step ends with. Their
+    // angular part was summed about the centre of mass at the start of the step; about the
+    // centre it ends at, each impulse J acting at a point p has the lever arm
+    // (p - x0) - (x - x0).
+    if (!b.m_endLinearImpulse_W.isZero(0) || !b.m_endAngularImpulse_W.isZero(0)) {
+      const RVec3 h_W = b.m_endAngularImpulse_W - (b.m_x_W - x0).cross(b.m_endLinearImpulse_W);
+      b.m_v_W += b.m_endLinearImpulse_W * b.m_invMass;
+      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
+      b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
     }
 
     b.m_force_W.setZero(), b.m_torque_W.setZero();

@@ -148,10 +148,23 @@ class RIntegrator {
     RDirection n;              // the normal, A to B
     RVec3 rA, rB;              // contact point from each centre of mass, world, m
     RScalar lever;             // distance from the manifold's centroid, m
+    RScalar gap;               // separation at the start of the step, m
     RScalar target;            // normal relative velocity to reach, m/s
     RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
-    RScalar lambdaN, lambdaP;  // accumulated normal impulses (velocity, position), N s
+    RScalar endTarget;         // at the end of the step: 0, or -inf when not in contact
+    // Accumulated normal impulses, N s: at the start of the step, of position correction,
+    // at the end of the step.
+    RScalar lambdaN, lambdaP, lambdaE;
   };
+  // What a solve works on: the velocities with the impulses at the start of the step, the
+  // pseudo-velocities of position correction, or the velocities at the end of the step.
+  enum class RPhase : std::uint8_t { kVelocity, kPosition, kEnd };
+  static RScalar& Lambda(RContactRow& r, RPhase phase) {
+    return phase == RPhase::kVelocity ? r.lambdaN : phase == RPhase::kPosition ? r.lambdaP : r.lambdaE;
+  }
+  static RScalar Target(const RContactRow& r, RPhase phase) {
+    return phase == RPhase::kVelocity ? r.target : phase == RPhase::kPosition ? r.pseudoTarget : r.endTarget;
+  }
   // A manifold's impact constraint: one point at the centre of its leading points, where
   // restitution acts (solver scratch, built once per step for every resolved contact).
   struct RImpactRow {
@@ -169,6 +182,7 @@ class RIntegrator {
   struct RSolverBody {
     RVec3 v, w;                // linear and angular velocity, world
     RVec3 vp, wp;              // pseudo-velocities (position correction), world
+    RVec3 vMid;                // the velocity it moves with, kept for the end of the step
     RMat3 invI;                // inverse inertia, world, 1/(kg m^2)
     RScalar invM;              // 1/kg
   };
@@ -177,9 +191,10 @@ class RIntegrator {
     std::uint64_t pair;        // (body a, body b)
     std::uint32_t feature;
     RVec3 point_A;             // contact point in body a's frame, m
-    RScalar lambdaN;
-    RVec3 tangentImpulse;      // its manifold's friction impulse, world, N s
-    RScalar twistImpulse;      // its manifold's twist, N m s
+    RScalar lambdaN, lambdaE;  // at the start and at the end of the step, N s
+    // Its manifold's friction impulse (world, N s) and twist (N m s), start and end.
+    RVec3 tangentImpulse[2];
+    RScalar twistImpulse[2];
   };
 
   RWorldSettings m_settings;
@@ -207,16 +222,20 @@ class RIntegrator {
     RVec3 twistIA, twistIB;    // inverse inertias times the normal, 1/(kg m^2)
     RScalar kTwist;            // inverse effective inertia about the normal, 1/(kg m^2)
     RScalar friction;          // combined Coulomb coefficient
-    RScalar lambdaT1, lambdaT2;  // tangential impulses, N s
-    RScalar lambdaTwist;         // twist about the normal, N m s
+    // Tangential impulses (N s) and twist about the normal (N m s), at the start [0] and
+    // at the end [1] of the step.
+    RScalar lambdaT1[2], lambdaT2[2];
+    RScalar lambdaTwist[2];
   };
   std::vector<RBlock> m_blocks;
-  void SolveNormalBlock(const RBlock& blk, RContactRow* rows, bool pseudo);
+  void SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
   void SolveImpacts(RScalar dt);
-  void SolvePatch(RBlock& blk, bool clampOnly);
+  void SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
+  void SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar dt);
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
-  void SolveIslands(std::vector<RRigidBody>& bodies);
-  bool SolveIslandDirect(bool pseudo);
+  void BuildIslands(const std::vector<RRigidBody>& bodies);
+  void SolveIslands(RPhase phase);
+  bool SolveIslandDirect(RPhase phase);
   void AssembleIslandMatrix();
   // Islands up to this many rows get their normal impulses solved directly (see
   // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
@@ -224,6 +243,7 @@ class RIntegrator {
   std::vector<std::uint32_t> m_islandParent;                        // union-find over bodies
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_islandRows;  // (island, row)
   std::vector<std::uint32_t> m_islandIndex;                         // rows of one island
+  std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
   std::vector<RScalar> m_islandK, m_islandL, m_islandB, m_islandX, m_islandInvDiag;  // scratch
   std::vector<int> m_islandMap, m_islandFirst, m_islandLo, m_islandHi;
   std::vector<std::pair<int, int>> m_islandRuns;  // one island's manifolds: [first, last)

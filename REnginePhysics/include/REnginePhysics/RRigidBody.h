@@ -100,10 +100,8 @@ class RRigidBody {
 
   // Physics state: centre of mass (world, m), orientation of B, velocity of the centre of
   // mass (world, m/s), angular velocity (body frame, rad/s). Velocities are those at the end
-  // of the last step. Contacts act on the velocity bodies move with during a step (kick-
-  // drift-kick's mid-step velocity), so a body resting under gravity reports -g dt / 2,
-  // the second half-kick that the next step's contact impulse cancels; its position does
-  // not change.
+  // of the last step, contact impulses at its end included: a body resting under gravity
+  // reports zero.
   const RVec3& Position_W() const { return m_x_W; }
   const RQuat& Orientation_WB() const { return m_q_WB; }
   const RVec3& Velocity_W() const { return m_v_W; }
@@ -184,6 +182,10 @@ class RRigidBody {
   // move the body this step without touching its velocities, m/s and rad/s, world.
   RVec3 m_pseudoVelocity_W = RVec3::Zero();
   RVec3 m_pseudoAngular_W = RVec3::Zero();
+  // Contact impulses at the end of the step (RIntegrator::SolveEndOfStep), world, N s and
+  // N m s: applied after the motion, so they change the velocities the step ends with.
+  RVec3 m_endLinearImpulse_W = RVec3::Zero();
+  RVec3 m_endAngularImpulse_W = RVec3::Zero();
 
   RFreeRotation m_rotation;
 
