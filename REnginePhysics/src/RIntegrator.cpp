@@ -30,6 +30,25 @@ RScalar Combine(RCombineMode mode, RScalar a, RScalar b) {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+
+// When within the step the manifold's deepest point closes, moving with the bodies' step
+// velocities: 0 when it is closed already, infinity when it does not close this step.
+RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, const RVec3& vb,
+                     const RContactManifold& m, RScalar dt) {
+  int deepest = 0;
+  for (int k = 1; k < m.pointCount; ++k) {
+    if (m.points[k].separation < m.points[deepest].separation) deepest = k;
+  }
+  const RScalar gap = m.points[deepest].separation;
+  if (gap <= 0) return 0;
+  const RVec3& p = m.points[deepest].position;
+  const RVec3 wa = a.IsStatic() ? RVec3::Zero() : a.AngularVelocity_W();
+  const RVec3 wb = b.IsStatic() ? RVec3::Zero() : b.AngularVelocity_W();
+  const RScalar vn = m.query.normal.dot(vb + wb.cross(p - b.Position_W()) - va -
+                                        wa.cross(p - a.Position_W()));
+  if (vn < 0 && gap <= -vn * dt) return gap / -vn;
+  return std::numeric_limits<RScalar>::infinity();
+}
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 }  // namespace
 
@@ -116,6 +135,7 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
                                                      contact.manifold)) {
         contact.a = static_cast<std::uint32_t>(i);
         contact.b = static_cast<std::uint32_t>(j);
+        contact.timeOfImpact = TimeOfImpact(a, b, m_moveV[i], m_moveV[j], contact.manifold, dt);
         m_contacts.push_back(contact);
       }
     }
@@ -257,6 +277,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       r.restitution = e;
       r.friction = mu;
       r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
+      r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
       m_impacts.push_back(r);
     }
     const std::uint32_t firstRow = static_cast<std::uint32_t>(m_rows.size());
@@ -395,11 +416,13 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   BuildIslands(bodies);
   SolveIslands(RPhase::kVelocity);
   SolveIslands(RPhase::kPosition);
+  // What the contact phase changed after the impacts (see the deferred impulses below).
+  for (RSolverBody& s : m_solverBodies) s.contactDeltaV = s.v - s.vImpacts;
   SolveEndOfStep(bodies, dt);
 
   // Accumulate on the bodies (applied by UpdateObjects), report, and remember.
   auto accumulate = [&bodies](std::uint32_t a, std::uint32_t b, const RVec3& rA,
-                              const RVec3& rB, const RVec3& J) {
+                                    const RVec3& rB, const RVec3& J) {
     RRigidBody& A = bodies[a];
     RRigidBody& B = bodies[b];
     if (!A.m_isStatic) {
@@ -472,9 +495,25 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   // the manifold's deepest point.
   for (const RImpactRow& r : m_impacts) {
     if (r.lambdaN == 0) continue;
-    accumulate(r.a, r.b, r.rA, r.rB,
-               r.lambdaN * r.dir[0].d + r.lambdaT1 * r.dir[1].d + r.lambdaT2 * r.dir[2].d);
+    RRigidBody& A = bodies[r.a];
+    RRigidBody& B = bodies[r.b];
+    if (!A.m_isStatic) A.m_linearImpulse_W -= r.impulse, A.m_angularImpulse_W -= r.angularA;
+    if (!B.m_isStatic) B.m_linearImpulse_W += r.impulse, B.m_angularImpulse_W += r.angularB;
     m_contacts[r.contact].normalImpulse[r.point] += r.lambdaN;
+  }
+  // Impacts within the step: the bodies move with their piecewise path's velocity and get
+  // the rest at the end (SolveImpacts).
+  for (std::size_t i = 0; i < n; ++i) {
+    const RSolverBody& s = m_solverBodies[i];
+    RRigidBody& b = bodies[i];
+    if (b.m_isStatic || s.deferV.isZero(0)) continue;
+    const RVec3 J = s.deferV / b.m_invMass;
+    b.m_linearImpulse_W -= J;
+    b.m_deferredImpulse_W = J;
+    // The contact phase's impulses act on the body at its start-of-step pose, but it then
+    // moves deferV dt less than its final velocity would take it: the spin that keeps
+    // angular momentum exact (the orbital term x x m v misses dt deferV x J_contact).
+    b.m_angularImpulse_W += dt * s.deferV.cross(s.contactDeltaV / b.m_invMass);
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (bodies[i].m_isStatic) continue;
@@ -847,7 +886,7 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const RRigidBody& b = bodies[i];
     RSolverBody& s = m_solverBodies[i];
-    s.vMid = s.v;
+    s.vMid = s.v - s.deferV;
     if (b.m_isStatic) continue;
     s.v += (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
     s.w += s.invI * (b.m_torque_W * halfDt);
@@ -880,8 +919,28 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
 // the last ball leaves), instead of being shared out as a block. Each application changes
 // the kinetic energy by (e^2 - 1) vn^2 / (2 k) <= 0, and friction only removes sliding, so
 // no pass can add energy whatever the order.
+//
+// Impacts happen at their time within the step, not at its start: a contact that is gap
+// away at approach speed vn hits at t = gap / -vn (never before an earlier impact of either
+// body). Each body keeps the displacement it has travelled up to its last impact; the
+// impulse acts where the contact then is (one point for both bodies, moved with the lighter
+// one, so angular momentum is exact); and the body moves during the step with the
+// velocity that gives the piecewise path (before the impact, then after it). The velocity
+// it ends with is the one after its impacts: the difference is deferred to the end of the
+// step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
 void RIntegrator::SolveImpacts(RScalar dt) {
+  for (RSolverBody& s : m_solverBodies) {
+    s.moved.setZero(), s.turned.setZero(), s.tau = 0;
+    s.deferV.setZero();
+  }
   const std::size_t count = m_impacts.size();
+  if (count == 0) return;
+  // Moves a body along its present velocity up to time t of the step.
+  auto advance = [](RSolverBody& s, RScalar t) {
+    if (t <= s.tau) return;
+    s.moved += s.v * (t - s.tau), s.turned += s.w * (t - s.tau), s.tau = t;
+  };
+  bool anyImpact = false;
   const int passes = std::max(1, m_settings.solverIterations);
   for (int pass = 0; pass < passes; ++pass) {
     bool any = false;
@@ -889,23 +948,53 @@ void RIntegrator::SolveImpacts(RScalar dt) {
       RImpactRow& r = m_impacts[(pass % 2 == 0) ? ii : count - 1 - ii];
       RSolverBody& sa = m_solverBodies[r.a];
       RSolverBody& sb = m_solverBodies[r.b];
-      const RScalar vn = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
-      if (vn >= -m_settings.restitutionThreshold || r.gap > -vn * dt) continue;
-      any = true;
-      const RScalar dn = -(1 + r.restitution) * vn / r.dir[0].k;
+      const RScalar vn0 = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
+      if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
+      // When: the gap closed at this approach, and no earlier than either body's last.
+      RScalar t = std::max(sa.tau, sb.tau);
+      if (r.gap > 0) t = std::max(t, r.gap / -vn0);
+      t = std::min(t, dt);
+      advance(sa, t), advance(sb, t);
+      // Where: the start point, moved with the lighter body (a static one does not move).
+      const RVec3 shift = (sa.invM * sa.moved + sb.invM * sb.moved) / (sa.invM + sb.invM);
+      const RVec3 rA = r.rA + shift - sa.moved, rB = r.rB + shift - sb.moved;
+      RDirection dir[3];
+      for (int k = 0; k < 3; ++k) SetDirection(dir[k], r.dir[k].d, rA, rB, sa, sb);
+      const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
+      if (vn >= 0) continue;
+      any = anyImpact = true;
+      const RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
       r.lambdaN += dn;
-      Push(r.dir[0], dn, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-      const RScalar lt1 = r.lambdaT1 - Speed(r.dir[1], sa.v, sa.w, sb.v, sb.w) / r.dir[1].k;
-      const RScalar lt2 = r.lambdaT2 - Speed(r.dir[2], sa.v, sa.w, sb.v, sb.w) / r.dir[2].k;
+      Push(dir[0], dn, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      // Friction at the same point, within mu times this row's normal impulse so far.
+      const RScalar lt1 = r.lambdaT1 - Speed(dir[1], sa.v, sa.w, sb.v, sb.w) / dir[1].k;
+      const RScalar lt2 = r.lambdaT2 - Speed(dir[2], sa.v, sa.w, sb.v, sb.w) / dir[2].k;
       const RScalar limit = r.friction * r.lambdaN;
       const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
       const RScalar scale = norm > limit ? limit / norm : RScalar(1);
       const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
       r.lambdaT1 += d1, r.lambdaT2 += d2;
-      if (d1 != 0) Push(r.dir[1], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-      if (d2 != 0) Push(r.dir[2], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      if (d1 != 0) Push(dir[1], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      if (d2 != 0) Push(dir[2], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
+      r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
     }
     if (!any) break;
+  }
+  for (RSolverBody& s : m_solverBodies) s.vImpacts = s.v;
+  if (!anyImpact) return;
+  // The velocity each body moves with this step gives its piecewise path; the rest of the
+  // change waits for the end of the step. The contact phase works on the velocities after
+  // the impacts, the bodies' real ones, so that its impulses, inelastic there, cannot add
+  // energy; the difference is taken out of the motion only (FindImpulses).
+  for (RSolverBody& s : m_solverBodies) {
+    if (s.tau <= 0 || s.invM == 0) continue;
+    advance(s, dt);
+    // Rotation is not split: moving a body's orientation along a piecewise spin and then
+    // handing it the deferred angular momentum would change its kinetic energy (which
+    // depends on the orientation for unequal moments). It turns with its spin after the
+    // impact for the whole step.
+    s.deferV = s.v - s.moved / dt;
   }
 }
 
@@ -963,6 +1052,7 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
       b.m_force_W.setZero(), b.m_torque_W.setZero();
       b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
       b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
+      b.m_deferredImpulse_W.setZero();
       continue;
     }
     const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
@@ -1000,6 +1090,11 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
     // angular part was summed about the centre of mass at the start of the step; about the
     // centre it ends at, each impulse J acting at a point p has the lever arm
     // (p - x0) - (x - x0).
+    // Impacts within the step: the velocity change deferred to its end.
+    if (!b.m_deferredImpulse_W.isZero(0)) {
+      b.m_v_W += b.m_deferredImpulse_W * b.m_invMass;
+      b.m_deferredImpulse_W.setZero();
+    }
     if (!b.m_endLinearImpulse_W.isZero(0) || !b.m_endAngularImpulse_W.isZero(0)) {
       const RVec3 h_W = b.m_endAngularImpulse_W - (b.m_x_W - x0).cross(b.m_endLinearImpulse_W);
       b.m_v_W += b.m_endLinearImpulse_W * b.m_invMass;

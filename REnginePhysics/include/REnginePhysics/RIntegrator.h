@@ -73,6 +73,11 @@ struct RContact {
   // body does not respond: such contacts are reported, not resolved).
   RScalar normalImpulse[4] = {0, 0, 0, 0};
   bool resolved = false;  // both bodies respond and at least one is dynamic
+  // When within the step the bodies touch (s from its start; 0: touching or overlapping at
+  // the start), moving with their velocities; infinity: they come within the speculative
+  // margin but do not touch this step. A game reacts to contacts with a finite time (a
+  // missile that does not respond is reported here, hitting, and flies on).
+  RScalar timeOfImpact = 0;
 };
 
 // Game code's veto on a pair (a missile leaving its own launch tube): return false to skip
@@ -177,12 +182,22 @@ class RIntegrator {
     RScalar restitution;       // combined coefficient
     RScalar friction;          // combined Coulomb coefficient
     RScalar lambdaN, lambdaT1, lambdaT2;  // accumulated impulses, N s
+    // The impulse on B (world, N s) and its moments about each centre of mass, N m s: the
+    // lever arms depend on when within the step each application happened.
+    RVec3 impulse, angularA, angularB;
   };
   // Working state of a body during the solve: velocities that include every pending change.
   struct RSolverBody {
     RVec3 v, w;                // linear and angular velocity, world
     RVec3 vp, wp;              // pseudo-velocities (position correction), world
     RVec3 vMid;                // the velocity it moves with, kept for the end of the step
+    // Impacts within the step (SolveImpacts): displacement and rotation vector travelled up
+    // to time tau of the step, and the velocity change deferred to the step's end.
+    RVec3 moved, turned;
+    RScalar tau;
+    RVec3 deferV;
+    RVec3 vImpacts;            // its velocity after the impact phase
+    RVec3 contactDeltaV;      // the contact phase's velocity change after that, m/s
     RMat3 invI;                // inverse inertia, world, 1/(kg m^2)
     RScalar invM;              // 1/kg
   };

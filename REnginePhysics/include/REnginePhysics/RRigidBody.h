@@ -186,6 +186,9 @@ class RRigidBody {
   // N m s: applied after the motion, so they change the velocities the step ends with.
   RVec3 m_endLinearImpulse_W = RVec3::Zero();
   RVec3 m_endAngularImpulse_W = RVec3::Zero();
+  // An impact within the step: the part of its velocity change that waits for the step's
+  // end (the body moves with its piecewise path's velocity), N s.
+  RVec3 m_deferredImpulse_W = RVec3::Zero();
 
   RFreeRotation m_rotation;
 
