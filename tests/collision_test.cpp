@@ -265,3 +265,20 @@ TEST(Collision, PairLoopFiltersAndCaches) {
   for (const RContact& c : integrator.Contacts()) EXPECT_FALSE(c.a == 0 && c.b == 2);
   for (const RRigidBody& b : bodies) EXPECT_LE(b.WorldFormComputations(), 2u) << b.Name();
 }
+
+// Faces that barely touch: the closest points are a rounding error apart, so their
+// direction is noise (4e-5 rad seen for a box on a tilted slab 1e6 m from the origin); the
+// manifold's normal, the one impulses act along, is the reference face's, exact.
+TEST(Manifold, BarelyTouchingFacesGetTheFaceNormal) {
+  const RQuat tilt(Eigen::AngleAxis<RScalar>(20 * kPi / 180, RVec3::UnitZ()));
+  for (RScalar offset : {0.0, 1e6}) {
+    const RVec3 o(offset, -offset, offset);
+    const RRigidBody slab(BoxDef(RVec3(50, 0.5, 50), o + tilt * RVec3(0, -0.5, 0), tilt));
+    const RRigidBody box(BoxDef(RVec3(0.5, 0.5, 0.5), o + tilt * RVec3(0, 0.5, 0), tilt));
+    RContactManifold m;
+    ASSERT_TRUE(RCollisionSolver::CheckCollisionWithMargin(slab, box, 1e-3, m)) << offset;
+    EXPECT_EQ(m.pointCount, 4) << offset;
+    EXPECT_LT((m.normal - tilt * RVec3::UnitY()).norm(), 1e-15) << offset;
+    EXPECT_LT(std::abs(m.query.separation), 1e-9) << offset;
+  }
+}

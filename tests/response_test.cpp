@@ -449,3 +449,77 @@ TEST(Response, ProjectileAtTwoKilometresPerSecondStopsAtAThinPlate) {
     }
   }
 }
+
+// The same scene 1e6 m from the origin moves the same way: every body's offset-corrected
+// position within 1e-6 m of the scene at the origin at every step (asked: 1e-6 m; a double
+// resolves 1.2e-10 m there, so the solver must not amplify rounding by more than 1e4).
+static RScalar WorstOffsetDifference(std::vector<RBodyDef> defs, const RWorldSettings& settings,
+                                     RScalar dt, int steps) {
+  const RVec3 offset(1e6, -1e6, 1e6);
+  std::vector<RRigidBody> near, far;
+  for (const RBodyDef& d : defs) near.emplace_back(d);
+  for (RBodyDef& d : defs) d.position_W += offset;
+  for (const RBodyDef& d : defs) far.emplace_back(d);
+  RIntegrator a(settings), b(settings);
+  RScalar worst = 0;
+  for (int i = 0; i < steps; ++i) {
+    a.Update(near, dt);
+    b.Update(far, dt);
+    for (std::size_t k = 0; k < near.size(); ++k) {
+      worst = std::max(worst, (far[k].Position_W() - offset - near[k].Position_W()).norm());
+    }
+  }
+  return worst;
+}
+
+TEST(Response, FarFromTheOriginTheMotionIsTheSame) {
+  {
+    const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/box_stack_10.json");
+    const RScalar worst = WorstOffsetDifference(scene.bodies, scene.settings, scene.dt, 600);
+    std::printf("box_stack_10 at 1e6 m: positions within %.3g m of the stack at the origin\n", worst);
+    EXPECT_LT(worst, 1e-6);
+  }
+  {
+    // Friction: the box sliding to a stop, and sliding down the incline.
+    RBodyDef ground = Floor();
+    ground.friction = 0.5;
+    RBodyDef box = Crate(0.5);
+    box.friction = 0.5;
+    box.velocity_W = RVec3(5, 0, 0);
+    RWorldSettings settings;
+    settings.gravity_W = RVec3(0, -9.81, 0);
+    const RScalar slide = WorstOffsetDifference({ground, box}, settings, 1.0 / 60, 180);
+    const RQuat tilt(Eigen::AngleAxis<RScalar>(20 * kPi / 180, RVec3::UnitZ()));
+    ground.q_WS = box.q_WS = tilt;
+    ground.position_W = tilt * RVec3(0, -0.5, 0);
+    box.position_W = tilt * RVec3(0, 0.5, 0);
+    box.velocity_W.setZero();
+    ground.friction = box.friction = 0.2;
+    const RScalar incline = WorstOffsetDifference({ground, box}, settings, 1.0 / 60, 120);
+    std::printf("friction at 1e6 m: sliding box within %.3g m, incline within %.3g m\n", slide,
+                incline);
+    EXPECT_LT(slide, 1e-6);
+    EXPECT_LT(incline, 1e-6);
+  }
+  {
+    // Tunnelling: the 2 km/s projectile and the plate.
+    RBodyDef plate;
+    plate.name = "plate";
+    plate.shape.type = RShapeType::kBox;
+    plate.shape.halfExtents = RVec3(0.05, 20, 20);
+    plate.isStatic = true;
+    plate.restitution = 0;
+    plate.position_W = RVec3(50, 0, 0);
+    RBodyDef shot;
+    shot.name = "shot";
+    shot.shape.type = RShapeType::kBox;
+    shot.shape.halfExtents = RVec3(0.1, 0.1, 0.1);
+    shot.mass = 1;
+    shot.restitution = 0;
+    shot.velocity_W = RVec3(1732.05, 1000, 0);
+    shot.position_W = RVec3(0.37, 0, 0);
+    const RScalar worst = WorstOffsetDifference({plate, shot}, RWorldSettings{}, 1.0 / 60, 30);
+    std::printf("projectile at 1e6 m: within %.3g m\n", worst);
+    EXPECT_LT(worst, 1e-6);
+  }
+}

@@ -249,6 +249,7 @@ RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvex
   RContactManifold m;
   m.query = Distance(a, b, X_AB);
   const RDistanceResult& q = m.query;
+  m.normal = q.normal;
   if (q.status == RCollisionStatus::kIterationCap || q.separation > margin) return m;
   const RVec3 n = q.normal;
 
@@ -342,6 +343,7 @@ RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvex
   }
   m.pointCount = ReduceToFour(pts, np, refN);
   for (int i = 0; i < m.pointCount; ++i) m.points[i] = pts[i];
+  m.normal = refIsA ? refN : RVec3(-refN);
   return m;
 }
 
@@ -384,6 +386,7 @@ bool RCollisionSolver::CheckCollisionWithMargin(const RRigidBody& a, const RRigi
   const RMat3 R = a.Orientation_WB().toRotationMatrix();
   const RVec3& x = a.Position_W();
   out.query.normal = R * out.query.normal;
+  out.normal = R * out.normal;
   out.query.witnessA = R * out.query.witnessA + x;
   out.query.witnessB = R * out.query.witnessB + x;
   for (int i = 0; i < out.pointCount; ++i) out.points[i].position = R * out.points[i].position + x;

@@ -44,7 +44,7 @@ RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, 
   const RVec3& p = m.points[deepest].position;
   const RVec3 wa = a.IsStatic() ? RVec3::Zero() : a.AngularVelocity_W();
   const RVec3 wb = b.IsStatic() ? RVec3::Zero() : b.AngularVelocity_W();
-  const RScalar vn = m.query.normal.dot(vb + wb.cross(p - b.Position_W()) - va -
+  const RScalar vn = m.normal.dot(vb + wb.cross(p - b.Position_W()) - va -
                                         wa.cross(p - a.Position_W()));
   if (vn < 0 && gap <= -vn * dt) return gap / -vn;
   return std::numeric_limits<RScalar>::infinity();
@@ -184,6 +184,16 @@ void Push(const Dir& dir, RScalar lambda, RScalar invMA, RScalar invMB, RVec3& v
 // changes its id, not its place).
 constexpr RScalar kWarmMatchDistance = RScalar(0.05);
 
+// The tangential impulses that stop the sliding velocity (v1, v2) along two tangents of a
+// point, solved together through their 2 x 2 effective mass.
+template <class Dir>
+Eigen::Matrix<RScalar, 2, 1> TangentStep(const Dir& t1, const Dir& t2, RScalar v1, RScalar v2) {
+  const RScalar k12 = t1.rAxd.dot(t2.iA) + t1.rBxd.dot(t2.iB);  // t1 . t2 = 0
+  const RScalar det = t1.k * t2.k - k12 * k12;
+  if (!(det > 0)) return {-v1 / t1.k, -v2 / t2.k};
+  return {-(t2.k * v1 - k12 * v2) / det, -(t1.k * v2 - k12 * v1) / det};
+}
+
 // The target of a row that is not in contact at the end of the step: never reached.
 constexpr RScalar kNever = -std::numeric_limits<RScalar>::infinity();
 
@@ -262,7 +272,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       }
     }
     leadCentre /= leads;
-    const RVec3& normal = c.manifold.query.normal;
+    const RVec3& normal = c.manifold.normal;
     RVec3 t1, t2;
     OrthonormalBasis(normal, t1, t2);
     {
@@ -831,8 +841,12 @@ void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
   const RSolverBody& sb = m_solverBodies[rows[0].b];
   RScalar lt1 = blk.lambdaT1[ph], lt2 = blk.lambdaT2[ph], lw = blk.lambdaTwist[ph];
   if (!clampOnly) {
-    lt1 -= Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w) / blk.t[0].k;
-    lt2 -= Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w) / blk.t[1].k;
+    // Both tangents at once, through the 2 x 2 effective mass: one at a time the answer
+    // would depend on which two tangents the basis picked, and that choice jumps when the
+    // normal's z component changes sign (a slope moved 1e6 m away slid 1e-5 m further).
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w),
+                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w));
+    lt1 += step.x(), lt2 += step.y();
     if (blk.kTwist > 0) lw -= blk.normal.dot(sb.w - sa.w) / blk.kTwist;
   }
   const RScalar limit = blk.friction * normal;
@@ -967,8 +981,9 @@ void RIntegrator::SolveImpacts(RScalar dt) {
       r.lambdaN += dn;
       Push(dir[0], dn, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
       // Friction at the same point, within mu times this row's normal impulse so far.
-      const RScalar lt1 = r.lambdaT1 - Speed(dir[1], sa.v, sa.w, sb.v, sb.w) / dir[1].k;
-      const RScalar lt2 = r.lambdaT2 - Speed(dir[2], sa.v, sa.w, sb.v, sb.w) / dir[2].k;
+      const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(dir[1], dir[2], Speed(dir[1], sa.v, sa.w, sb.v, sb.w),
+                                     Speed(dir[2], sa.v, sa.w, sb.v, sb.w));
+      const RScalar lt1 = r.lambdaT1 + step.x(), lt2 = r.lambdaT2 + step.y();
       const RScalar limit = r.friction * r.lambdaN;
       const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
       const RScalar scale = norm > limit ? limit / norm : RScalar(1);

@@ -63,6 +63,12 @@ struct RContactPoint {
 // Up to four points that keep the deepest one and the contact area.
 struct RContactManifold {
   RDistanceResult query;  // status, separation, normal and witnesses of the pair
+  // The direction the contact's normal impulses act along, unit, A to B (same frame as the
+  // query): for a face against a face, the reference face's outward normal (turned to point
+  // from A to B); otherwise the query's normal. Faces that barely touch have closest points
+  // a rounding error apart, whose direction is noise (4e-5 rad for two boxes 1e6 m from the
+  // origin); the face's normal is exact.
+  RVec3 normal = RVec3::Zero();
   int pointCount = 0;
   RContactPoint points[4];
 };
