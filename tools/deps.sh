@@ -1,6 +1,8 @@
 # Sourced by tools/test.sh and tools/demo.sh: installs the Debian packages REngine needs,
 # only those missing, so a ready machine never calls apt.
 #   rengine_install_deps [extra packages...]
+# Optional packages are not in the list: pass them as extras when wanted, e.g.
+#   rengine_install_deps libbullet-dev   # Bullet, for tools/bench's bench_bullet
 REngine_BUILD_PACKAGES=(
   cmake ninja-build g++         # toolchain
   libeigen3-dev                 # REngineMath
