@@ -35,6 +35,7 @@ using Clock = std::chrono::steady_clock;
 // velocities: 0 when it is closed already, infinity when it does not close this step.
 RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, const RVec3& vb,
                      const RContactManifold& m, RScalar dt) {
+  if (m.pointCount == 0) return m.query.separation <= 0 ? 0 : std::numeric_limits<RScalar>::infinity();
   int deepest = 0;
   for (int k = 1; k < m.pointCount; ++k) {
     if (m.points[k].separation < m.points[deepest].separation) deepest = k;
@@ -202,11 +203,14 @@ constexpr RScalar kNever = -std::numeric_limits<RScalar>::infinity();
 // Sequential impulses (Catto 2005) over every contact point, with the velocities each body
 // will move with during the step (its pending impulses and half the step's acceleration
 // included: kick-drift-kick moves bodies with the mid-step velocity, so a resting contact
-// that holds that velocity at zero does not sink at all). Accumulated normal impulses are
-// clamped at zero (a contact pushes, never pulls: the separating-velocity guard), friction
-// to the Coulomb disc mu * lambda_n, and every row starts from last step's impulses for the
-// same features. Penetration beyond a slop is removed by pseudo-velocities (split
-// impulses), solved apart so that position correction never adds kinetic energy.
+// that holds that velocity at zero does not sink at all). In phases: impacts (SolveImpacts),
+// then the contacts: accumulated normal impulses clamped at zero (a contact pushes, never
+// pulls: the separating-velocity guard), friction per manifold within the Coulomb disc of
+// mu times the manifold's normal impulse (SolvePatch), every row starting from last step's
+// impulses for the same features; small islands solved exactly (SolveIslands); then the
+// end of the step (SolveEndOfStep). Penetration beyond a slop is removed by
+// pseudo-velocities (split impulses), solved apart so that position correction never adds
+// kinetic energy.
 void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   m_rows.clear();
   m_impacts.clear();
@@ -221,7 +225,8 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   for (const RContact& c : m_contacts) {
     const RRigidBody& a = bodies[c.a];
     const RRigidBody& b = bodies[c.b];
-    anyRow = anyRow || (a.m_responds && b.m_responds && (!a.m_isStatic || !b.m_isStatic));
+    anyRow = anyRow || (a.m_responds && b.m_responds && (!a.m_isStatic || !b.m_isStatic) &&
+                        c.manifold.pointCount > 0);
   }
   if (!anyRow) {
     m_warm.clear();
@@ -246,7 +251,10 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     RContact& c = m_contacts[ci];
     const RRigidBody& A = bodies[c.a];
     const RRigidBody& B = bodies[c.b];
-    c.resolved = A.m_responds && B.m_responds && (!A.m_isStatic || !B.m_isStatic);
+    // A manifold without points (the narrow phase hit its iteration cap) gives no rows: its
+    // impact point and centroid would be 0/0.
+    c.resolved = A.m_responds && B.m_responds && (!A.m_isStatic || !B.m_isStatic) &&
+                 c.manifold.pointCount > 0;
     if (!c.resolved) continue;
     const RSolverBody& sa = m_solverBodies[c.a];
     const RSolverBody& sb = m_solverBodies[c.b];
@@ -1092,7 +1100,6 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
       b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * (b.m_torque_W * halfDt));
     }
 
-
     // Position correction: displacement without velocity (split impulses).
     if (!b.m_pseudoVelocity_W.isZero(0) || !b.m_pseudoAngular_W.isZero(0)) {
       b.m_x_W += b.m_pseudoVelocity_W * dt;
@@ -1101,15 +1108,15 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
       b.m_pseudoVelocity_W.setZero(), b.m_pseudoAngular_W.setZero();
     }
 
-    // Contact impulses at the end of the step, in the body frame the step ends with. Their
-    // angular part was summed about the centre of mass at the start of the step; about the
-    // centre it ends at, each impulse J acting at a point p has the lever arm
-    // (p - x0) - (x - x0).
     // Impacts within the step: the velocity change deferred to its end.
     if (!b.m_deferredImpulse_W.isZero(0)) {
       b.m_v_W += b.m_deferredImpulse_W * b.m_invMass;
       b.m_deferredImpulse_W.setZero();
     }
+    // Contact impulses at the end of the step, in the body frame the step ends with. Their
+    // angular part was summed about the centre of mass at the start of the step; about the
+    // centre it ends at, each impulse J acting at a point p has the lever arm
+    // (p - x0) - (x - x0).
     if (!b.m_endLinearImpulse_W.isZero(0) || !b.m_endAngularImpulse_W.isZero(0)) {
       const RVec3 h_W = b.m_endAngularImpulse_W - (b.m_x_W - x0).cross(b.m_endLinearImpulse_W);
       b.m_v_W += b.m_endLinearImpulse_W * b.m_invMass;

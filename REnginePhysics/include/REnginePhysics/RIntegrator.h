@@ -72,7 +72,8 @@ struct RContact {
   // Normal impulse the solver applied at each manifold point this step, N s (0 when either
   // body does not respond: such contacts are reported, not resolved).
   RScalar normalImpulse[4] = {0, 0, 0, 0};
-  bool resolved = false;  // both bodies respond and at least one is dynamic
+  // Both bodies respond, at least one is dynamic, and the manifold has points.
+  bool resolved = false;
   // When within the step the bodies touch (s from its start; 0: touching or overlapping at
   // the start), moving with their velocities; infinity: they come within the speculative
   // margin but do not touch this step. A game reacts to contacts with a finite time (a
