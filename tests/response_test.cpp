@@ -84,6 +84,39 @@ TEST(Response, HeadOnCollisionsMatchTheClosedForm) {
   }
 }
 
+// Oblique collisions of spheres (friction 0): along the line of centres at contact the
+// head-on closed form, across it nothing changes. The impact is found at its moment within
+// the step, so the line of centres is the one at contact (at the start of the step it is
+// off by up to a step's travel). Sphere 2 is offset by b across the line of motion.
+TEST(Response, ObliqueCollisionsMatchTheClosedForm) {
+  for (RScalar e : {0.0, 0.5, 1.0}) {
+    for (RScalar m2 : {1.0, 7.0}) {
+      for (RScalar offset : {0.3, 0.77}) {
+        const RScalar m1 = 1, r = 0.5;
+        const RVec3 v1(4, 0, 0), v2(-1, 0.5, 0);
+        // Start 2.13 m apart along x so that contact falls inside a step, not at its start.
+        std::vector<RRigidBody> bodies{RRigidBody(Ball("a", r, m1, RVec3(-2.13, 0, 0), v1, e)),
+                                       RRigidBody(Ball("b", r, m2, RVec3(0, offset, 0.1), v2, e))};
+        // The closed form: the contact time t* solves |d0 + (v2 - v1) t| = 2r.
+        const RVec3 d0 = bodies[1].Position_W() - bodies[0].Position_W(), w = v2 - v1;
+        const RScalar qa = w.dot(w), qb = 2 * d0.dot(w), qc = d0.dot(d0) - 4 * r * r;
+        const RScalar tc = (-qb - std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
+        const RVec3 n = (d0 + w * tc).normalized();
+        const RScalar u1 = v1.dot(n), u2 = v2.dot(n);
+        const RScalar u1p = (m1 * u1 + m2 * u2 - m2 * e * (u1 - u2)) / (m1 + m2);
+        const RScalar u2p = (m1 * u1 + m2 * u2 + m1 * e * (u1 - u2)) / (m1 + m2);
+        const RVec3 expect1 = v1 + (u1p - u1) * n, expect2 = v2 + (u2p - u2) * n;
+        RIntegrator integrator;
+        for (int i = 0; i < 120; ++i) integrator.Update(bodies, 1.0 / 60);
+        SCOPED_TRACE(::testing::Message() << "e " << e << " m2 " << m2 << " offset " << offset);
+        EXPECT_LT((bodies[0].Velocity_W() - expect1).norm(), 1e-9 * v1.norm());
+        EXPECT_LT((bodies[1].Velocity_W() - expect2).norm(), 1e-9 * v1.norm());
+        EXPECT_LT(bodies[0].AngularVelocity_W().norm(), 1e-9) << "no friction, no spin";
+      }
+    }
+  }
+}
+
 // Boxes meeting face to face, head-on: the closed form of the 1D collision, no spin.
 TEST(Response, BoxesHeadOnMatchTheClosedForm) {
   for (RScalar e : {0.0, 0.4, 1.0}) {

@@ -296,6 +296,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       r.friction = mu;
       r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
       r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
+      r.miss = false;
       m_impacts.push_back(r);
     }
     const std::uint32_t firstRow = static_cast<std::uint32_t>(m_rows.size());
@@ -315,6 +316,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       r.target = -std::max(gap, RScalar(0)) / dt;
       r.pseudoTarget = gap < -m_settings.penetrationSlop ? m_settings.positionCorrection * (-gap - m_settings.penetrationSlop) / dt : 0;
       r.gap = gap;
+      r.deferN = 0;
       r.lambdaN = r.lambdaP = r.lambdaE = 0;
       r.endTarget = kNever;
       r.lever = 0;  // set with the patch below
@@ -389,7 +391,25 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     Push(r.n, r.lambdaN, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
   }
   for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[0], blk.lambdaT2[0], blk.lambdaTwist[0]);
-  SolveImpacts(dt);
+  SolveImpacts(bodies, dt);
+  // A manifold whose impact the narrow phase, run again along the motion, found not to
+  // happen within this step keeps no speculative rows: their linear prediction from the
+  // start of the step (which said it would) would stop the bodies short, an inelastic
+  // collision that never happened. Points already touching keep their rows.
+  // (Impact rows and blocks are both one per resolved contact, in the same order.)
+  for (std::size_t i = 0; i < m_impacts.size(); ++i) {
+    if (!m_impacts[i].miss || m_impacts[i].lambdaN != 0) continue;
+    for (int k = 0; k < m_blocks[i].count; ++k) {
+      RContactRow& r = m_rows[m_blocks[i].first + k];
+      if (r.gap > 0 && r.lambdaN == 0) r.target = kNever;
+    }
+  }
+  // Bodies that impacted move with their piecewise path's velocity, deferV less than the
+  // velocity after the impacts that the contact phase works on; the end of the step needs
+  // the difference to predict which contacts are then closed.
+  for (RContactRow& r : m_rows) {
+    r.deferN = r.n.d.dot(m_solverBodies[r.b].deferV - m_solverBodies[r.a].deferV);
+  }
   const int iterations = std::max(1, m_settings.solverIterations);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points
   // share two bodies, and solving them one after another favours the first, leaving a
@@ -886,7 +906,7 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
     // Closed at the end: the gap after moving with this step's velocities (a touching band
     // of a micrometre per metre of size for rounding).
     const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
-    const RScalar gapEnd = r.gap + vn * dt;
+    const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
     const RScalar band = 1e-6 * (bodies[r.a].BoundingRadius() + bodies[r.b].BoundingRadius());
     // A contact that closes faster than the restitution threshold is an impact, and the
     // next step's impact phase bounces it; stopped here it would end inelastic.
@@ -895,7 +915,11 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
       return b.m_isStatic ? RVec3::Zero() : RVec3(b.m_force_W * b.m_invMass + m_settings.gravity_W);
     };
     const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
-    r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold ? RScalar(0) : kNever;
+    // A body that had an impact this step is not at rest: its end-of-step velocity is the
+    // impact's outcome, left as it is.
+    const bool impacted = sa.tau > 0 || sb.tau > 0;
+    r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted
+                      ? RScalar(0) : kNever;
     if (r.endTarget == kNever) r.lambdaE = 0;
     any = any || r.endTarget == 0;
   }
@@ -933,6 +957,63 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
   SolveIslands(RPhase::kEnd);
 }
 
+// The geometry of an impact within the step, at time t (updated): the narrow phase again at
+// the poses the bodies have then (moved along their paths; orientations as at the start),
+// advanced conservatively until the leading points touch: t += gap / approach, which for
+// two spheres converges to the exact moment, so an oblique collision gets the normal along
+// the line of centres at contact, not at the start of the step. The impulse point is the
+// centre of the leading points, the same for both bodies (lever arms from where their
+// centres are at t), so angular momentum is exact. False if they do not meet this step.
+template <class Advance>
+bool RIntegrator::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa,
+                                 RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
+                                 RVec3& rA, RVec3& rB, RDirection* dir) const {
+  const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+  const RRelativePose X0 = RelativePose(A, B);
+  const RMat3 R_WA = A.m_q_WB.toRotationMatrix();
+  const RScalar tolerance = RCollisionSolver::kTouchingTolerance * (A.BoundingRadius() + B.BoundingRadius());
+  constexpr int kAdvances = 16;
+  for (int k = 0; k < kAdvances; ++k) {
+    advance(sa, t), advance(sb, t);
+    RRelativePose X = X0;
+    X.t_AB += R_WA.transpose() * (sb.moved - sa.moved);
+    const RContactManifold m =
+        RCollisionSolver::Manifold(shapeA, shapeB, X, std::numeric_limits<RScalar>::max());
+    if (m.pointCount == 0) return false;
+    int deepest = 0;
+    for (int i = 1; i < m.pointCount; ++i) {
+      if (m.points[i].separation < m.points[deepest].separation) deepest = i;
+    }
+    const RScalar lead = m.points[deepest].separation;
+    RVec3 centre_A = RVec3::Zero();
+    int leads = 0;
+    for (int i = 0; i < m.pointCount; ++i) {
+      if (m.points[i].separation <= lead + m_settings.penetrationSlop) {
+        centre_A += m.points[i].position, ++leads;
+      }
+    }
+    centre_A /= leads;
+    // World, relative to each body's centre of mass at t.
+    const RVec3 n = R_WA * m.normal;
+    const RVec3 p = R_WA * centre_A + sa.moved;  // from A's centre at the start
+    rA = p - sa.moved;
+    rB = p - (B.m_x_W - A.m_x_W) - sb.moved;
+    RVec3 t1, t2;
+    OrthonormalBasis(n, t1, t2);
+    SetDirection(dir[0], n, rA, rB, sa, sb);
+    SetDirection(dir[1], t1, rA, rB, sa, sb);
+    SetDirection(dir[2], t2, rA, rB, sa, sb);
+    if (lead <= tolerance) return true;
+    const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
+    if (vn >= 0) return false;
+    // Meeting after the step: not an impact of this step, unless the gap left is within
+    // the slop (a row of balls a micrometre apart: the impulse goes down the row now).
+    if (t + lead / -vn > dt) return lead <= m_settings.penetrationSlop;
+    t += lead / -vn;
+  }
+  return true;  // close enough: the remaining gap shrinks every advance
+}
+
 // The impact phase: every manifold approaching faster than the restitution threshold, and
 // reaching contact within the step, bounces through its impact row: the impulse that turns
 // the approach speed vn into -e vn, then friction at the same point bounded by mu times
@@ -950,7 +1031,7 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
 // velocity that gives the piecewise path (before the impact, then after it). The velocity
 // it ends with is the one after its impacts: the difference is deferred to the end of the
 // step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
-void RIntegrator::SolveImpacts(RScalar dt) {
+void RIntegrator::SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt) {
   for (RSolverBody& s : m_solverBodies) {
     s.moved.setZero(), s.turned.setZero(), s.tau = 0;
     s.deferV.setZero();
@@ -975,13 +1056,18 @@ void RIntegrator::SolveImpacts(RScalar dt) {
       // When: the gap closed at this approach, and no earlier than either body's last.
       RScalar t = std::max(sa.tau, sb.tau);
       if (r.gap > 0) t = std::max(t, r.gap / -vn0);
-      t = std::min(t, dt);
+      if (t > dt) continue;
       advance(sa, t), advance(sb, t);
-      // Where: the start point, moved with the lighter body (a static one does not move).
-      const RVec3 shift = (sa.invM * sa.moved + sb.invM * sb.moved) / (sa.invM + sb.invM);
-      const RVec3 rA = r.rA + shift - sa.moved, rB = r.rB + shift - sb.moved;
       RDirection dir[3];
-      for (int k = 0; k < 3; ++k) SetDirection(dir[k], r.dir[k].d, rA, rB, sa, sb);
+      RVec3 rA, rB;
+      if (t == 0) {
+        // At the start: the manifold's own impact point and normal.
+        rA = r.rA, rB = r.rB;
+        for (int k = 0; k < 3; ++k) SetDirection(dir[k], r.dir[k].d, rA, rB, sa, sb);
+      } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir)) {
+        r.miss = true;  // they pass each other, or meet only after the step
+        continue;
+      }
       const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
       if (vn >= 0) continue;
       any = anyImpact = true;

@@ -155,6 +155,7 @@ class RIntegrator {
     RVec3 rA, rB;              // contact point from each centre of mass, world, m
     RScalar lever;             // distance from the manifold's centroid, m
     RScalar gap;               // separation at the start of the step, m
+    RScalar deferN;            // normal velocity the impacts deferred to the step's end, m/s
     RScalar target;            // normal relative velocity to reach, m/s
     RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
     RScalar endTarget;         // at the end of the step: 0, or -inf when not in contact
@@ -186,6 +187,7 @@ class RIntegrator {
     // The impulse on B (world, N s) and its moments about each centre of mass, N m s: the
     // lever arms depend on when within the step each application happened.
     RVec3 impulse, angularA, angularB;
+    bool miss;                 // found, along the motion, not to meet within the step
   };
   // Working state of a body during the solve: velocities that include every pending change.
   struct RSolverBody {
@@ -245,7 +247,11 @@ class RIntegrator {
   };
   std::vector<RBlock> m_blocks;
   void SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
-  void SolveImpacts(RScalar dt);
+  void SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt);
+  template <class Advance>
+  bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
+                      const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
+                      RDirection* dir) const;
   void SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
   void SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar dt);
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
