@@ -1037,7 +1037,10 @@ void RIntegrator::SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt
     s.deferV.setZero();
   }
   const std::size_t count = m_impacts.size();
-  if (count == 0) return;
+  if (count == 0) {
+    for (RSolverBody& s : m_solverBodies) s.vImpacts = s.v;
+    return;
+  }
   // Moves a body along its present velocity up to time t of the step.
   auto advance = [](RSolverBody& s, RScalar t) {
     if (t <= s.tau) return;
