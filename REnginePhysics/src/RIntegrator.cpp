@@ -878,7 +878,7 @@ void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
     if (blk.kTwist > 0) lw -= blk.normal.dot(sb.w - sa.w) / blk.kTwist;
   }
   const RScalar limit = blk.friction * normal;
-  const RScalar norm = std::hypot(lt1, lt2);
+  const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);  // std::hypot: 5% of a pile step
   if (norm > limit) lt1 *= limit / norm, lt2 *= limit / norm;
   const RScalar twistLimit = blk.friction * twistArm;
   lw = std::clamp(lw, -twistLimit, twistLimit);
