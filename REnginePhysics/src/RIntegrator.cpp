@@ -384,13 +384,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   }
 
   m_pairStats.contactPoints = m_rows.size();
-  for (const RContactRow& r : m_rows) {
-    if (r.lambdaN == 0) continue;
-    RSolverBody& sa = m_solverBodies[r.a];
-    RSolverBody& sb = m_solverBodies[r.b];
-    Push(r.n, r.lambdaN, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-  }
-  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[0], blk.lambdaT2[0], blk.lambdaTwist[0]);
+  WarmStart(RPhase::kVelocity);
   SolveImpacts(bodies, dt);
   // A manifold whose impact the narrow phase, run again along the motion, found not to
   // happen within this step keeps no speculative rows: their linear prediction from the
@@ -838,6 +832,20 @@ bool RIntegrator::SolveIslandDirect(RPhase phase) {
   return false;
 }
 
+// Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when
+// the rows were built) to the solver bodies' velocities.
+void RIntegrator::WarmStart(RPhase phase) {
+  const int ph = phase == RPhase::kEnd ? 1 : 0;
+  for (RContactRow& r : m_rows) {
+    const RScalar lambda = Lambda(r, phase);
+    if (lambda == 0) continue;
+    RSolverBody& sa = m_solverBodies[r.a];
+    RSolverBody& sb = m_solverBodies[r.b];
+    Push(r.n, lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+  }
+  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
+}
+
 // Applies patch impulses (tangential at the centroid, twist about the normal) to the solver
 // bodies' velocities.
 void RIntegrator::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist) {
@@ -937,14 +945,7 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
     s.v += (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
     s.w += s.invI * (b.m_torque_W * halfDt);
   }
-  // Warm start (last step's end impulses, found with the rows).
-  for (const RContactRow& r : m_rows) {
-    if (r.lambdaE == 0) continue;
-    RSolverBody& sa = m_solverBodies[r.a];
-    RSolverBody& sb = m_solverBodies[r.b];
-    Push(r.n, r.lambdaE, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-  }
-  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[1], blk.lambdaT2[1], blk.lambdaTwist[1]);
+  WarmStart(RPhase::kEnd);  // last step's end impulses, found with the rows
   const int iterations = std::max(1, m_settings.solverIterations);
   const std::size_t nBlocks = m_blocks.size();
   for (int it = 0; it < iterations; ++it) {
@@ -1033,7 +1034,7 @@ bool RIntegrator::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolv
 // step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
 void RIntegrator::SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt) {
   for (RSolverBody& s : m_solverBodies) {
-    s.moved.setZero(), s.turned.setZero(), s.tau = 0;
+    s.moved.setZero(), s.tau = 0;
     s.deferV.setZero();
   }
   const std::size_t count = m_impacts.size();
@@ -1044,7 +1045,7 @@ void RIntegrator::SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt
   // Moves a body along its present velocity up to time t of the step.
   auto advance = [](RSolverBody& s, RScalar t) {
     if (t <= s.tau) return;
-    s.moved += s.v * (t - s.tau), s.turned += s.w * (t - s.tau), s.tau = t;
+    s.moved += s.v * (t - s.tau), s.tau = t;
   };
   bool anyImpact = false;
   const int passes = std::max(1, m_settings.solverIterations);

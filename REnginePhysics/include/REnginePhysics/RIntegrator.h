@@ -194,9 +194,9 @@ class RIntegrator {
     RVec3 v, w;                // linear and angular velocity, world
     RVec3 vp, wp;              // pseudo-velocities (position correction), world
     RVec3 vMid;                // the velocity it moves with, kept for the end of the step
-    // Impacts within the step (SolveImpacts): displacement and rotation vector travelled up
-    // to time tau of the step, and the velocity change deferred to the step's end.
-    RVec3 moved, turned;
+    // Impacts within the step (SolveImpacts): displacement travelled up to time tau of the
+    // step, and the velocity change deferred to the step's end.
+    RVec3 moved;
     RScalar tau;
     RVec3 deferV;
     RVec3 vImpacts;            // its velocity after the impact phase
@@ -253,6 +253,7 @@ class RIntegrator {
                       const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
                       RDirection* dir) const;
   void SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
+  void WarmStart(RPhase phase);
   void SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar dt);
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
   void BuildIslands(const std::vector<RRigidBody>& bodies);
