@@ -44,6 +44,32 @@ RBodyDef Crate(RScalar y) {
   return d;
 }
 
+// A static 0.1 m plate, 200 m square, normal along x, restitution 0; a 0.2 m, 1 kg box
+// shot from x = 0.37 (not a whole number of steps from the plate), restitution and friction
+// 0 (with friction an oblique hit spins it up to 1.7e4 rad/s and it tumbles off: chaotic).
+RBodyDef Plate(const RVec3& x) {
+  RBodyDef d;
+  d.name = "plate";
+  d.shape.type = RShapeType::kBox;
+  d.shape.halfExtents = RVec3(0.05, 100, 100);
+  d.isStatic = true;
+  d.restitution = 0;
+  d.position_W = x;
+  return d;
+}
+RBodyDef Shot(const RVec3& origin, const RVec3& v) {
+  RBodyDef d;
+  d.name = "shot";
+  d.shape.type = RShapeType::kBox;
+  d.shape.halfExtents = RVec3(0.1, 0.1, 0.1);
+  d.mass = 1;
+  d.restitution = 0;
+  d.friction = 0;
+  d.velocity_W = v;
+  d.position_W = origin + RVec3(0.37, 0, 0);
+  return d;
+}
+
 RVec3 Momentum(const std::vector<RRigidBody>& bodies) {
   RVec3 p = RVec3::Zero();
   for (const RRigidBody& b : bodies) p += b.Mass() * b.Velocity_W();
@@ -458,24 +484,10 @@ TEST(Response, ProjectileAtTwoKilometresPerSecondStopsAtAThinPlate) {
     for (RScalar angle : {0.0, 30.0}) {
       for (bool responds : {true, false}) {
         const RVec3 o(offset, offset, -offset);
-        RBodyDef plate;
-        plate.name = "plate";
-        plate.shape.type = RShapeType::kBox;
-        plate.shape.halfExtents = RVec3(0.05, 100, 100);
-        plate.isStatic = true;
-        plate.restitution = 0;
-        plate.position_W = o + RVec3(50, 0, 0);
-        RBodyDef shot;
-        shot.name = "shot";
-        shot.shape.type = RShapeType::kBox;
-        shot.shape.halfExtents = RVec3(0.1, 0.1, 0.1);
-        shot.mass = 1;
-        shot.restitution = 0;
-        shot.friction = 0;
-        shot.responds = responds;
+        const RBodyDef plate = Plate(o + RVec3(50, 0, 0));
         const RScalar a = angle * kPi / 180;
-        shot.velocity_W = 2000 * RVec3(std::cos(a), std::sin(a), 0);
-        shot.position_W = o + RVec3(0.37, 0, 0);  // not a whole number of steps away
+        RBodyDef shot = Shot(o, 2000 * RVec3(std::cos(a), std::sin(a), 0));
+        shot.responds = responds;
         std::vector<RRigidBody> bodies{RRigidBody(plate), RRigidBody(shot)};
         RIntegrator integrator;
         bool reported = false;
@@ -558,22 +570,8 @@ TEST(Response, FarFromTheOriginTheMotionIsTheSame) {
   }
   {
     // Tunnelling: the 2 km/s projectile and the plate.
-    RBodyDef plate;
-    plate.name = "plate";
-    plate.shape.type = RShapeType::kBox;
-    plate.shape.halfExtents = RVec3(0.05, 100, 100);
-    plate.isStatic = true;
-    plate.restitution = 0;
-    plate.position_W = RVec3(50, 0, 0);
-    RBodyDef shot;
-    shot.name = "shot";
-    shot.shape.type = RShapeType::kBox;
-    shot.shape.halfExtents = RVec3(0.1, 0.1, 0.1);
-    shot.mass = 1;
-    shot.restitution = 0;
-    shot.friction = 0;  // with friction it spins up to 1.7e4 rad/s and tumbles off: chaotic
-    shot.velocity_W = RVec3(1732.05, 1000, 0);
-    shot.position_W = RVec3(0.37, 0, 0);
+    const RBodyDef plate = Plate(RVec3(50, 0, 0));
+    const RBodyDef shot = Shot(RVec3::Zero(), RVec3(1732.05, 1000, 0));
     const RScalar worst = WorstOffsetDifference({plate, shot}, RWorldSettings{}, 1.0 / 60, 30);
     std::printf("projectile at 1e6 m: within %.3g m\n", worst);
     EXPECT_LT(worst, 1e-6);
