@@ -60,7 +60,6 @@ namespace {
 
 constexpr int kExitOk = 0;
 constexpr int kExitBadInput = 2;
-constexpr RScalar kPi = RScalar(3.14159265358979323846);
 constexpr RScalar kG = RScalar(9.81);  // m/s^2
 
 using Clock = std::chrono::steady_clock;
