@@ -721,7 +721,7 @@ bool RIntegrator::SolveIslandDirect(RPhase phase) {
   m_islandB.resize(kDirectRows), m_islandX.resize(kDirectRows), m_islandActive.resize(kDirectRows);
   m_islandMap.resize(kDirectRows), m_islandFirst.resize(kDirectRows);
   m_islandLo.resize(kDirectRows), m_islandHi.resize(kDirectRows);
-  m_islandInvDiag.resize(kDirectRows);
+  m_islandInvDiag.resize(kDirectRows), m_islandR.resize(kDirectRows);
   RScalar* K = m_islandK.data();
   RScalar* b = m_islandB.data();
   RScalar* x = m_islandX.data();
@@ -787,6 +787,24 @@ bool RIntegrator::SolveIslandDirect(RPhase phase) {
       x[p] = target(r) - b[m_islandMap[p]];
     }
     EnvelopeCholeskySolve(L, na, na, envelope, x);
+    // Iterative refinement against K itself: the ridge's bias is 1e-9 of the impulse, which
+    // a 1e9 kg box on a 1 kg one turns into a velocity error of 0.6 m/s. Two corrections
+    // through the same factor remove it (they leave the null space of the four coplanar
+    // points alone: its residual is zero).
+    RScalar* residual = m_islandR.data();
+    for (int pass = 0; pass < 2; ++pass) {
+      for (int p = 0; p < na; ++p) {
+        const int i = map[p];
+        RScalar v = b[i];
+        for (int q = static_cast<int>(std::lower_bound(map, map + na, m_islandLo[i]) - map);
+             q < na && map[q] <= m_islandHi[i]; ++q) {
+          v += K[i * ld + map[q]] * x[q];
+        }
+        residual[p] = target(m_rows[m_islandIndex[i]]) - v;
+      }
+      EnvelopeCholeskySolve(L, na, na, envelope, residual);
+      for (int p = 0; p < na; ++p) x[p] += residual[p];
+    }
     bool changed = false;
     for (int p = 0; p < na; ++p) {
       if (x[p] < 0) m_islandActive[m_islandMap[p]] = false, changed = true;

@@ -267,7 +267,7 @@ class RIntegrator {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_islandRows;  // (island, row)
   std::vector<std::uint32_t> m_islandIndex;                         // rows of one island
   std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
-  std::vector<RScalar> m_islandK, m_islandL, m_islandB, m_islandX, m_islandInvDiag;  // scratch
+  std::vector<RScalar> m_islandK, m_islandL, m_islandB, m_islandX, m_islandInvDiag, m_islandR;  // scratch
   std::vector<int> m_islandMap, m_islandFirst, m_islandLo, m_islandHi;
   std::vector<std::pair<int, int>> m_islandRuns;  // one island's manifolds: [first, last)
   bool m_islandKReady = false;
