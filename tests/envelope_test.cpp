@@ -48,6 +48,7 @@ StackResult Stack(int n, RScalar size, RScalar dt, RScalar seconds, const RVec3&
   }
   RWorldSettings settings;
   settings.gravity_W = RVec3(0, -9.81, 0);
+  settings.shortcuts.sleeping = false;  // the solver's own envelope: every step simulated
   RIntegrator integrator(settings);
   const RVec3 top0 = bodies.back().Position_W();
   const int steps = static_cast<int>(std::lround(seconds / dt));

@@ -131,7 +131,7 @@ TEST(Scene, TheFormatDocumentsExampleLoads) {
     "steps": 600,
     "restitution_combine": "max",
     "friction_combine": "average",
-    "solver": { "iterations": 7 },
+    "solver": { "iterations": 7, "sleeping": false },
     "bodies": [
       { "name": "ground", "shape": { "type": "box", "half_extents": [50, 0.5, 50] },
         "static": true, "position": [0, -0.5, 0] },
@@ -150,6 +150,8 @@ TEST(Scene, TheFormatDocumentsExampleLoads) {
   EXPECT_EQ(s.settings.restitutionCombine, RCombineMode::kMax);
   EXPECT_EQ(s.settings.frictionCombine, RCombineMode::kAverage);
   EXPECT_EQ(s.settings.solverIterations, 7);
+  EXPECT_FALSE(s.settings.shortcuts.sleeping);
+  EXPECT_TRUE(RWorldSettings().shortcuts.sleeping) << "on unless the scene says otherwise";
   ASSERT_EQ(s.bodies.size(), 4u);
   EXPECT_FALSE(s.bodies[1].responds);
   EXPECT_EQ(s.bodies[2].density, 2.0);
@@ -269,6 +271,8 @@ const std::vector<BadScene> kBadScenes = {
     {"unknown solver key", OneBody(kSphere, R"("solver": {"iters": 10})"), "solver.iters"},
     {"zero solver iterations", OneBody(kSphere, R"("solver": {"iterations": 0})"),
      "solver.iterations"},
+    {"sleeping not a boolean", OneBody(kSphere, R"("solver": {"sleeping": 1})"),
+     "solver.sleeping"},
     {"fractional solver iterations", OneBody(kSphere, R"("solver": {"iterations": 2.5})"),
      "solver.iterations"},
     {"solver iterations beyond int", OneBody(kSphere, R"("solver": {"iterations": 3000000000})"),

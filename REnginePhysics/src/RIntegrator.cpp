@@ -57,9 +57,11 @@ void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
   const auto t0 = Clock::now();
   m_cacheStamp = NextCacheStamp();
   ++m_stepCount;
+  WakeIslands(bodies);
   CollisionDetection(bodies, dt);
   const auto t1 = Clock::now();
   UpdateObjects(bodies, dt);
+  SleepIslands(bodies);
   // The bodies moved: a new stamp, so world forms that detection cached at the old poses
   // are recomputed when game code asks after the step.
   m_cacheStamp = NextCacheStamp();
@@ -70,9 +72,25 @@ void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
 }
 
 void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt) {
+  std::uint64_t wakeRuns = 0;
+  // A sweep that touched a sleeping island wakes it and runs again: the woken bodies' pairs
+  // with each other, skipped while they slept, must be found too. Each rerun wakes at least
+  // one island, so this ends.
+  while (DetectPairs(bodies, dt)) {
+    WakeMarked(bodies);
+    ++wakeRuns;
+  }
+  m_pairStats.wakeRuns = wakeRuns;
+  const auto t0 = Clock::now();
+  FindImpulses(bodies, dt);
+  m_profile.findImpulses = Ms(Clock::now() - t0);
+}
+
+bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
   m_contacts.clear();
   m_pairStats = RPairStats{};
   const std::size_t n = bodies.size();
+  const RWorldSettings::RShortcuts& shortcuts = m_settings.shortcuts;
   // Bounding spheres about the centres of mass, each grown by how far its surface can
   // move within the step (speed plus the farthest point's rotation, times dt): a pair
   // whose grown spheres are apart cannot touch before the next step. Stored as separate
@@ -90,11 +108,14 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
   m_moveV.resize(n), m_moveW.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
   for (std::size_t i = 0; i < n; ++i) {
-    const RRigidBody& b = bodies[i];
+    RRigidBody& b = bodies[i];
     const RScalar r = b.BoundingRadius();
     m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
-    if (b.m_isStatic) {
+    if (b.m_isStatic || b.m_sleeping) {
       m_moveV[i].setZero(), m_moveW[i] = 0;
+      // Without the shortcut a static body's world form is recomputed every step, as a
+      // moving body's is.
+      if (b.m_isStatic && !shortcuts.staticForms) b.m_worldForm.stamp = 0;
     } else {
       m_moveV[i] = b.m_v_W + b.m_linearImpulse_W * b.m_invMass +
                    (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
@@ -103,19 +124,30 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
     }
     m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
   }
+  // Bodies that cannot start a contact: asleep, or static. A pair of two of them is
+  // skipped; a sleeping body touched by any other (in the speculative margin) wakes with
+  // its island.
+  auto passive = [](const RRigidBody& b) { return b.m_sleeping || b.m_isStatic; };
+  bool woke = false;
   // The touching band, and a relative allowance for the rounding of the squares.
   constexpr RScalar kGrow = 1 + 1e-9;
+  const bool bounds = shortcuts.boundsRejection;
   for (std::size_t i = 0; i < n; ++i) {
     const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
     const RRigidBody& a = bodies[i];
+    const bool passiveA = passive(a);
     for (std::size_t j = i + 1; j < n; ++j) {
       const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
       const RScalar lim = (ri + m_reach[j]) * kGrow;
-      if (dx * dx + dy * dy + dz * dz > lim * lim) continue;
+      if (bounds && dx * dx + dy * dy + dz * dz > lim * lim) continue;
       const RRigidBody& b = bodies[j];
       if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
           (m_filter && !m_filter(a, b, m_filterUser))) {
         ++m_pairStats.rejectedFilter;
+        continue;
+      }
+      if (passiveA && passive(b)) {
+        ++m_pairStats.rejectedSleeping;
         continue;
       }
       // Bounding boxes from the stamped world forms, grown the same way: they reject the
@@ -123,8 +155,8 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
       const RWorldForm& fa = a.WorldForm(m_cacheStamp);
       const RWorldForm& fb = b.WorldForm(m_cacheStamp);
       const RScalar grow = (ri - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
-      if (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
-          ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any()) {
+      if (bounds && (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
+                     ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any())) {
         ++m_pairStats.rejectedBoxes;
         continue;
       }
@@ -134,6 +166,14 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
                                m_moveW[i] * a.BoundingRadius() + m_moveW[j] * b.BoundingRadius();
       if (RCollisionSolver::CheckCollisionWithMargin(a, b, approach * dt + allowance,
                                                      contact.manifold)) {
+        // A sleeping body touched by one that responds wakes, with its island. A sensor
+        // or a laser (does not respond) is reported against it without waking it.
+        if ((a.m_sleeping || b.m_sleeping) && a.m_responds && b.m_responds) {
+          const RRigidBody& sleeper = a.m_sleeping ? a : b;
+          m_wakeMark[sleeper.m_sleepIsland] = 1;
+          woke = true;
+          continue;
+        }
         contact.a = static_cast<std::uint32_t>(i);
         contact.b = static_cast<std::uint32_t>(j);
         contact.timeOfImpact = TimeOfImpact(a, b, m_moveV[i], m_moveV[j], contact.manifold, dt);
@@ -143,11 +183,118 @@ void RIntegrator::CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt
   }
   m_pairStats.pairs = n * (n - (n > 0)) / 2;
   m_pairStats.rejectedBounds = m_pairStats.pairs - m_pairStats.rejectedFilter -
-                               m_pairStats.rejectedBoxes - m_pairStats.narrowPhase;
+                               m_pairStats.rejectedSleeping - m_pairStats.rejectedBoxes -
+                               m_pairStats.narrowPhase;
   m_pairStats.contacts = m_contacts.size();
-  const auto t0 = Clock::now();
-  FindImpulses(bodies, dt);
-  m_profile.findImpulses = Ms(Clock::now() - t0);
+  return woke;
+}
+
+void RIntegrator::KeepSleepingWarmStarts(const std::vector<RRigidBody>& bodies) {
+  auto passive = [&bodies](std::uint32_t i) {
+    return bodies[i].m_sleeping || bodies[i].m_isStatic;
+  };
+  for (const RWarmStart& w : m_warm) {
+    const std::uint32_t a = static_cast<std::uint32_t>(w.pair >> 32);
+    const std::uint32_t b = static_cast<std::uint32_t>(w.pair & 0xffffffffu);
+    if (passive(a) && passive(b)) m_warmNext.push_back(w);
+  }
+}
+
+void RIntegrator::WakeIslands(std::vector<RRigidBody>& bodies) {
+  const std::size_t n = bodies.size();
+  m_wakeMark.assign(n, 0);  // keeps its capacity: no allocation once the world's size is set
+  // Island ids are body indices: when bodies were added or removed they mean nothing, and a
+  // removed body may have held a sleeping stack up. A sleeping body ignores gravity, so a
+  // change of gravity wakes everything too; and so does static geometry that the game moved,
+  // which may have held sleeping bodies where it was (their contacts are not kept while they
+  // sleep, so which ones is not known).
+  bool staticMoved = false;
+  for (const RRigidBody& b : bodies) staticMoved = staticMoved || b.m_staticMoved;
+  if (!m_settings.shortcuts.sleeping || n != m_sleepBodyCount || staticMoved ||
+      m_settings.gravity_W != m_sleepGravity_W) {
+    m_sleepBodyCount = n;
+    m_sleepGravity_W = m_settings.gravity_W;
+    for (RRigidBody& b : bodies) {
+      if (b.m_sleeping || b.m_sleepIsland != RRigidBody::kNoIsland) {
+        b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RRigidBody::kNoIsland;
+      }
+    }
+    return;
+  }
+  // A body the game woke (RRigidBody::Wake) still names the island it slept with.
+  bool any = false;
+  for (const RRigidBody& b : bodies) {
+    if (!b.m_sleeping && b.m_sleepIsland != RRigidBody::kNoIsland) {
+      m_wakeMark[b.m_sleepIsland] = 1, any = true;
+    }
+  }
+  if (any) WakeMarked(bodies);
+}
+
+void RIntegrator::WakeMarked(std::vector<RRigidBody>& bodies) {
+  for (RRigidBody& b : bodies) {
+    if (b.m_sleepIsland != RRigidBody::kNoIsland && m_wakeMark[b.m_sleepIsland]) {
+      b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RRigidBody::kNoIsland;
+    }
+  }
+  std::fill(m_wakeMark.begin(), m_wakeMark.end(), 0);
+}
+
+// Islands are the bodies linked by this step's resolved contacts between two dynamic
+// bodies. An island sleeps when every body in it has been slower than the sleep speed for
+// the sleep time and either static geometry holds it (one of its contacts is with a static
+// body) or it is exactly still: a drifting body in space is never stopped.
+void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
+  const std::size_t n = bodies.size();
+  for (RRigidBody& b : bodies) b.m_staticMoved = false;
+  if (!m_settings.shortcuts.sleeping) return;
+  m_sleepParent.resize(n);
+  m_sleepRest.assign(n, std::numeric_limits<RScalar>::infinity());
+  m_sleepSupported.assign(n, 0);
+  m_sleepStill.assign(n, 1);
+  for (std::size_t i = 0; i < n; ++i) m_sleepParent[i] = static_cast<std::uint32_t>(i);
+  auto find = [this](std::uint32_t i) {
+    while (m_sleepParent[i] != i) i = m_sleepParent[i] = m_sleepParent[m_sleepParent[i]];
+    return i;
+  };
+  bool anyRested = false;
+  std::uint64_t asleep = 0;
+  for (const RRigidBody& b : bodies) {
+    anyRested = anyRested || (!b.m_isStatic && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
+    asleep += b.m_sleeping;
+  }
+  m_pairStats.sleepingBodies = asleep;
+  if (!anyRested) return;
+  for (const RContact& c : m_contacts) {
+    if (!c.resolved) continue;
+    const bool staticA = bodies[c.a].m_isStatic, staticB = bodies[c.b].m_isStatic;
+    if (staticA || staticB) {
+      m_sleepSupported[staticA ? c.b : c.a] = 1;
+      continue;
+    }
+    const std::uint32_t ra = find(c.a), rb = find(c.b);
+    // The smaller index as the root: island ids do not depend on the order of contacts.
+    if (ra != rb) m_sleepParent[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const RRigidBody& b = bodies[i];
+    if (b.m_isStatic || b.m_sleeping) continue;
+    const std::uint32_t r = find(i);
+    m_sleepRest[r] = std::min(m_sleepRest[r], b.m_restTime);
+    if (m_sleepSupported[i]) m_sleepSupported[r] = 1;
+    if (!(b.m_v_W.isZero(0) && b.m_w_B.isZero(0))) m_sleepStill[r] = 0;
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    RRigidBody& b = bodies[i];
+    if (b.m_isStatic || b.m_sleeping) continue;
+    const std::uint32_t r = find(i);
+    if (m_sleepRest[r] >= m_settings.sleepTime && (m_sleepSupported[r] || m_sleepStill[r])) {
+      b.m_sleeping = true;
+      b.m_sleepIsland = r;
+      b.m_v_W.setZero(), b.m_w_B.setZero();
+      ++m_pairStats.sleepingBodies;
+    }
+  }
 }
 
 namespace {
@@ -219,6 +366,8 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
   // Warm-start memory is keyed by body index: when the game adds or removes bodies the
   // indices shift, and another pair would inherit a stranger's impulses.
   if (n != m_warmBodyCount) m_warm.clear(), m_warmBodyCount = n;
+  m_warmNext.clear();
+  KeepSleepingWarmStarts(bodies);
   m_solverBodies.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
   bool anyRow = false;
@@ -229,7 +378,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
                         c.manifold.pointCount > 0);
   }
   if (!anyRow) {
-    m_warm.clear();
+    std::swap(m_warm, m_warmNext);
     return;
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -466,7 +615,6 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       B.m_angularImpulse_W += rB.cross(J);
     }
   };
-  m_warmNext.clear();
   // An impulse at the end of the step acts where the contact is then: the point moves with
   // the bodies, with the lighter one's displacement when one is much heavier (the ground's
   // contact with a sliding box moves with the box). The same point for both bodies keeps
@@ -1179,7 +1327,8 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     RRigidBody& b = bodies[i];
-    if (b.m_isStatic) {
+    // A sleeping body has no velocity, and nothing touched it: it stays where it is.
+    if (b.m_isStatic || b.m_sleeping) {
       b.m_force_W.setZero(), b.m_torque_W.setZero();
       b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
       b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
@@ -1208,8 +1357,11 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
       b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * (b.m_torque_W * halfDt));
     }
 
-    // Position correction: displacement without velocity (split impulses).
+    // Position correction: displacement without velocity (split impulses). A body it moves
+    // faster than the sleep speed is not at rest.
+    RScalar pseudoSpeed = 0;
     if (!b.m_pseudoVelocity_W.isZero(0) || !b.m_pseudoAngular_W.isZero(0)) {
+      pseudoSpeed = b.m_pseudoVelocity_W.norm() + b.m_pseudoAngular_W.norm() * b.m_boundingRadius;
       b.m_x_W += b.m_pseudoVelocity_W * dt;
       b.m_q_WB = QuatExp(b.m_pseudoAngular_W * dt) * b.m_q_WB;
       b.m_q_WB.normalize();
@@ -1234,6 +1386,11 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
 
     b.m_force_W.setZero(), b.m_torque_W.setZero();
     b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+
+    // How long it has been at rest: its centre and the farthest point of its bounding
+    // sphere slower than the sleep speed (SleepIslands).
+    const RScalar speed = std::max(b.m_v_W.norm() + b.m_w_B.norm() * b.m_boundingRadius, pseudoSpeed);
+    b.m_restTime = speed < m_settings.sleepSpeed ? b.m_restTime + dt : 0;
 
     if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
           AllFinite(b.m_q_WB))) {

@@ -103,6 +103,8 @@ void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q_WS) {
   m_q_WB.normalize();
   m_x_W = position_W - m_q_WB * m_p_BS;
   m_worldForm.stamp = 0;  // moved outside a step: the cached world form is stale
+  if (m_isStatic) m_staticMoved = true;
+  Wake();
 }
 
 void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
@@ -149,20 +151,24 @@ void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
 
 void RRigidBody::SetVelocity_W(const RVec3& v_W) {
   if (!m_isStatic) m_v_W = v_W;
+  Wake();
 }
 
 void RRigidBody::SetAngularVelocity_W(const RVec3& w_W) {
   if (!m_isStatic) m_w_B = m_q_WB.conjugate() * w_W;
+  Wake();
 }
 
 void RRigidBody::AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W) {
   m_force_W += f_W;
   m_torque_W += (p_W - m_x_W).cross(f_W);
+  WakeIfNonZero(f_W);
 }
 
 void RRigidBody::AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W) {
   m_linearImpulse_W += j_W;
   m_angularImpulse_W += (p_W - m_x_W).cross(j_W);
+  WakeIfNonZero(j_W);
 }
 
 }  // namespace REngine

@@ -398,8 +398,9 @@ RScene ReadScene(const json& doc) {
   settings.frictionCombine =
       root.Get("friction_combine", settings.frictionCombine, ReadFrictionCombine);
   if (root.Has("solver")) {
-    const Object solver(root.Required("solver"), "solver", {"iterations"});
+    const Object solver(root.Required("solver"), "solver", {"iterations", "sleeping"});
     settings.solverIterations = solver.Get("iterations", settings.solverIterations, ReadIterations);
+    settings.shortcuts.sleeping = solver.Get("sleeping", settings.shortcuts.sleeping, ReadBool);
   }
 
   const json& bodies = root.Required("bodies");

@@ -46,6 +46,31 @@ struct RWorldSettings {
   // Fraction of the penetration beyond the slop removed per step by position correction
   // (split impulses: positions move, velocities and energy do not change).
   RScalar positionCorrection = 0.5;
+
+  // Work the engine skips when a scene does not need it. Each switch can be turned off to
+  // measure what it buys and what it costs (rengine-bench --shortcuts); all are on by default.
+  struct RShortcuts {
+    // Islands of bodies that rest on static geometry, every body slower than sleepSpeed for
+    // sleepTime, go to sleep: they are neither moved nor checked against each other or the
+    // static geometry until an awake body touches them, the game changes their velocity,
+    // pose or forces, or wakes them; everything wakes when gravity changes, the body count
+    // changes or the game moves a static body. Not exact: a sleeping body's residual velocity (< sleepSpeed) is
+    // zeroed. A body that no static geometry holds (a drifting rock in space) sleeps only
+    // when its island is exactly still, which is exact.
+    bool sleeping = true;
+    // Pairs whose bounding spheres (and then boxes), grown by how far the bodies can move
+    // within the step, are apart skip the narrow phase. Exact. Off: every pair that the
+    // filters allow goes to the narrow phase.
+    bool boundsRejection = true;
+    // A static body's world form (vertices, planes, bounds) is computed once and kept until
+    // the game moves it, not once per step. Exact.
+    bool staticForms = true;
+  } shortcuts;
+  // Sleeping: the speed (m/s) below which a body counts as at rest, for its centre of mass
+  // and for the farthest point of its bounding sphere (|omega| times its radius) ...
+  RScalar sleepSpeed = 0.01;
+  // ... and how long (s) its whole island must stay below it before it sleeps.
+  RScalar sleepTime = 0.5;
 };
 
 // Wall-clock time of each stage of the last Update, milliseconds.
@@ -91,6 +116,9 @@ struct RPairStats {
   std::uint64_t rejectedBounds = 0; // bounding spheres (grown by motion) apart
   std::uint64_t rejectedFilter = 0; // then: static-static, ignore lists, the game's filter
   std::uint64_t rejectedBoxes = 0;  // then: world bounding boxes (grown by motion) apart
+  std::uint64_t rejectedSleeping = 0;  // both asleep, or one asleep and one static
+  std::uint64_t sleepingBodies = 0;    // bodies asleep after the step
+  std::uint64_t wakeRuns = 0;          // pair loops re-run this step because islands woke
   std::uint64_t narrowPhase = 0;    // CheckCollision calls
   std::uint64_t contacts = 0;       // pairs reported
   std::uint64_t contactPoints = 0;  // solver rows (points of resolved contacts)
@@ -128,6 +156,15 @@ class RIntegrator {
 
  private:
   void CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt);
+  // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
+  // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
+  bool DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt);
+  // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
+  // one of whose bodies the game woke (or all, when the body count or gravity changed);
+  // after it, puts to sleep the islands that have rested long enough.
+  void WakeIslands(std::vector<RRigidBody>& bodies);
+  void WakeMarked(std::vector<RRigidBody>& bodies);
+  void SleepIslands(std::vector<RRigidBody>& bodies);
   // Solves the contacts found this step for impulses and accumulates them on the bodies;
   // called from CollisionDetection. Sequential impulses, warm-started, with each manifold's
   // normal rows solved as one block and an impacting manifold bouncing through one row.
@@ -274,6 +311,16 @@ class RIntegrator {
   std::vector<char> m_islandActive;
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   std::size_t m_warmBodyCount = 0;
+  // Keeps the warm starts of pairs that sleep (both bodies asleep, or one asleep and one
+  // static): they are not solved while asleep, and start warm when woken.
+  void KeepSleepingWarmStarts(const std::vector<RRigidBody>& bodies);
+  // Sleeping: islands to wake (by island id), union-find and per-island state (scratch).
+  std::vector<char> m_wakeMark;
+  std::vector<std::uint32_t> m_sleepParent;
+  std::vector<RScalar> m_sleepRest;
+  std::vector<char> m_sleepSupported, m_sleepStill;
+  std::size_t m_sleepBodyCount = 0;
+  RVec3 m_sleepGravity_W = RVec3::Zero();
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;

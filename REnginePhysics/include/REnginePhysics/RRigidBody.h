@@ -129,28 +129,42 @@ class RRigidBody {
   RScalar BoundingRadius() const { return m_boundingRadius; }
 
   // The world form at `stamp` (RIntegrator::CacheStamp()): recomputed only if the cached one
-  // carries another stamp. Not thread-safe: one thread steps a world.
+  // carries another stamp. A static body's is kept from any earlier stamp until the game
+  // moves it (RWorldSettings::RShortcuts::staticForms). Not thread-safe: one thread steps a
+  // world.
   const RWorldForm& WorldForm(std::uint64_t stamp) const {
-    if (m_worldForm.stamp != stamp) ComputeWorldForm(stamp);
+    if (m_worldForm.stamp != stamp && !(m_isStatic && m_worldForm.stamp != 0)) {
+      ComputeWorldForm(stamp);
+    }
     return m_worldForm;
   }
   // How many times the world form has been computed (for tests and profiling).
   std::uint64_t WorldFormComputations() const { return m_worldFormComputations; }
 
-  // Setters for game code between steps. Velocities are ignored on static bodies.
+  // Setters for game code between steps. Velocities are ignored on static bodies. Each
+  // wakes the body, and with it its island (RWorldSettings::RShortcuts::sleeping); moving a
+  // static body wakes every sleeping body.
   void SetShapePose(const RVec3& position_W, const RQuat& q_WS);
   void SetVelocity_W(const RVec3& v_W);
   void SetAngularVelocity_W(const RVec3& w_W);
 
   // Accumulators, cleared by each step after use. Forces and torques act over the whole
   // next step (N, N m, world frame); impulses act at its start (N s, N m s, world frame).
-  void AddForce_W(const RVec3& f_W) { m_force_W += f_W; }
-  void AddTorque_W(const RVec3& t_W) { m_torque_W += t_W; }
+  // A non-zero one wakes the body and its island.
+  void AddForce_W(const RVec3& f_W) { m_force_W += f_W, WakeIfNonZero(f_W); }
+  void AddTorque_W(const RVec3& t_W) { m_torque_W += t_W, WakeIfNonZero(t_W); }
   // Force at a world point: the force plus its torque about the centre of mass.
   void AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W);
-  void AddImpulse_W(const RVec3& j_W) { m_linearImpulse_W += j_W; }
-  void AddAngularImpulse_W(const RVec3& h_W) { m_angularImpulse_W += h_W; }
+  void AddImpulse_W(const RVec3& j_W) { m_linearImpulse_W += j_W, WakeIfNonZero(j_W); }
+  void AddAngularImpulse_W(const RVec3& h_W) { m_angularImpulse_W += h_W, WakeIfNonZero(h_W); }
   void AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W);
+
+  // Sleeping (RWorldSettings::RShortcuts::sleeping): a sleeping body is not moved, and its
+  // velocities are zero. Wake() wakes it, and the next step wakes the rest of its island.
+  bool IsSleeping() const { return m_sleeping; }
+  void Wake() {
+    if (!m_isStatic) m_sleeping = false, m_restTime = 0;
+  }
 
  private:
   friend class RIntegrator;
@@ -191,6 +205,18 @@ class RRigidBody {
   RVec3 m_deferredImpulse_W = RVec3::Zero();
 
   RFreeRotation m_rotation;
+
+  // Sleeping: whether the body sleeps, how long (s) it has been slower than the sleep
+  // speed, and the island it fell asleep with (the integrator's index of the island's
+  // first body; kNoIsland when awake and not yet woken by the integrator).
+  static constexpr std::uint32_t kNoIsland = 0xffffffffu;
+  bool m_sleeping = false;
+  bool m_staticMoved = false;  // a static body the game moved since the last step
+  RScalar m_restTime = 0;
+  std::uint32_t m_sleepIsland = kNoIsland;
+  void WakeIfNonZero(const RVec3& x) {
+    if (!x.isZero(0)) Wake();
+  }
 
   std::shared_ptr<const RConvexPolyhedron> m_polyhedron_B;
   RScalar m_boundingRadius = 0;
