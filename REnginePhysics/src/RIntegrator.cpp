@@ -129,25 +129,36 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
   // its island.
   auto passive = [](const RRigidBody& b) { return b.m_sleeping || b.m_isStatic; };
   bool woke = false;
+  // The bodies that can start a contact, in index order. A passive body is only paired with
+  // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
+  // the pairs are still visited in (i, then j) order.
+  m_active.clear();
+  std::uint64_t passiveCount = 0, staticCount = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (passive(bodies[i])) {
+      ++passiveCount, staticCount += bodies[i].m_isStatic;
+    } else {
+      m_active.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
   // The touching band, and a relative allowance for the rounding of the squares.
   constexpr RScalar kGrow = 1 + 1e-9;
   const bool bounds = shortcuts.boundsRejection;
+  std::size_t nextActive = 0;  // first entry of m_active above i
   for (std::size_t i = 0; i < n; ++i) {
     const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
     const RRigidBody& a = bodies[i];
+    while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
     const bool passiveA = passive(a);
-    for (std::size_t j = i + 1; j < n; ++j) {
+    const std::size_t count = passiveA ? m_active.size() - nextActive : n - i - 1;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t j = passiveA ? m_active[nextActive + k] : i + 1 + k;
       const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
       const RScalar lim = (ri + m_reach[j]) * kGrow;
       if (bounds && dx * dx + dy * dy + dz * dz > lim * lim) continue;
       const RRigidBody& b = bodies[j];
-      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
-          (m_filter && !m_filter(a, b, m_filterUser))) {
+      if (!a.ShouldCheckCollision(b) || (m_filter && !m_filter(a, b, m_filterUser))) {
         ++m_pairStats.rejectedFilter;
-        continue;
-      }
-      if (passiveA && passive(b)) {
-        ++m_pairStats.rejectedSleeping;
         continue;
       }
       // Bounding boxes from the stamped world forms, grown the same way: they reject the
@@ -181,6 +192,11 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
       }
     }
   }
+  // Pairs never visited: two static bodies (counted with the filter's), or two passive
+  // bodies of which one at least sleeps.
+  const std::uint64_t staticPairs = staticCount * (staticCount - (staticCount > 0)) / 2;
+  m_pairStats.rejectedFilter += staticPairs;
+  m_pairStats.rejectedSleeping = passiveCount * (passiveCount - (passiveCount > 0)) / 2 - staticPairs;
   m_pairStats.pairs = n * (n - (n > 0)) / 2;
   m_pairStats.rejectedBounds = m_pairStats.pairs - m_pairStats.rejectedFilter -
                                m_pairStats.rejectedSleeping - m_pairStats.rejectedBoxes -

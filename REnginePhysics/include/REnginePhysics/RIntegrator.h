@@ -114,9 +114,11 @@ using RPairFilter = bool (*)(const RRigidBody& a, const RRigidBody& b, void* use
 struct RPairStats {
   std::uint64_t pairs = 0;          // i < j pairs considered
   std::uint64_t rejectedBounds = 0; // bounding spheres (grown by motion) apart
-  std::uint64_t rejectedFilter = 0; // then: static-static, ignore lists, the game's filter
+  std::uint64_t rejectedFilter = 0; // static-static; then: ignore lists, the game's filter
   std::uint64_t rejectedBoxes = 0;  // then: world bounding boxes (grown by motion) apart
-  std::uint64_t rejectedSleeping = 0;  // both asleep, or one asleep and one static
+  // Not visited at all: both asleep, or one asleep and one static (static pairs are counted
+  // in rejectedFilter).
+  std::uint64_t rejectedSleeping = 0;
   std::uint64_t sleepingBodies = 0;    // bodies asleep after the step
   std::uint64_t wakeRuns = 0;          // pair loops re-run this step because islands woke
   std::uint64_t narrowPhase = 0;    // CheckCollision calls
@@ -259,6 +261,7 @@ class RIntegrator {
   std::optional<RNonFiniteBody> m_nonFinite;
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
+  std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
   std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
   std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
   std::vector<RContactRow> m_rows;
