@@ -1,6 +1,6 @@
 // bench_bullet: REngine against Bullet Physics on the same scene files, in the same process.
 //
-//   bench_bullet [SCENE.json ...] [--steps N] [--runs N] [--match-combine] [--bullet-sleep]
+//   bench_bullet [SCENE.json ...] [--steps N] [--runs N] [--match-combine] [--sleep]
 //
 // Default scenes: box_pile_1000.json and debris_cloud_1000.json from the shared scenes
 // directory. Each scene is loaded once with REngine's loader; every run builds both worlds
@@ -9,12 +9,13 @@
 // (default 3) and the medians are compared: ratio = Bullet / REngine, > 1 means REngine is
 // faster. The physics figures come from the first run (both engines are deterministic).
 //
-// The Bullet world is what a Bullet user would build for the scene: btDbvtBroadphase,
-// btSequentialImpulseConstraintSolver with the scene's solver iterations, the scene's
-// gravity, one internal step of dt per step (stepSimulation(dt, 0)), no motion states.
-// Each body gets REngine's mass and principal moments (exact for every shape; Bullet's own
-// hull inertia is a bounding-box estimate) and its pose in REngine's body frame (centre of
-// mass, principal axes), which is what Bullet's rigid-body frame is.
+// The Bullet world is what a Bullet user would build for the scene (tools/bench/BulletWorld.h,
+// shared with rengine-bench): btDbvtBroadphase, btSequentialImpulseConstraintSolver with the
+// scene's solver iterations, the scene's gravity, one internal step of dt per step
+// (stepSimulation(dt, 0)), no motion states. Each body gets REngine's mass and principal
+// moments (exact for every shape; Bullet's own hull inertia is a bounding-box estimate) and
+// its pose in REngine's body frame (centre of mass, principal axes), which is what Bullet's
+// rigid-body frame is.
 //
 // What still differs, and is printed:
 //  * Combine modes: Bullet multiplies the two bodies' restitutions and frictions; a scene
@@ -22,14 +23,15 @@
 //    Bullet per-body values whose products are the scene's combined values when one map
 //    does it for every pair (sqrt(mu) for geometric friction; the values themselves for a
 //    product, or for min over values in {0, 1}).
-//  * Sleeping: REngine has none, so Bullet's deactivation is off by default (same work in
-//    every step); --bullet-sleep leaves Bullet's default on.
+//  * Sleeping: off in both engines by default (every body simulated every step: the
+//    solvers compared); --sleep turns on both, each with its own defaults (REngine:
+//    RWorldSettings::RShortcuts::sleeping; Bullet: deactivation).
 //  * Bullet's collision margin (0.04 m, inside a box, outside a hull) and its restitution
 //    threshold (0.2 m/s; REngine's is 0.5 m/s).
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RScene.h>
 
-#include <btBulletDynamicsCommon.h>
+#include "BulletWorld.h"
 
 #include <algorithm>
 #include <array>
@@ -45,6 +47,7 @@
 #include <vector>
 
 using namespace REngine;
+using namespace REngine::bench;
 
 namespace {
 
@@ -55,14 +58,8 @@ struct Options {
   std::uint64_t steps = 0;  // 0: the scene's
   int runs = 3;
   bool matchCombine = false;
-  bool bulletSleep = false;
+  bool sleep = false;  // both engines' sleeping
 };
-
-btScalar Bt(RScalar x) { return static_cast<btScalar>(x); }
-btVector3 Bt(const RVec3& v) { return btVector3(Bt(v.x()), Bt(v.y()), Bt(v.z())); }
-btQuaternion Bt(const RQuat& q) { return btQuaternion(Bt(q.x()), Bt(q.y()), Bt(q.z()), Bt(q.w())); }
-RVec3 R(const btVector3& v) { return RVec3(v.x(), v.y(), v.z()); }
-RQuat R(const btQuaternion& q) { return RQuat(q.w(), q.x(), q.y(), q.z()); }
 
 // What the engines are compared on, computed the same way for both from the bodies' state
 // (centre-of-mass velocity and angular velocity, world) and the definitions' mass properties.
@@ -120,9 +117,11 @@ struct RunResult {
   std::string failure;  // REngine's report of a body that became non-finite, if any
 };
 
-RunResult RunREngine(const RScene& scene, std::uint64_t steps) {
+RunResult RunREngine(const RScene& scene, std::uint64_t steps, bool sleep) {
   std::vector<RRigidBody> bodies = CreateBodies(scene);
-  RIntegrator integrator(scene.settings);
+  RWorldSettings settings = scene.settings;
+  settings.shortcuts.sleeping = sleep;
+  RIntegrator integrator(settings);
   RunResult r;
   r.start = Measure(scene, bodies);
   const Clock::time_point t0 = Clock::now();
@@ -137,178 +136,6 @@ RunResult RunREngine(const RScene& scene, std::uint64_t steps) {
                 std::to_string(bad->step) + " (left at its last finite state)";
   }
   return r;
-}
-
-// Per-body coefficients handed to Bullet, which multiplies a pair's two values.
-struct BulletCoefficients {
-  std::vector<RScalar> restitution, friction;
-  // Largest |Bullet's pair value - the scene's combined value| over the pairs that can
-  // collide (not static with static), and one such pair's two values.
-  RScalar restitutionError = 0, frictionError = 0;
-  std::string restitutionExample, frictionExample;
-};
-
-// Maps each body's coefficient to a Bullet value: the value itself, or its square root, the
-// first that makes every product equal to the combined value (when matching), and reports
-// how far the products are from the scene's combine rule.
-std::vector<RScalar> MapCoefficients(const RScene& scene, RCombineMode mode, bool match,
-                                     const std::function<RScalar(const RBodyDef&)>& get,
-                                     RScalar& maxError, std::string& example) {
-  // Distinct (value, static) pairs are all that matter: a few, whatever the body count.
-  std::vector<std::pair<RScalar, bool>> values;
-  for (const RBodyDef& d : scene.bodies) values.emplace_back(get(d), d.isStatic);
-  std::sort(values.begin(), values.end());
-  values.erase(std::unique(values.begin(), values.end()), values.end());
-
-  const std::array<RScalar (*)(RScalar), 2> maps = {
-      [](RScalar x) { return x; }, [](RScalar x) { return std::sqrt(x); }};
-  auto errorOf = [&](RScalar (*f)(RScalar), std::string* ex) {
-    RScalar worst = 0;
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      for (std::size_t j = i; j < values.size(); ++j) {
-        if (values[i].second && values[j].second) continue;  // static pairs never touch
-        const RScalar a = values[i].first, b = values[j].first;
-        const RScalar err = std::abs(f(a) * f(b) - Combine(mode, a, b));
-        if (err > worst) {
-          worst = err;
-          if (ex) {
-            char buf[160];
-            std::snprintf(buf, sizeof buf, "%g with %g: scene %g, Bullet %g", a, b,
-                          Combine(mode, a, b), f(a) * f(b));
-            *ex = buf;
-          }
-        }
-      }
-    }
-    return worst;
-  };
-  RScalar (*chosen)(RScalar) = maps[0];
-  if (match) {
-    for (auto* f : maps) {
-      if (errorOf(f, nullptr) <= 1e-12) {
-        chosen = f;
-        break;
-      }
-    }
-  }
-  maxError = errorOf(chosen, &example);
-  std::vector<RScalar> out;
-  for (const RBodyDef& d : scene.bodies) out.push_back(chosen(get(d)));
-  return out;
-}
-
-BulletCoefficients ChooseCoefficients(const RScene& scene, bool match) {
-  BulletCoefficients c;
-  c.restitution = MapCoefficients(
-      scene, scene.settings.restitutionCombine, match,
-      [](const RBodyDef& d) { return d.restitution; }, c.restitutionError, c.restitutionExample);
-  c.friction = MapCoefficients(
-      scene, scene.settings.frictionCombine, match,
-      [](const RBodyDef& d) { return d.friction; }, c.frictionError, c.frictionExample);
-  return c;
-}
-
-// A Bullet world owns everything it steps. Bodies leave the world before it is destroyed.
-struct BulletWorld {
-  btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher{&config};
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btRigidBody>> bodies;
-  std::vector<const RRigidBody*> reference;  // REngine's body for each, for mass properties
-
-  BulletWorld() = default;
-  BulletWorld(const BulletWorld&) = delete;
-  BulletWorld& operator=(const BulletWorld&) = delete;
-  ~BulletWorld() {
-    for (auto& b : bodies) world.removeRigidBody(b.get());
-  }
-};
-
-// The body's collision shape in its body frame B (centre of mass, principal axes), shared
-// between bodies with the same box or sphere as a Bullet user would.
-btCollisionShape* MakeShape(BulletWorld& w, const RRigidBody& b,
-                            std::map<std::array<RScalar, 4>, btCollisionShape*>& shared) {
-  const RShape& s = b.Shape();
-  const bool offset = b.ShapeOffset_B().norm() > 0 ||
-                      b.ShapeRotation_BS().angularDistance(RQuat::Identity()) > 0;
-  std::unique_ptr<btCollisionShape> shape;
-  if (s.type == RShapeType::kHull) {
-    // Points taken into B; the hull of the points, as REngine builds it.
-    auto hull = std::make_unique<btConvexHullShape>();
-    for (const RVec3& p_S : s.points) {
-      hull->addPoint(Bt(b.ShapeOffset_B() + b.ShapeRotation_BS() * p_S), false);
-    }
-    hull->recalcLocalAabb();
-    hull->optimizeConvexHull();
-    shape = std::move(hull);
-  } else {
-    const std::array<RScalar, 4> key =
-        s.type == RShapeType::kBox
-            ? std::array<RScalar, 4>{0, s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}
-            : std::array<RScalar, 4>{1, s.radius, 0, 0};
-    if (!offset) {
-      if (auto it = shared.find(key); it != shared.end()) return it->second;
-    }
-    if (s.type == RShapeType::kBox) {
-      shape = std::make_unique<btBoxShape>(Bt(s.halfExtents));
-    } else {
-      shape = std::make_unique<btSphereShape>(Bt(s.radius));
-    }
-    if (offset) {
-      // Not expected (a box's and a sphere's body frame is their shape frame), but correct.
-      auto compound = std::make_unique<btCompoundShape>();
-      compound->addChildShape(btTransform(Bt(b.ShapeRotation_BS()), Bt(b.ShapeOffset_B())),
-                              shape.get());
-      w.shapes.push_back(std::move(shape));
-      shape = std::move(compound);
-    } else {
-      shared[key] = shape.get();
-    }
-  }
-  w.shapes.push_back(std::move(shape));
-  return w.shapes.back().get();
-}
-
-std::unique_ptr<BulletWorld> BuildBullet(const RScene& scene,
-                                         const std::vector<RRigidBody>& reference,
-                                         const BulletCoefficients& coeffs, bool sleep) {
-  auto w = std::make_unique<BulletWorld>();
-  w->world.setGravity(Bt(scene.settings.gravity_W));
-  w->world.getSolverInfo().m_numIterations = scene.settings.solverIterations;
-  std::map<std::array<RScalar, 4>, btCollisionShape*> shared;
-  for (std::size_t i = 0; i < reference.size(); ++i) {
-    const RRigidBody& b = reference[i];
-    const RBodyDef& def = scene.bodies[i];
-    btCollisionShape* shape = MakeShape(*w, b, shared);
-    const btScalar mass = b.IsStatic() ? btScalar(0) : Bt(b.Mass());
-    const btVector3 inertia = b.IsStatic() ? btVector3(0, 0, 0) : Bt(b.Inertia_B());
-    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, inertia);
-    info.m_startWorldTransform = btTransform(Bt(b.Orientation_WB()), Bt(b.Position_W()));
-    info.m_restitution = Bt(coeffs.restitution[i]);
-    info.m_friction = Bt(coeffs.friction[i]);
-    auto body = std::make_unique<btRigidBody>(info);
-    if (!b.IsStatic()) {
-      body->setLinearVelocity(Bt(b.Velocity_W()));
-      body->setAngularVelocity(Bt(b.AngularVelocity_W()));
-      if (!sleep) body->setActivationState(DISABLE_DEACTIVATION);
-    }
-    if (!def.responds) {
-      body->setCollisionFlags(body->getCollisionFlags() |
-                              btCollisionObject::CF_NO_CONTACT_RESPONSE);
-    }
-    w->world.addRigidBody(body.get());
-    w->bodies.push_back(std::move(body));
-    w->reference.push_back(&b);
-  }
-  for (std::size_t i = 0; i < scene.ignore.size(); ++i) {
-    for (std::size_t j : scene.ignore[i]) {
-      w->bodies[i]->setIgnoreCollisionCheck(w->bodies[j].get(), true);
-    }
-  }
-  return w;
 }
 
 Totals Measure(const RScene& scene, const BulletWorld& w) {
@@ -330,7 +157,8 @@ Totals Measure(const RScene& scene, const BulletWorld& w) {
 RunResult RunBullet(const RScene& scene, std::uint64_t steps, const BulletCoefficients& coeffs,
                     bool sleep) {
   const std::vector<RRigidBody> reference = CreateBodies(scene);
-  std::unique_ptr<BulletWorld> w = BuildBullet(scene, reference, coeffs, sleep);
+  std::unique_ptr<BulletWorld> w = BuildBullet(scene.settings, reference, coeffs, sleep,
+                                               scene.ignore);
   RunResult r;
   r.start = Measure(scene, *w);
   const btScalar dt = Bt(scene.dt);
@@ -400,7 +228,8 @@ bool RunScene(const std::string& path, const Options& opt) {
               static_cast<unsigned long long>(steps), g.x(), g.y(), g.z(),
               scene.settings.solverIterations);
 
-  const BulletCoefficients coeffs = ChooseCoefficients(scene, opt.matchCombine);
+  const BulletCoefficients coeffs =
+      ChooseCoefficients(scene.settings, CreateBodies(scene), opt.matchCombine);
   std::printf("  combine: REngine restitution %s, friction %s; Bullet multiplies both "
               "(%s)\n",
               CombineName(scene.settings.restitutionCombine),
@@ -420,8 +249,8 @@ bool RunScene(const std::string& path, const Options& opt) {
   std::vector<double> rengineMs, bulletMs;
   RunResult rengineFirst, bulletFirst;
   for (int run = 0; run < opt.runs; ++run) {
-    const RunResult re = RunREngine(scene, steps);
-    const RunResult bt = RunBullet(scene, steps, coeffs, opt.bulletSleep);
+    const RunResult re = RunREngine(scene, steps, opt.sleep);
+    const RunResult bt = RunBullet(scene, steps, coeffs, opt.sleep);
     rengineMs.push_back(re.msPerStep);
     bulletMs.push_back(bt.msPerStep);
     if (run == 0) rengineFirst = re, bulletFirst = bt;
@@ -452,7 +281,7 @@ bool RunScene(const std::string& path, const Options& opt) {
 void Usage() {
   std::fprintf(stderr,
                "usage: bench_bullet [SCENE.json ...] [--steps N] [--runs N] [--match-combine] "
-               "[--bullet-sleep]\n"
+               "[--sleep]\n"
                "default scenes: %s/{box_pile_1000,debris_cloud_1000}.json\n",
                RENGINE_SHARED_SCENES);
 }
@@ -483,8 +312,8 @@ int main(int argc, char** argv) {
       }
     } else if (arg == "--match-combine") {
       opt.matchCombine = true;
-    } else if (arg == "--bullet-sleep") {
-      opt.bulletSleep = true;
+    } else if (arg == "--sleep") {
+      opt.sleep = true;
     } else if (arg == "--help" || arg == "-h") {
       Usage();
       return 0;
@@ -508,8 +337,8 @@ int main(int argc, char** argv) {
               btIsDoublePrecision() ? "defined" : "not defined");
   std::printf("Bullet world: btDbvtBroadphase, btSequentialImpulseConstraintSolver (scene's "
               "solver iterations), stepSimulation(dt, 0): one internal step per step, no "
-              "motion states, sleeping %s\n",
-              opt.bulletSleep ? "on (Bullet's default)" : "off (REngine has none)");
+              "motion states; sleeping %s\n",
+              opt.sleep ? "on in both engines (--sleep)" : "off in both engines");
   std::printf("timing: steady_clock around the step loop only; REngine then Bullet, %d "
               "runs; ratio = Bullet / REngine median ms/step (> 1: REngine faster)\n",
               opt.runs);
