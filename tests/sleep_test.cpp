@@ -260,6 +260,111 @@ TEST(Sleep, SensorsDoNotWake) {
   EXPECT_GT(reported, 0) << "the laser's hit is reported";
 }
 
+// Game code that moves one box out of a sleeping stack wakes the whole island, not only the
+// boxes that box touched: the two above it fall 1 m and come to rest on the one below (each
+// contact within the slop).
+TEST(Sleep, TakingABoxOutOfASleepingStackDropsTheOnesAbove) {
+  std::vector<RRigidBody> bodies = Stack(5);
+  RIntegrator integrator(Gravity());
+  Step(integrator, bodies, 60);
+  ASSERT_EQ(Sleeping(bodies), 5);
+  bodies[3].SetShapePose(RVec3(10, 0.5, 0), RQuat::Identity());
+  integrator.Update(bodies, kDt);
+  EXPECT_EQ(integrator.PairStats().wakeRuns, 0u) << "woken by the game, not by a contact";
+  EXPECT_EQ(Sleeping(bodies), 0);
+  Step(integrator, bodies, 120);
+  EXPECT_NEAR(bodies[4].Position_W().y(), 2.5, 3 * 5e-4);
+  EXPECT_NEAR(bodies[5].Position_W().y(), 3.5, 4 * 5e-4);
+}
+
+// Bodies removed and added in the same frame (the count unchanged) or moved from another
+// world: island ids no longer mean anything, so everything wakes. Here the ground goes and a
+// box far away comes in its place: the stack falls freely.
+TEST(Sleep, RemovingAndAddingInOneFrameWakesEverything) {
+  std::vector<RRigidBody> bodies = Stack(3);
+  RIntegrator integrator(Gravity());
+  Step(integrator, bodies, 60);
+  ASSERT_EQ(Sleeping(bodies), 3);
+  bodies.erase(bodies.begin());
+  bodies.emplace_back(Box("newcomer", RVec3::Constant(0.5), RVec3(100, 0.5, 0)));
+  const RScalar y0 = bodies[0].Position_W().y();
+  Step(integrator, bodies, 30);
+  const RScalar t = 30 * kDt;
+  EXPECT_NEAR(y0 - bodies[0].Position_W().y(), 0.5 * 9.81 * t * t, 1e-12) << "falls freely";
+
+  // A sleeping body swapped with one of another world, at the same index: both wake.
+  std::vector<RRigidBody> a = Stack(2), b = Stack(2, RVec3(5, 0, 0));
+  RIntegrator ia(Gravity()), ib(Gravity());
+  Step(ia, a, 60), Step(ib, b, 60);
+  ASSERT_EQ(Sleeping(a) + Sleeping(b), 4);
+  std::swap(a[2], b[2]);
+  ia.Update(a, kDt);
+  EXPECT_EQ(Sleeping(a), 0);
+}
+
+// A body told to ignore the ground it sleeps on wakes, and falls through it.
+TEST(Sleep, ChangingAnIgnoreListWakes) {
+  std::vector<RRigidBody> bodies = Stack(1);
+  bodies[0] = RRigidBody([] {
+    RBodyDef g = Ground();
+    g.id = 7;
+    return g;
+  }());
+  RIntegrator integrator(Gravity());
+  Step(integrator, bodies, 60);
+  ASSERT_TRUE(bodies[1].IsSleeping());
+  bodies[1].IgnoreCollisionsWith(7);
+  Step(integrator, bodies, 30);
+  EXPECT_LT(bodies[1].Position_W().y(), 0) << "fell through the ignored ground";
+}
+
+// A static sensor (does not respond) keeps reporting a box that sleeps on it: pressure
+// plates see the box stay.
+TEST(Sleep, StaticSensorsKeepReportingSleepers) {
+  RBodyDef plate = Box("plate", RVec3(1, 0.05, 1), RVec3(0, 0.05, 0));
+  plate.isStatic = true, plate.responds = false, plate.mass.reset();
+  std::vector<RRigidBody> bodies = Stack(1, RVec3(0, 0, 0));
+  bodies.emplace_back(plate);
+  RIntegrator integrator(Gravity());
+  int reportedWhileAsleep = 0;
+  for (int i = 0; i < 120; ++i) {
+    integrator.Update(bodies, kDt);
+    if (!bodies[1].IsSleeping()) continue;
+    for (const RContact& c : integrator.Contacts()) reportedWhileAsleep += (c.a == 1 && c.b == 2);
+  }
+  EXPECT_TRUE(bodies[1].IsSleeping());
+  EXPECT_GT(reportedWhileAsleep, 60);
+}
+
+// Two resting boxes 4 mm apart (beyond the margin two awake resting bodies have, within the
+// one a sleeper would get if it were given no motion) both sleep, and stay asleep.
+TEST(Sleep, NeighboursJustApartDoNotWakeEachOther) {
+  std::vector<RRigidBody> bodies{RRigidBody(Ground()),
+                                 RRigidBody(Box("a", RVec3::Constant(0.5), RVec3(0, 0.5, 0))),
+                                 RRigidBody(Box("b", RVec3::Constant(0.5), RVec3(1.004, 0.5, 0)))};
+  RIntegrator integrator(Gravity());
+  std::uint64_t wakes = 0;
+  for (int i = 0; i < 120; ++i) {
+    integrator.Update(bodies, kDt);
+    wakes += integrator.PairStats().wakeRuns;
+  }
+  EXPECT_EQ(Sleeping(bodies), 2);
+  EXPECT_EQ(wakes, 0u);
+}
+
+// In zero gravity a box sliding slowly along a static floor is not held by it (no impulse):
+// it slides on, x0 + v t, and never sleeps.
+TEST(Sleep, SlidingAlongAFloorInSpaceIsNotRest) {
+  RBodyDef box = Box("box", RVec3::Constant(0.5), RVec3(0, 0.5, 0));
+  box.velocity_W = RVec3(5e-3, 0, 0);
+  std::vector<RRigidBody> bodies{RRigidBody(Ground()), RRigidBody(box)};
+  RIntegrator integrator;
+  const int steps = 120;
+  Step(integrator, bodies, steps);
+  EXPECT_FALSE(bodies[1].IsSleeping());
+  EXPECT_NEAR(bodies[1].Position_W().x(), 5e-3 * steps * kDt, 1e-15);
+}
+
 // With the shortcut off nothing ever sleeps.
 TEST(Sleep, OffMeansNeverAsleep) {
   std::vector<RRigidBody> bodies = Stack(3);

@@ -111,7 +111,12 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
     RRigidBody& b = bodies[i];
     const RScalar r = b.BoundingRadius();
     m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
-    if (b.m_isStatic || b.m_sleeping) {
+    if (b.m_sleeping) {
+      // Reach and margin as if it were awake and resting (half a step of gravity), so that
+      // the margin between a sleeper and a resting neighbour is the one two awake bodies
+      // have: a neighbour beyond it while both were awake does not wake it.
+      m_moveV[i] = m_settings.gravity_W * halfDt, m_moveW[i] = 0;
+    } else if (b.m_isStatic) {
       m_moveV[i].setZero(), m_moveW[i] = 0;
       // Without the shortcut a static body's world form is recomputed every step, as a
       // moving body's is.
@@ -124,10 +129,12 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
     }
     m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
   }
-  // Bodies that cannot start a contact: asleep, or static. A pair of two of them is
-  // skipped; a sleeping body touched by any other (in the speculative margin) wakes with
-  // its island.
-  auto passive = [](const RRigidBody& b) { return b.m_sleeping || b.m_isStatic; };
+  // Bodies that cannot start a contact: asleep, or static, and responding (a sensor keeps
+  // reporting what sleeps on it). A pair of two of them is skipped; a sleeping body touched
+  // by any other (in the speculative margin) wakes with its island.
+  auto passive = [](const RRigidBody& b) {
+    return (b.m_sleeping || b.m_isStatic) && b.m_responds;
+  };
   bool woke = false;
   // The bodies that can start a contact, in index order. A passive body is only paired with
   // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
@@ -157,7 +164,8 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RScalar lim = (ri + m_reach[j]) * kGrow;
       if (bounds && dx * dx + dy * dy + dz * dz > lim * lim) continue;
       const RRigidBody& b = bodies[j];
-      if (!a.ShouldCheckCollision(b) || (m_filter && !m_filter(a, b, m_filterUser))) {
+      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
+          (m_filter && !m_filter(a, b, m_filterUser))) {
         ++m_pairStats.rejectedFilter;
         continue;
       }
@@ -192,8 +200,9 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
       }
     }
   }
-  // Pairs never visited: two static bodies (counted with the filter's), or two passive
-  // bodies of which one at least sleeps.
+  // Pairs never visited: two passive static bodies (counted with the filter's), or two
+  // passive bodies of which one at least sleeps. (Counts are those of the last sweep when
+  // waking islands made it run again.)
   const std::uint64_t staticPairs = staticCount * (staticCount - (staticCount > 0)) / 2;
   m_pairStats.rejectedFilter += staticPairs;
   m_pairStats.rejectedSleeping = passiveCount * (passiveCount - (passiveCount > 0)) / 2 - staticPairs;
@@ -224,9 +233,15 @@ void RIntegrator::WakeIslands(std::vector<RRigidBody>& bodies) {
   // change of gravity wakes everything too; and so does static geometry that the game moved,
   // which may have held sleeping bodies where it was (their contacts are not kept while they
   // sleep, so which ones is not known).
-  bool staticMoved = false;
-  for (const RRigidBody& b : bodies) staticMoved = staticMoved || b.m_staticMoved;
-  if (!m_settings.shortcuts.sleeping || n != m_sleepBodyCount || staticMoved ||
+  // Any body not where this integrator left it (see RRigidBody::m_slot) wakes everything:
+  // a removal and an addition in one frame keep the count and may still remove a support.
+  bool moved = m_wakeAll;
+  for (std::size_t i = 0; i < n && !moved; ++i) {
+    const RRigidBody& b = bodies[i];
+    moved = b.m_staticMoved || b.m_slot != i || b.m_slotWorld != m_worldId;
+  }
+  m_wakeAll = false;
+  if (!m_settings.shortcuts.sleeping || n != m_sleepBodyCount || moved ||
       m_settings.gravity_W != m_sleepGravity_W) {
     m_sleepBodyCount = n;
     m_sleepGravity_W = m_settings.gravity_W;
@@ -262,7 +277,10 @@ void RIntegrator::WakeMarked(std::vector<RRigidBody>& bodies) {
 // body) or it is exactly still: a drifting body in space is never stopped.
 void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
   const std::size_t n = bodies.size();
-  for (RRigidBody& b : bodies) b.m_staticMoved = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    RRigidBody& b = bodies[i];
+    b.m_staticMoved = false, b.m_slot = static_cast<std::uint32_t>(i), b.m_slotWorld = m_worldId;
+  }
   if (!m_settings.shortcuts.sleeping) return;
   m_sleepParent.resize(n);
   m_sleepRest.assign(n, std::numeric_limits<RScalar>::infinity());
@@ -285,7 +303,11 @@ void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
     if (!c.resolved) continue;
     const bool staticA = bodies[c.a].m_isStatic, staticB = bodies[c.b].m_isStatic;
     if (staticA || staticB) {
-      m_sleepSupported[staticA ? c.b : c.a] = 1;
+      // Held: the static body pushed this step (a speculative contact, or a body sliding
+      // along a floor in space, is not held).
+      RScalar pushed = 0;
+      for (int k = 0; k < c.manifold.pointCount; ++k) pushed += c.normalImpulse[k];
+      if (pushed > 0) m_sleepSupported[staticA ? c.b : c.a] = 1;
       continue;
     }
     const std::uint32_t ra = find(c.a), rb = find(c.b);

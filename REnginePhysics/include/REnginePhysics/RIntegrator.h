@@ -127,6 +127,8 @@ struct RPairStats {
   std::uint64_t warmStarted = 0;    // rows that found last step's impulses
 };
 
+std::uint64_t NextCacheStamp();
+
 class RIntegrator {
  public:
   RIntegrator() = default;
@@ -136,9 +138,10 @@ class RIntegrator {
   // between calls; contact memory (warm starts) is keyed by index and forgotten when the
   // count changes.
   void Update(std::vector<RRigidBody>& bodies, RScalar dt);
-  // Forgets last step's contact impulses: call after reordering bodies without changing
-  // their count, so no pair inherits another's warm start.
-  void ForgetContacts() { m_warm.clear(); }
+  // Forgets last step's contact impulses and wakes every sleeping body: call after
+  // reordering bodies without changing their count, so no pair inherits another's warm
+  // start. (Reordering is also detected for sleeping: every body remembers its index.)
+  void ForgetContacts() { m_warm.clear(), m_wakeAll = true; }
 
   const RWorldSettings& Settings() const { return m_settings; }
   RWorldSettings& Settings() { return m_settings; }
@@ -154,7 +157,11 @@ class RIntegrator {
   // Contacts found by the last Update (valid until the next), in pair order (a, then b).
   const std::vector<RContact>& Contacts() const { return m_contacts; }
   const RPairStats& PairStats() const { return m_pairStats; }
-  void SetPairFilter(RPairFilter filter, void* user) { m_filter = filter, m_filterUser = user; }
+  // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
+  // answer changes for a pair must Wake() one of its bodies.
+  void SetPairFilter(RPairFilter filter, void* user) {
+    m_filter = filter, m_filterUser = user, m_wakeAll = true;
+  }
 
  private:
   void CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt);
@@ -323,6 +330,9 @@ class RIntegrator {
   std::vector<RScalar> m_sleepRest;
   std::vector<char> m_sleepSupported, m_sleepStill;
   std::size_t m_sleepBodyCount = 0;
+  bool m_wakeAll = false;  // ForgetContacts, SetPairFilter
+  // This integrator, as the bodies it stepped remember it (a process-wide count).
+  std::uint64_t m_worldId = NextCacheStamp();
   RVec3 m_sleepGravity_W = RVec3::Zero();
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;

@@ -214,6 +214,11 @@ class RRigidBody {
   bool m_staticMoved = false;  // a static body the game moved since the last step
   RScalar m_restTime = 0;
   std::uint32_t m_sleepIsland = kNoIsland;
+  // Where the body was at the end of its last step: which integrator stepped it and at
+  // which index. A body found elsewhere (removed, added, reordered, moved between worlds)
+  // means island ids no longer mean what they did: everything wakes.
+  std::uint64_t m_slotWorld = 0;
+  std::uint32_t m_slot = kNoIsland;
   void WakeIfNonZero(const RVec3& x) {
     if (!x.isZero(0)) Wake();
   }
