@@ -152,17 +152,50 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
   constexpr RScalar kGrow = 1 + 1e-9;
   const bool bounds = shortcuts.boundsRejection;
   std::size_t nextActive = 0;  // first entry of m_active above i
+  m_near.resize(n), m_candidates.resize(n + 1);
   for (std::size_t i = 0; i < n; ++i) {
     const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
     const RRigidBody& a = bodies[i];
     while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
     const bool passiveA = passive(a);
+    // The candidates j > i: every later body, or, for a passive body, the later awake ones.
+    // First the bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown
+    // spheres touch, in a branch-free loop over contiguous arrays that the compiler
+    // vectorises; then the pairs that passed, in index order.
     const std::size_t count = passiveA ? m_active.size() - nextActive : n - i - 1;
+    RScalar* near = m_near.data();
+    if (!bounds) {
+      std::fill(near, near + count, RScalar(0));
+    } else if (!passiveA) {
+      const RScalar* cx = m_cx.data() + i + 1;
+      const RScalar* cy = m_cy.data() + i + 1;
+      const RScalar* cz = m_cz.data() + i + 1;
+      const RScalar* reach = m_reach.data() + i + 1;
+      for (std::size_t k = 0; k < count; ++k) {
+        const RScalar dx = cx[k] - xi, dy = cy[k] - yi, dz = cz[k] - zi;
+        const RScalar lim = (ri + reach[k]) * kGrow;
+        near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+      }
+    } else {
+      const std::uint32_t* active = m_active.data() + nextActive;
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::size_t j = active[k];
+        const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
+        const RScalar lim = (ri + m_reach[j]) * kGrow;
+        near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+      }
+    }
+    // The few that passed, compacted by a tight loop of its own (kept apart from the pair
+    // work below, whose register pressure would otherwise put this counter in memory).
+    std::uint32_t* candidates = m_candidates.data();
+    std::size_t found = 0;
     for (std::size_t k = 0; k < count; ++k) {
+      candidates[found] = static_cast<std::uint32_t>(k);
+      found += near[k] >= 0;
+    }
+    for (std::size_t c = 0; c < found; ++c) {
+      const std::size_t k = candidates[c];
       const std::size_t j = passiveA ? m_active[nextActive + k] : i + 1 + k;
-      const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
-      const RScalar lim = (ri + m_reach[j]) * kGrow;
-      if (bounds && dx * dx + dy * dy + dz * dz > lim * lim) continue;
       const RRigidBody& b = bodies[j];
       if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
           (m_filter && !m_filter(a, b, m_filterUser))) {

@@ -269,6 +269,8 @@ class RIntegrator {
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
   std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
+  std::vector<RScalar> m_near;  // pair sweep: one body's candidates, lim^2 - d^2 (m^2)
+  std::vector<std::uint32_t> m_candidates;  // pair sweep: those with lim^2 - d^2 >= 0
   std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
   std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
   std::vector<RContactRow> m_rows;
