@@ -2,7 +2,7 @@
 # only those missing, so a ready machine never calls apt.
 #   rengine_install_deps [extra packages...]
 # Optional packages are not in the list: pass them as extras when wanted, e.g.
-#   rengine_install_deps libbullet-dev   # Bullet, for tools/bench's bench_bullet
+#   rengine_install_deps libbullet-dev   # Bullet: bench_bullet and rengine-bench's Bullet series
 REngine_BUILD_PACKAGES=(
   cmake ninja-build g++         # toolchain
   libeigen3-dev                 # REngineMath

@@ -85,17 +85,24 @@ double Median(std::vector<double> xs) {
   return n % 2 ? xs[n / 2] : 0.5 * (xs[n / 2 - 1] + xs[n / 2]);
 }
 
-// Median ms per step of `repeats` timed runs of `steps` steps, each on a fresh world.
-double TimeRuns(const Make& make, bool on, int steps, int repeats) {
-  std::vector<double> ms;
+double TimeOneRun(const Make& make, bool on, int steps) {
+  Setup s = make(on);
+  RIntegrator integrator(s.settings);
+  const auto t0 = Clock::now();
+  for (int k = 0; k < steps; ++k) integrator.Update(s.bodies, kDt);
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / steps;
+}
+
+// Median ms per step with and without the shortcut, over `repeats` timed runs of each on a
+// fresh world, alternating with and without so that the machine's drifts (a shared, noisy
+// machine) fall on both alike.
+void TimeRuns(ShortcutRow& row, const Make& make, int stepsOn, int stepsOff, int repeats) {
+  std::vector<double> on, off;
   for (int r = 0; r < repeats; ++r) {
-    Setup s = make(on);
-    RIntegrator integrator(s.settings);
-    const auto t0 = Clock::now();
-    for (int k = 0; k < steps; ++k) integrator.Update(s.bodies, kDt);
-    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / steps);
+    on.push_back(TimeOneRun(make, true, stepsOn));
+    off.push_back(TimeOneRun(make, false, stepsOff));
   }
-  return Median(ms);
+  row.onMs = Median(on), row.offMs = Median(off);
 }
 
 std::vector<RRigidBody> Run(const Make& make, bool on, int steps,
@@ -205,8 +212,7 @@ ShortcutRow RestingStacks(bool quick, int repeats) {
     });
     (on ? row.errorOn : row.errorOff) = worst;
   }
-  row.onMs = TimeRuns(make, true, steps, repeats);
-  row.offMs = TimeRuns(make, false, steps, repeats);
+  TimeRuns(row, make, steps, steps, repeats);
   AddBullet(row, make, steps, repeats, [&](double& worst) -> BulletObserver {
     return [&worst, &start, height](const std::vector<RVec3>& x, const std::vector<RVec3>&) {
       for (std::size_t b = 1 + height; b + 1 < x.size(); ++b) {
@@ -234,8 +240,7 @@ ShortcutRow BoxPile(bool quick, int repeats) {
     }
     (on ? row.errorOn : row.errorOff) = worst;
   }
-  row.onMs = TimeRuns(make, true, steps, repeats);
-  row.offMs = TimeRuns(make, false, steps, repeats);
+  TimeRuns(row, make, steps, steps, repeats);
   // Bullet reports linear speed only here (its angular velocity is not converted): the
   // largest centre-of-mass speed at the end.
   AddBullet(row, make, steps, repeats, [&](double& worst) -> BulletObserver {
@@ -266,8 +271,7 @@ ShortcutRow SparseField(bool quick, int repeats) {
   };
   ShortcutRow row = NewRow("sparse_field", "boundsRejection", "m: position difference between the runs");
   row.errorOn = MaxDifference(Run(make, true, stepsOff), Run(make, false, stepsOff));
-  row.onMs = TimeRuns(make, true, stepsOn, repeats);
-  row.offMs = TimeRuns(make, false, stepsOff, repeats);
+  TimeRuns(row, make, stepsOn, stepsOff, repeats);
   return row;
 }
 
@@ -301,8 +305,7 @@ ShortcutRow Symmetric(bool quick, int repeats) {
     });
     (on ? row.errorOn : row.errorOff) = worst;
   }
-  row.onMs = TimeRuns(make, true, steps, repeats);
-  row.offMs = TimeRuns(make, false, steps, repeats);
+  TimeRuns(row, make, steps, steps, repeats);
   return row;
 }
 
@@ -335,8 +338,7 @@ ShortcutRow StaticTerrain(bool quick, int repeats) {
   };
   ShortcutRow row = NewRow("static_terrain", "staticForms", "m: position difference between the runs");
   row.errorOn = MaxDifference(Run(make, true, steps), Run(make, false, steps));
-  row.onMs = TimeRuns(make, true, steps, repeats);
-  row.offMs = TimeRuns(make, false, steps, repeats);
+  TimeRuns(row, make, steps, steps, repeats);
   return row;
 }
 
