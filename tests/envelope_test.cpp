@@ -115,14 +115,17 @@ TEST(Envelope, Sizes) {
   }
 }
 
-// Mass ratios 1:10 to 1:100 000: a heavy box on a light one on the ground holds, the
-// overlap at rounding (below 1e-9 m; asked of the response: 2 mm).
+// Mass ratios 1:10 to 1:1e9 (asked: to 1:100 000): a heavy box on a light one on the
+// ground holds, the overlap at rounding (asked of the response: 2 mm). Up to 1:1e7 below
+// 1e-8 m; at 1:1e9 the heavy box's 1.6e8 N s impulse per step rounds to ~1e-8 m/s of
+// velocity, and the overlap stays below 1e-6 m. 1:1e10 breaks (README, envelope table).
 TEST(Envelope, MassRatios) {
-  for (RScalar ratio : {10.0, 100.0, 1e3, 1e4, 1e5}) {
+  for (RScalar ratio : {10.0, 100.0, 1e3, 1e4, 1e5, 1e7, 1e9}) {
     const StackResult r = Stack(2, 1, 1.0 / 60, 10, RVec3::Zero(), 1, ratio);
     std::printf("mass ratio %g: overlap %.3g m, sank %.3g m\n", ratio, r.overlap, r.sink);
     EXPECT_TRUE(r.finite) << ratio;
-    EXPECT_LT(r.overlap, 1e-8) << ratio;
+    EXPECT_LT(r.overlap, ratio > 1e7 ? 1e-6 : 1e-8) << ratio;
+    EXPECT_LT(r.sink, ratio > 1e7 ? 1e-6 : 1e-8) << ratio;
     EXPECT_LT(r.sideways, 1e-3) << ratio;
   }
 }
