@@ -316,6 +316,33 @@ TEST(Sleep, ChangingAnIgnoreListWakes) {
   bodies[1].IgnoreCollisionsWith(7);
   Step(integrator, bodies, 30);
   EXPECT_LT(bodies[1].Position_W().y(), 0) << "fell through the ignored ground";
+
+  // The other way round: the static ground told to ignore the sleeping box.
+  std::vector<RRigidBody> again = Stack(1);
+  RBodyDef box = Box("box", RVec3::Constant(0.5), RVec3(0, 0.5, 0));
+  box.id = 9;
+  again[1] = RRigidBody(box);
+  RIntegrator second(Gravity());
+  Step(second, again, 60);
+  ASSERT_TRUE(again[1].IsSleeping());
+  again[0].IgnoreCollisionsWith(9);
+  Step(second, again, 30);
+  EXPECT_LT(again[1].Position_W().y(), 0) << "the ground let it through";
+}
+
+// A copy of an integrator is another world: bodies it did not step wake there (island ids
+// are another world's indices), while the original keeps its sleepers asleep.
+TEST(Sleep, CopiedIntegratorIsAnotherWorld) {
+  std::vector<RRigidBody> a = Stack(2);
+  RIntegrator ia(Gravity());
+  Step(ia, a, 60);
+  ASSERT_EQ(Sleeping(a), 2);
+  RIntegrator ib = ia;
+  std::vector<RRigidBody> b = a;
+  ib.Update(b, kDt);
+  EXPECT_EQ(Sleeping(b), 0) << "stepped by the copy: another world";
+  ia.Update(a, kDt);
+  EXPECT_EQ(Sleeping(a), 2) << "the original world";
 }
 
 // A static sensor (does not respond) keeps reporting a box that sleeps on it: pressure

@@ -147,7 +147,10 @@ bool RRigidBody::ShouldCheckCollision(const RRigidBody& other) const {
 void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
   const auto it = std::lower_bound(m_ignore.begin(), m_ignore.end(), otherId);
   if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
-  Wake();  // a sleeping pair is not looked at: it would never learn to ignore
+  // A sleeping pair is not looked at: it would never learn to ignore. A static body cannot
+  // sleep; which sleeper it names is not known here, so it wakes everything, as if moved.
+  Wake();
+  if (m_isStatic) m_staticMoved = true;
 }
 
 void RRigidBody::SetVelocity_W(const RVec3& v_W) {

@@ -21,6 +21,9 @@
 //   static_terrain  staticForms. 400 static blocks and a floor, 200 boxes falling on them,
 //                   5 s, sleeping off. Error: the largest position difference between the
 //                   runs, m (exact: 0).
+//   static_hulls    staticForms. 4 static hulls of 2000 random points on ellipsoids (their
+//                   vertices: asteroid surfaces), 100 boxes falling on them, 5 s, sleeping
+//                   off. Error: as static_terrain (exact: 0).
 #include "shortcuts.h"
 
 #include <REnginePhysics/RIntegrator.h>
@@ -342,11 +345,53 @@ ShortcutRow StaticTerrain(bool quick, int repeats) {
   return row;
 }
 
+// ---- static_hulls ---------------------------------------------------------------------
+ShortcutRow StaticHulls(bool quick, int repeats) {
+  const int hulls = 4, points = quick ? 200 : 2000, falling = quick ? 10 : 100;
+  const int steps = quick ? 30 : 300;
+  // The hulls' point clouds, drawn once: every world (with and without) gets the same.
+  std::vector<std::vector<RVec3>> clouds(hulls);
+  Uniform u(4242);
+  for (auto& cloud : clouds) {
+    for (int k = 0; k < points; ++k) {
+      RVec3 p(u(-1, 1), u(-1, 1), u(-1, 1));
+      if (p.norm() < 1e-3) continue;
+      cloud.push_back(p.normalized().cwiseProduct(RVec3(6, 3, 5)));
+    }
+  }
+  auto make = [=](bool on) {
+    Setup s;
+    s.settings.gravity_W = RVec3(0, -9.81, 0);
+    s.settings.shortcuts.sleeping = false;
+    s.settings.shortcuts.staticForms = on;
+    for (int h = 0; h < hulls; ++h) {
+      RBodyDef d;
+      d.name = "rock" + std::to_string(h);
+      d.shape.type = RShapeType::kHull;
+      d.shape.points = clouds[h];
+      d.isStatic = true;
+      d.position_W = RVec3(14 * (h % 2), 0, 12 * (h / 2));
+      s.bodies.emplace_back(d);
+    }
+    Uniform v(17);
+    for (int i = 0; i < falling; ++i) {
+      RBodyDef d = Box("crate" + std::to_string(i), RVec3(v(0.3, 0.8), v(0.3, 0.8), v(0.3, 0.8)),
+                       RVec3(v(-5, 19), v(5, 15), v(-4, 16)), false);
+      s.bodies.emplace_back(d);
+    }
+    return s;
+  };
+  ShortcutRow row = NewRow("static_hulls", "staticForms", "m: position difference between the runs");
+  row.errorOn = MaxDifference(Run(make, true, steps), Run(make, false, steps));
+  TimeRuns(row, make, steps, steps, repeats);
+  return row;
+}
+
 }  // namespace
 
 std::vector<ShortcutRow> RunShortcuts(bool quick, int repeats) {
   std::vector<ShortcutRow> rows;
-  for (auto scene : {RestingStacks, BoxPile, SparseField, Symmetric, StaticTerrain}) {
+  for (auto scene : {RestingStacks, BoxPile, SparseField, Symmetric, StaticTerrain, StaticHulls}) {
     rows.push_back(scene(quick, repeats));
     std::fprintf(stderr, "shortcuts: %s done\n", rows.back().scene.c_str());
   }

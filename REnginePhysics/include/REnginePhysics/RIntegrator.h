@@ -158,7 +158,7 @@ class RIntegrator {
   const std::vector<RContact>& Contacts() const { return m_contacts; }
   const RPairStats& PairStats() const { return m_pairStats; }
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
-  // answer changes for a pair must Wake() one of its bodies.
+  // answer changes for a pair must Wake() its dynamic body.
   void SetPairFilter(RPairFilter filter, void* user) {
     m_filter = filter, m_filterUser = user, m_wakeAll = true;
   }
@@ -333,8 +333,17 @@ class RIntegrator {
   std::vector<char> m_sleepSupported, m_sleepStill;
   std::size_t m_sleepBodyCount = 0;
   bool m_wakeAll = false;  // ForgetContacts, SetPairFilter
-  // This integrator, as the bodies it stepped remember it (a process-wide count).
-  std::uint64_t m_worldId = NextCacheStamp();
+  // This integrator, as the bodies it stepped remember it (a process-wide count). A copy of
+  // an integrator is another world: it draws its own id.
+  struct RWorldId {
+    std::uint64_t value = NextCacheStamp();
+    RWorldId() = default;
+    RWorldId(const RWorldId&) : value(NextCacheStamp()) {}
+    RWorldId& operator=(const RWorldId&) {
+      value = NextCacheStamp();
+      return *this;
+    }
+  } m_worldId;
   RVec3 m_sleepGravity_W = RVec3::Zero();
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;

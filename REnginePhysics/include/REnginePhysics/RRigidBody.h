@@ -160,7 +160,8 @@ class RRigidBody {
   void AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W);
 
   // Sleeping (RWorldSettings::RShortcuts::sleeping): a sleeping body is not moved, and its
-  // velocities are zero. Wake() wakes it, and the next step wakes the rest of its island.
+  // velocities are zero. Wake() wakes it, and the next step wakes the rest of its island
+  // (on a static body it does nothing).
   bool IsSleeping() const { return m_sleeping; }
   void Wake() {
     if (!m_isStatic) m_sleeping = false, m_restTime = 0;
