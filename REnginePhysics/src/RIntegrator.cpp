@@ -308,8 +308,8 @@ void RIntegrator::WakeMarked(std::vector<RRigidBody>& bodies) {
 
 // Islands are the bodies linked by this step's resolved contacts between two dynamic
 // bodies. An island sleeps when every body in it has been slower than the sleep speed for
-// the sleep time and either static geometry holds it (one of its contacts is with a static
-// body) or it is exactly still: a drifting body in space is never stopped.
+// the sleep time and either static geometry holds it (a static body pushed one of its
+// bodies this step) or it is exactly still: a drifting body in space is never stopped.
 void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
   const std::size_t n = bodies.size();
   for (std::size_t i = 0; i < n; ++i) {
