@@ -269,6 +269,51 @@ TEST(Collision, PairLoopFiltersAndCaches) {
 // Faces that barely touch: the closest points are a rounding error apart, so their
 // direction is noise (4e-5 rad seen for a box on a tilted slab 1e6 m from the origin); the
 // manifold's normal, the one impulses act along, is the reference face's, exact.
+// Boxes resting face on face overlap by rounding (1e-13 m): EPA's polytope is then flat to
+// rounding and can find no face. The narrow phase must still give a verdict with a full
+// manifold, or the solver skips the contact for a step and the box above drops g dt^2 / 2
+// (seen: a 0.1 m stack overlapping 1.4 mm). Every pair here, a stack's boxes at sizes 0.1
+// to 10 m with overlaps from -1e-12 to 1e-12 of the size and small sideways offsets, must
+// report a contact with 4 points and the face normal.
+TEST(Manifold, RestingFacesAlwaysGetAFullManifold) {
+  int checked = 0;
+  for (RScalar size : {0.1, 1.0, 10.0}) {
+    for (int k = -20; k <= 20; ++k) {
+      for (int s = 0; s < 8; ++s) {
+        const RScalar overlap = k * 5e-14 * size;
+        const RVec3 side(s * 1.3e-14 * size, 0, -s * 0.7e-14 * size);
+        const RRigidBody lower(BoxDef(RVec3::Constant(0.5 * size), RVec3(0, 1.5, 0) * size, RQuat::Identity()));
+        const RRigidBody upper(BoxDef(RVec3::Constant(0.5 * size),
+                                      RVec3(0, 2.5, 0) * size - RVec3(0, overlap, 0) + side,
+                                      RQuat::Identity()));
+        RContactManifold m;
+        ASSERT_TRUE(RCollisionSolver::CheckCollisionWithMargin(lower, upper, 1e-3 * size, m))
+            << size << " " << k << " " << s;
+        EXPECT_NE(m.query.status, RCollisionStatus::kIterationCap) << size << " " << k << " " << s;
+        EXPECT_EQ(m.pointCount, 4) << size << " " << k << " " << s;
+        EXPECT_LT((m.normal - RVec3::UnitY()).norm(), 1e-12) << size << " " << k << " " << s;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 3 * 41 * 8);
+
+  // The pose that failed, from the 0.1 m stack of envelope_tests (step 536): boxes 2 and 3,
+  // tilted by 1e-16 rad, overlapping by 1e-13 m.
+  RBodyDef lowerDef = BoxDef(RVec3::Constant(0.05), RVec3(0x1.549805c8b8ep-53, 0x1.333333333332dp-3, 0x1.b36aefcdcff15p-54),
+                             RQuat(0x1p+0, 0x1.59c920377b13ep-52, 0x1.f786a92052d11p-99, -0x1.554250a9a6377p-52));
+  RBodyDef upperDef = BoxDef(RVec3::Constant(0.05), RVec3(0x1.b6dd9508c3f29p-53, 0x1.ffffffffffff6p-3, 0x1.7bb155da28e7cp-53),
+                             RQuat(0x1p+0, 0x1.8702c020187c3p-52, 0x1.a1f7f9b44894dp-99, -0x1.3ee4abbdb4756p-53));
+  lowerDef.q_WS.normalize(), upperDef.q_WS.normalize();
+  const RRigidBody lower(lowerDef), upper(upperDef);
+  RContactManifold m;
+  ASSERT_TRUE(RCollisionSolver::CheckCollisionWithMargin(lower, upper, 1e-3, m));
+  EXPECT_NE(m.query.status, RCollisionStatus::kIterationCap);
+  EXPECT_EQ(m.pointCount, 4);
+  EXPECT_LT((m.normal - RVec3::UnitY()).norm(), 1e-12);
+  EXPECT_LT(std::abs(m.query.separation), 1e-12);
+}
+
 TEST(Manifold, BarelyTouchingFacesGetTheFaceNormal) {
   const RQuat tilt(Eigen::AngleAxis<RScalar>(20 * kPi / 180, RVec3::UnitZ()));
   for (RScalar offset : {0.0, 1e6}) {

@@ -4,6 +4,7 @@
 #include "RGjkEpa.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 namespace REngine {
@@ -116,6 +117,28 @@ bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
   return g.overlap || (!g.converged) || g.distance <= band;
 }
 
+namespace {
+
+// The largest separation over the face normals of A and of B (A's frame; normal from A to
+// B), with the support points along it as witnesses.
+void FaceAxes(const RConvexPolyhedron& a, const RConvexPolyhedron& b, const RRelativePose& X_AB,
+              RPairSupport& sup, RDistanceResult& r) {
+  RScalar best = -std::numeric_limits<RScalar>::infinity();
+  RVec3 bestN = RVec3::UnitX();
+  auto axis = [&](const RVec3& n) {
+    const RScalar s = n.dot(sup.SupportB(-n)) - n.dot(sup.SupportA(n));
+    if (s > best) best = s, bestN = n;
+  };
+  for (const RFace& f : a.Faces()) axis(f.plane.normal);
+  for (const RFace& f : b.Faces()) axis(-(X_AB.R_AB * f.plane.normal));
+  r.separation = best;
+  r.normal = bestN;
+  r.witnessA = sup.SupportA(bestN);
+  r.witnessB = sup.SupportB(-bestN);
+}
+
+}  // namespace
+
 RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexShape& b,
                                            const RRelativePose& X_AB) {
   if (!a.polyhedron && !b.polyhedron) return SphereSphere(a, b, X_AB.t_AB);
@@ -146,11 +169,20 @@ RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexS
   }
   const REpaResult e = EpaPenetration(sup, g);
   r.epaIterations = e.iterations;
+  if (!e.converged) {
+    // EPA found no face: the origin lies on D's boundary to rounding (boxes resting face on
+    // face overlap by 1e-13 m, and the polytope is flat to rounding). Separating axes over
+    // both shapes' face normals answer there: exactly when a face is in contact, which is
+    // this case; an upper bound on the depth otherwise (edge pairs are not tried).
+    FaceAxes(*a.polyhedron, *b.polyhedron, X_AB, sup, r);
+    r.status = StatusOf(r.separation, band);
+    return r;
+  }
   r.separation = -e.depth;
   r.normal = e.normal;
   r.witnessA = e.witnessA;
   r.witnessB = e.witnessB;
-  r.status = e.converged ? StatusOf(r.separation, band) : RCollisionStatus::kIterationCap;
+  r.status = StatusOf(r.separation, band);
   return r;
 }
 

@@ -40,7 +40,8 @@ enum class RCollisionStatus : std::uint8_t {
   kSeparated,     // separation > touching band
   kTouching,      // |separation| within the touching band
   kPenetrating,   // separation < -touching band
-  kIterationCap,  // GJK or EPA hit its iteration or size cap: no verdict (never "separated")
+  kIterationCap,  // GJK hit its iteration cap: no verdict (never "separated"). When EPA
+                  // finds no face, polyhedra fall back on their face normals instead.
 };
 
 // Result of a distance / penetration query between two shapes.
