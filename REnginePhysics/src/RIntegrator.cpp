@@ -638,17 +638,30 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     const std::uint32_t first = blk.first;
     const RSolverBody& sa = m_solverBodies[m_rows[first].a];
     const RSolverBody& sb = m_solverBodies[m_rows[first].b];
-    Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Identity();
+    // Padded with zeros to 4 x 4: the padding's eigenvalues are 0 and drop out of the
+    // inverse, so one fixed-size symmetric eigensolver serves every point count.
+    Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero();
     for (int i = 0; i < blk.count; ++i) {
       const RDirection& di = m_rows[first + i].n;
-      for (int j = 0; j < blk.count; ++j) {
+      for (int j = 0; j <= i; ++j) {
         const RDirection& dj = m_rows[first + j].n;
-        K(i, j) = (sa.invM + sb.invM) * di.d.dot(dj.d) + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
+        K(i, j) = K(j, i) =
+            (sa.invM + sb.invM) * di.d.dot(dj.d) + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
       }
     }
+    // Minimum-norm inverse: sum of v v^T / s over the eigenpairs with s above 1e-12 of the
+    // largest. The directions below are the coplanar points' null space (exactly 0 but for
+    // rounding, ~1e-16 of the largest); the softest real direction, a heavy body's, is
+    // shared with the light body it touches and stays near the light body's stiffness.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<RScalar, 4, 4>> eigen(K);
+    const Eigen::Matrix<RScalar, 4, 1>& s = eigen.eigenvalues();  // ascending
+    const RScalar floor = RScalar(1e-14) * s[3];
     blk.pinv.setZero();
-    blk.pinv.topLeftCorner(blk.count, blk.count) =
-        K.topLeftCorner(blk.count, blk.count).completeOrthogonalDecomposition().pseudoInverse();
+    for (int k = 0; k < 4; ++k) {
+      if (!(s[k] > floor)) continue;
+      const Eigen::Matrix<RScalar, 4, 1> v = eigen.eigenvectors().col(k);
+      blk.pinv += (v / s[k]) * v.transpose();
+    }
   }
 
   const std::size_t nBlocks = m_blocks.size();
