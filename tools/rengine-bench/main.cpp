@@ -567,15 +567,20 @@ const RScene& StackScene() {
   return scene;
 }
 
-World StackWorld(const GridPoint& p) {
-  const RScene& scene = StackScene();
+// A shared scene at the grid point's dt and iterations, for `duration` seconds.
+World SceneWorld(const RScene& scene, const GridPoint& p, RScalar duration) {
   World w;
   w.settings = scene.settings;
   w.settings.solverIterations = p.iterations;
   w.bodies = CreateBodies(scene);
   w.dt = p.dt;
-  w.steps = StepsFor(static_cast<RScalar>(scene.steps) * scene.dt, p.dt);
+  w.steps = StepsFor(duration, p.dt);
   return w;
+}
+
+World StackWorld(const GridPoint& p) {
+  const RScene& scene = StackScene();
+  return SceneWorld(scene, p, static_cast<RScalar>(scene.steps) * scene.dt);
 }
 
 Errors StackErrors(Engine& engine) {
@@ -625,16 +630,7 @@ const RScene& DebrisScene() {
   return scene;
 }
 
-World DebrisWorld(const GridPoint& p) {
-  const RScene& scene = DebrisScene();
-  World w;
-  w.settings = scene.settings;
-  w.settings.solverIterations = p.iterations;
-  w.bodies = CreateBodies(scene);
-  w.dt = p.dt;
-  w.steps = StepsFor(p.quick ? 1 : 2, p.dt);
-  return w;
-}
+World DebrisWorld(const GridPoint& p) { return SceneWorld(DebrisScene(), p, p.quick ? 1 : 2); }
 
 Errors DebrisErrors(Engine& engine) {
   const Conservation c = MeasureConservation(engine);

@@ -155,6 +155,24 @@ double RunBullet(const Make& make, bool sleep, int steps, int repeats, const Bul
 }
 #endif
 
+RScalar MaxDifference(const std::vector<RRigidBody>& a, const std::vector<RRigidBody>& b) {
+  RScalar worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    worst = std::max(worst, (a[i].Position_W() - b[i].Position_W()).norm());
+  }
+  return worst;
+}
+
+// A shortcut that claims to be exact: the row's error is the largest position difference
+// between the runs with and without it, after the steps the run without can afford.
+ShortcutRow ExactRow(const char* scene, const char* shortcut, const Make& make, int stepsOn,
+                     int stepsOff, int repeats) {
+  ShortcutRow row = NewRow(scene, shortcut, "m: position difference between the runs");
+  row.errorOn = MaxDifference(Run(make, true, stepsOff), Run(make, false, stepsOff));
+  TimeRuns(row, make, stepsOn, stepsOff, repeats);
+  return row;
+}
+
 // Fills the row's Bullet columns where Bullet is built in: error(sleep) observes a run.
 template <class ErrorOf>
 void AddBullet(ShortcutRow& row, const Make& make, int steps, int repeats, ErrorOf&& errorOf) {
@@ -170,13 +188,6 @@ void AddBullet(ShortcutRow& row, const Make& make, int steps, int repeats, Error
 #endif
 }
 
-RScalar MaxDifference(const std::vector<RRigidBody>& a, const std::vector<RRigidBody>& b) {
-  RScalar worst = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    worst = std::max(worst, (a[i].Position_W() - b[i].Position_W()).norm());
-  }
-  return worst;
-}
 
 // ---- resting_stacks -------------------------------------------------------------------
 ShortcutRow RestingStacks(bool quick, int repeats) {
@@ -272,10 +283,7 @@ ShortcutRow SparseField(bool quick, int repeats) {
     }
     return s;
   };
-  ShortcutRow row = NewRow("sparse_field", "boundsRejection", "m: position difference between the runs");
-  row.errorOn = MaxDifference(Run(make, true, stepsOff), Run(make, false, stepsOff));
-  TimeRuns(row, make, stepsOn, stepsOff, repeats);
-  return row;
+  return ExactRow("sparse_field", "boundsRejection", make, stepsOn, stepsOff, repeats);
 }
 
 // ---- symmetric ------------------------------------------------------------------------
@@ -339,10 +347,7 @@ ShortcutRow StaticTerrain(bool quick, int repeats) {
     }
     return s;
   };
-  ShortcutRow row = NewRow("static_terrain", "staticForms", "m: position difference between the runs");
-  row.errorOn = MaxDifference(Run(make, true, steps), Run(make, false, steps));
-  TimeRuns(row, make, steps, steps, repeats);
-  return row;
+  return ExactRow("static_terrain", "staticForms", make, steps, steps, repeats);
 }
 
 // ---- static_hulls ---------------------------------------------------------------------
@@ -381,10 +386,7 @@ ShortcutRow StaticHulls(bool quick, int repeats) {
     }
     return s;
   };
-  ShortcutRow row = NewRow("static_hulls", "staticForms", "m: position difference between the runs");
-  row.errorOn = MaxDifference(Run(make, true, steps), Run(make, false, steps));
-  TimeRuns(row, make, steps, steps, repeats);
-  return row;
+  return ExactRow("static_hulls", "staticForms", make, steps, steps, repeats);
 }
 
 }  // namespace
