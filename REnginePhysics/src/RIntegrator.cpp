@@ -152,7 +152,7 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
   constexpr RScalar kGrow = 1 + 1e-9;
   const bool bounds = shortcuts.boundsRejection;
   std::size_t nextActive = 0;  // first entry of m_active above i
-  m_near.resize(n), m_candidates.resize(n + 1);
+  m_near.resize(n), m_candidates.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
     const RRigidBody& a = bodies[i];
@@ -312,11 +312,17 @@ void RIntegrator::WakeMarked(std::vector<RRigidBody>& bodies) {
 // bodies this step) or it is exactly still: a drifting body in space is never stopped.
 void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
   const std::size_t n = bodies.size();
+  bool anyRested = false;
+  std::uint64_t asleep = 0;
   for (std::size_t i = 0; i < n; ++i) {
     RRigidBody& b = bodies[i];
     b.m_staticMoved = false, b.m_slot = static_cast<std::uint32_t>(i), b.m_slotWorld = m_worldId.value;
+    anyRested = anyRested || (!b.m_isStatic && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
+    asleep += b.m_sleeping;
   }
-  if (!m_settings.shortcuts.sleeping) return;
+  m_pairStats.sleepingBodies = asleep;
+  // Islands are built only in a step where some body has rested long enough.
+  if (!m_settings.shortcuts.sleeping || !anyRested) return;
   m_sleepParent.resize(n);
   m_sleepRest.assign(n, std::numeric_limits<RScalar>::infinity());
   m_sleepSupported.assign(n, 0);
@@ -326,14 +332,6 @@ void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
     while (m_sleepParent[i] != i) i = m_sleepParent[i] = m_sleepParent[m_sleepParent[i]];
     return i;
   };
-  bool anyRested = false;
-  std::uint64_t asleep = 0;
-  for (const RRigidBody& b : bodies) {
-    anyRested = anyRested || (!b.m_isStatic && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
-    asleep += b.m_sleeping;
-  }
-  m_pairStats.sleepingBodies = asleep;
-  if (!anyRested) return;
   for (const RContact& c : m_contacts) {
     if (!c.resolved) continue;
     const bool staticA = bodies[c.a].m_isStatic, staticB = bodies[c.b].m_isStatic;
@@ -1025,9 +1023,9 @@ bool RIntegrator::SolveIslandDirect(RPhase phase) {
     // of K whose eigenvalue s is small against it (a heavy body's, about 1/M), and each
     // correction through the same factor multiplies that bias by ridge / (s + ridge). The
     // light body's directions converge at once; at 1:1e7 it takes 5 to 10 corrections, at
-    // 1:1e9 about 34 (x0.67 each); without them the light box is squeezed out. Two
-    // corrections always (fewer let a 0.1 m stack sink into its slop), more while the
-    // velocity residual is above rounding (1e-12 m/s) and falls by at least 5% a pass. At
+    // 1:1e9 about 34 (x0.67 each); without them the light box is squeezed out. Corrections
+    // go on while the velocity residual is above rounding (1e-12 m/s) and falls by at least
+    // 5% a pass. At
     // 1:1e10 it falls by less (x0.95): the loop stops with 0.09 m/s left, and that ratio
     // breaks (README, stability envelope); a per-row ridge, tried, made stacks worse. The
     // corrections leave the null space of four coplanar points alone (its residual is 0).
@@ -1047,7 +1045,7 @@ bool RIntegrator::SolveIslandDirect(RPhase phase) {
         residual[p] = target(m_rows[m_islandIndex[i]]) - v;
         largest = std::max(largest, std::abs(residual[p]));
       }
-      if (pass >= 2 && (largest <= kRefined || !(largest < RScalar(0.95) * previous))) break;
+      if (largest <= kRefined || !(largest < RScalar(0.95) * previous)) break;
       previous = largest;
       EnvelopeCholeskySolve(L, na, na, envelope, residual);
       for (int p = 0; p < na; ++p) x[p] += residual[p];
