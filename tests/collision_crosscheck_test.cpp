@@ -973,3 +973,66 @@ TEST(CollisionAdversarial, SignedDistanceSweepThroughContact) {
     EXPECT_LT(touching, 100);
   }
 }
+
+// Box pairs of size ratio 50 to 1000, touching or up to 0.1 mm deep, on which GJK or EPA
+// could not certify an answer (found by a random search against the exact references). Each
+// gave a wrong answer before the exact fallback: GJK, its closest point lost to rounding on a
+// thin triangle with coordinates in the thousands, said "apart by 8 um" for a pair 0.1 mm
+// deep (Intersect agreed); EPA, at its iteration cap, reported 0.17 m for 0.1 mm by the face
+// normals alone (the deepest axis was an edge pair's).
+TEST(CollisionAdversarial, BoxPairsGjkAndEpaCannotCertify) {
+  const struct {
+    RVec3 halfA, halfB;
+    RQuat q_AB;  // (w, x, y, z)
+    RVec3 t_AB;  // m
+  } cases[] = {
+      {{0x1.1c4ef38c812fdp+3, 0x1.01bd7bba2527p-1, 0x1.799c4f2d260a9p-3},
+       {0x1.9151f7f073675p+7, 0x1.17579110bf57ep+11, 0x1.2e59d7a6abe01p+6},
+       {0x1.12998ea5279b2p-1, 0x1.d72503e0acb14p-2, 0x1.152f02c9e3db7p-1, 0x1.d2891a7dfcc2fp-2},
+       {-0x1.514e085320674p+6, -0x1.7ba13a185c5a3p+7, 0x1.4653525f01fc1p+4}},
+      {{0x1.8ba84c4cc9874p+1, 0x1.25f3986c0d2b7p-2, 0x1.109594dbcb9a9p+0},
+       {0x1.3c1ba5ec1d009p+8, 0x1.fc695ceb606b4p+5, 0x1.ed24b087d01a5p+4},
+       {0x1.c7e87858e830bp-2, -0x1.1238d7f495b57p-2, 0x1.0f49e961fcbb2p-1, 0x1.573258e371f6p-1},
+       {-0x1.59bb6e5e5afap+6, -0x1.fe2065915bfep+3, -0x1.6c1b5506857aep+4}},
+      {{0x1.0696bf8071e75p-1, 0x1.90380c91a2ce1p-3, 0x1.b96fddf645a3ep-4},
+       {0x1.33a89f2251ff2p+7, 0x1.82ee52e981bc6p+12, 0x1.222ccc59298c1p+9},
+       {0x1.e27d2fc5a4c7fp-3, -0x1.23c3e9aad38ddp-2, 0x1.6e85ceafa0202p-1, 0x1.2f4585f28a7acp-1},
+       {-0x1.ef38becae0732p+8, -0x1.ee77d37209cfep+8, 0x1.fb07a2e0ba688p+8}},
+      {{0x1.0156d9f5490eep-1, 0x1.4336df1cf947dp+1, 0x1.013145ae9bc4dp-1},
+       {0x1.58e3a4b8a6c4p+7, 0x1.21e459f264101p+3, 0x1.a9f6d259aeed3p+3},
+       {0x1.aac3a1bb63c33p-1, -0x1.ae6bb0e3c565bp-4, 0x1.0b083c922f759p-1, 0x1.31092ccf2f2e2p-3},
+       {-0x1.387d289ee289fp+4, -0x1.37720bf49f3edp+4, 0x1.4dee557263c59p+4}},
+      {{0x1.3b7be8ae6b9fap+2, 0x1.7059db2db44abp-1, 0x1.064fa1b5e19acp-3},
+       {0x1.9c2a67ed8a5e5p+9, 0x1.be4f78288a2b4p+8, 0x1.45bbdaa07ccdp+10},
+       {-0x1.534626a1ed801p-2, -0x1.5148eeb81f2ep-1, -0x1.34fcbb0877e0ap-1, -0x1.36b24d30e397ap-2},
+       {-0x1.8cacf6a852e39p+8, -0x1.8ce1b8a026b11p+9, 0x1.92d1cbe3b934ap+8}},
+  };
+  for (const auto& c : cases) {
+    const BodySpec a{BoxShape(c.halfA), RVec3::Zero()};
+    const BodySpec b{BoxShape(c.halfB), c.t_AB, c.q_AB.normalized()};
+    const Reference ref = ReferenceFor(a, b);
+    ASSERT_LT(ref.separation, ref.band) << "the cases are all touching or overlapping";
+    CheckAtOffsets("boxes GJK/EPA cannot certify", a, b, ref);
+  }
+}
+
+// From the issue: a 26 x 1.15 x 1 m box exactly touching (gap 2.3e-13 m) a static
+// 390 x 4000 x 3600 m box along an edge, whose normal cone holds many right answers.
+TEST(CollisionAdversarial, BoxTouchingAHugeBoxAlongAnEdge) {
+  const BodySpec box{BoxShape(RVec3(13.117647055900639, 0.57617071270942688, 0.50029640259522512)),
+                     RVec3(0x1.9b9b9b984cp-1, -0x1.fffffffbf4p-1, -0x1.efb3b3b3b3b3bp-1),
+                     RQuat(0x1.1f80e1b73b9fp-1, -0x1.308cc2e6e5b98p-1, 0x1.fe82356c338bcp-4,
+                           0x1.1f82ffc2343cdp-1)};
+  const BodySpec huge{BoxShape(RVec3(195.29190067006274, 1999.2532169117646, 1808.8235294117646)),
+                      RVec3(-0x1.7d87098eb48f4p+7, 0x1.f53292975567fp+10, -0x1.c724207b31cbap+10)};
+  for (const auto& [a, b] : {std::pair(box, huge), std::pair(huge, box)}) {
+    const Reference ref = ReferenceFor(a, b);
+    ASSERT_LT(std::abs(ref.separation), ref.band);
+    for (const OffsetAnswer& ans : CheckAtOffsets("box touching a huge box", a, b, ref)) {
+      EXPECT_EQ(ans.r.status, RCollisionStatus::kTouching);
+      // The manifold's points are where the surfaces touch: no depth beyond the band.
+      for (int i = 0; i < ans.manifold.pointCount; ++i)
+        EXPECT_GE(ans.manifold.points[i].separation, -ref.band - 4 * Ulp(ans.offset));
+    }
+  }
+}

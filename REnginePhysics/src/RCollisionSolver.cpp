@@ -2,6 +2,7 @@
 #include <REnginePhysics/RRigidBody.h>
 
 #include "RGjkEpa.h"
+#include "RPolyhedronExact.h"
 
 #include <algorithm>
 #include <limits>
@@ -58,8 +59,14 @@ void PointInsidePolyhedron(const RConvexPolyhedron& p, const RVec3& c, RVec3& ou
   }
 }
 
-// Polyhedron A against sphere B (radius rb, centre t in A's frame); `flip` when the sphere
-// is really A: then the result is mirrored back.
+// Whether GJK's answer for separated cores is certain to within the touching band (and a
+// part in 1e9 of the distance, for pairs far apart): its upper and lower bounds meet.
+bool Certified(const RGjkResult& g, RScalar band) {
+  return g.converged && !g.overlap &&
+         g.distance - g.lowerBound <= band + RCollisionSolver::kTouchingTolerance * g.distance;
+}
+
+// Polyhedron A against sphere B (radius rb, centre t in A's frame).
 RDistanceResult PolyhedronSphere(const RConvexShape& poly, const RConvexShape& sphere,
                                  const RRelativePose& X, RPairSupport& sup) {
   RDistanceResult r;
@@ -67,22 +74,24 @@ RDistanceResult PolyhedronSphere(const RConvexShape& poly, const RConvexShape& s
   r.gjkIterations = g.iterations;
   const RVec3 c = X.t_AB;
   const RScalar band = Band(poly, sphere);
-  if (!g.overlap && g.distance > band) {
-    r.normal = SafeDirection(c - g.witnessA, RVec3::UnitX());
-    r.separation = g.distance - sphere.radius;
+  RScalar s = 0;
+  RVec3 outward = RVec3::UnitX();
+  if (Certified(g, band) && g.distance > band) {
+    s = g.distance;
+    outward = SafeDirection(c - g.witnessA, RVec3::UnitX());
     r.witnessA = g.witnessA;
-    r.witnessB = c - sphere.radius * r.normal;
-  } else {
-    RVec3 outward = RVec3::UnitX();
-    RScalar s = 0;
+  } else if (g.overlap || Certified(g, band)) {
+    // The centre is inside or within the band.
     PointInsidePolyhedron(*poly.polyhedron, c, outward, s);
     s = std::min(s, RScalar(0));
-    r.normal = outward;
-    r.separation = s - sphere.radius;
     r.witnessA = c - s * outward;  // the centre's projection onto that face
-    r.witnessB = c - sphere.radius * outward;
+  } else {  // GJK could not certify its answer: the closest feature by enumeration
+    ExactPointPolyhedron(*poly.polyhedron, c, s, r.witnessA, outward);
   }
-  r.status = g.converged ? StatusOf(r.separation, band) : RCollisionStatus::kIterationCap;
+  r.normal = outward;
+  r.separation = s - sphere.radius;
+  r.witnessB = c - sphere.radius * outward;
+  r.status = StatusOf(r.separation, band);
   return r;
 }
 
@@ -111,33 +120,17 @@ bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
   if (!a.polyhedron && !b.polyhedron) {
     return X_AB.t_AB.norm() - a.radius - b.radius <= band;
   }
-  if (!a.polyhedron || !b.polyhedron) return Distance(a, b, X_AB).separation <= band;
-  RPairSupport sup(a, b, X_AB);
-  const RGjkResult g = Gjk(sup, true);
-  return g.overlap || (!g.converged) || g.distance <= band;
+  if (a.polyhedron && b.polyhedron) {
+    // GJK's early answers are certain: a plane that separates them by more than the band,
+    // or a simplex that encloses the origin. Anything else gets the full query, so that
+    // Intersect and Distance never disagree.
+    RPairSupport sup(a, b, X_AB);
+    const RGjkResult g = Gjk(sup, true);
+    if (g.overlap) return true;
+    if (g.converged && g.lowerBound > band) return false;
+  }
+  return Distance(a, b, X_AB).separation <= band;
 }
-
-namespace {
-
-// The largest separation over the face normals of A and of B (A's frame; normal from A to
-// B), with the support points along it as witnesses.
-void FaceAxes(const RConvexPolyhedron& a, const RConvexPolyhedron& b, const RRelativePose& X_AB,
-              RPairSupport& sup, RDistanceResult& r) {
-  RScalar best = -std::numeric_limits<RScalar>::infinity();
-  RVec3 bestN = RVec3::UnitX();
-  auto axis = [&](const RVec3& n) {
-    const RScalar s = n.dot(sup.SupportB(-n)) - n.dot(sup.SupportA(n));
-    if (s > best) best = s, bestN = n;
-  };
-  for (const RFace& f : a.Faces()) axis(f.plane.normal);
-  for (const RFace& f : b.Faces()) axis(-(X_AB.R_AB * f.plane.normal));
-  r.separation = best;
-  r.normal = bestN;
-  r.witnessA = sup.SupportA(bestN);
-  r.witnessB = sup.SupportB(-bestN);
-}
-
-}  // namespace
 
 RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexShape& b,
                                            const RRelativePose& X_AB) {
@@ -154,12 +147,7 @@ RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexS
   const RScalar band = Band(a, b);
   const RGjkResult g = Gjk(sup, false);
   r.gjkIterations = g.iterations;
-  if (!g.converged) {
-    r.status = RCollisionStatus::kIterationCap;
-    r.separation = g.distance;
-    return r;
-  }
-  if (!g.overlap) {
+  if (Certified(g, band)) {
     r.separation = g.distance;
     r.normal = SafeDirection(-g.closest, SafeDirection(X_AB.t_AB, RVec3::UnitX()));
     r.witnessA = g.witnessA;
@@ -167,21 +155,25 @@ RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexS
     r.status = StatusOf(r.separation, band);
     return r;
   }
-  const REpaResult e = EpaPenetration(sup, g);
-  r.epaIterations = e.iterations;
-  if (!e.converged) {
-    // EPA found no face: the origin lies on D's boundary to rounding (boxes resting face on
-    // face overlap by 1e-13 m, and the polytope is flat to rounding). Separating axes over
-    // both shapes' face normals answer there: exactly when a face is in contact, which is
-    // this case; an upper bound on the depth otherwise (edge pairs are not tried).
-    FaceAxes(*a.polyhedron, *b.polyhedron, X_AB, sup, r);
-    r.status = StatusOf(r.separation, band);
-    return r;
+  if (g.overlap) {
+    const REpaResult e = EpaPenetration(sup, g);
+    r.epaIterations = e.iterations;
+    if (e.converged) {
+      r.separation = -e.depth;
+      r.normal = e.normal;
+      r.witnessA = e.witnessA;
+      r.witnessB = e.witnessB;
+      r.status = StatusOf(r.separation, band);
+      return r;
+    }
   }
-  r.separation = -e.depth;
-  r.normal = e.normal;
-  r.witnessA = e.witnessA;
-  r.witnessB = e.witnessB;
+  // Neither GJK nor EPA could certify an answer (EPA found no face: boxes resting face on
+  // face overlap by 1e-13 m and the polytope is flat to rounding; GJK's simplex lost the
+  // closest point to rounding on a thin triangle with coordinates in the thousands; an
+  // iteration cap): the exact answer by enumeration.
+  const int gjkIterations = r.gjkIterations, epaIterations = r.epaIterations;
+  r = ExactPolyhedra(*a.polyhedron, *b.polyhedron, X_AB);
+  r.gjkIterations = gjkIterations, r.epaIterations = epaIterations;
   r.status = StatusOf(r.separation, band);
   return r;
 }

@@ -177,6 +177,7 @@ RGjkResult Gjk(RPairSupport& sup, bool booleanOnly) {
   const RScalar size = sup.a.boundingRadius + sup.b.boundingRadius;
   // Below this |v| the origin is on D's boundary to rounding: touching.
   const RScalar vanishing = 1e-14 * size;
+  const RScalar band = RCollisionSolver::kTouchingTolerance * size;
   Simplex s;
   RVec3 d = sup.X.t_AB;  // first guess: the line between the centres
   if (d.squaredNorm() == 0) d = RVec3::UnitX();
@@ -197,9 +198,11 @@ RGjkResult Gjk(RPairSupport& sup, bool booleanOnly) {
     const RVec3 a = sup.SupportA(-v), b = sup.SupportB(v);
     const RVec3 w = a - b;
     const RScalar vw = v.dot(w);
-    if (booleanOnly && vw > 0) {  // v separates the origin from D: disjoint
+    const RScalar norm = std::sqrt(vv);
+    r.lowerBound = std::max(r.lowerBound, vw / norm);
+    if (booleanOnly && r.lowerBound > band) {  // the plane normal to v separates them
       r.overlap = false;
-      r.distance = std::sqrt(vv);  // an upper bound only
+      r.distance = norm;  // an upper bound only
       r.converged = true;
       return r;
     }
@@ -347,14 +350,10 @@ REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
   RSimplexPoint start[4];
   int n = gjk.simplexSize;
   for (int i = 0; i < n; ++i) start[i] = gjk.simplex[i];
-  if (n < 4 && !CompleteTetrahedron(sup, start, n, 1e-12 * size)) {
-    // D is flat to rounding: the shapes only touch.
-    r.converged = true;
-    r.depth = 0;
-    r.normal = sup.X.t_AB.squaredNorm() > 0 ? sup.X.t_AB.normalized() : RVec3::UnitX();
-    r.witnessA = r.witnessB = start[0].a;
-    return r;
-  }
+  // No tetrahedron of D encloses the origin with room to spare: D is flat to rounding
+  // around it, and no direction found here is the contact's normal (the line between the
+  // centres, used once, was 25 degrees off for a box touching a wall): no verdict.
+  if (n < 4 && !CompleteTetrahedron(sup, start, n, 1e-12 * size)) return r;
   for (int i = 0; i < 4; ++i) e.verts[i] = start[i];
   e.nv = 4;
   // Orient the tetrahedron's faces outward.

@@ -3,6 +3,8 @@
 
 #include <REnginePhysics/RCollision.h>
 
+#include <limits>
+
 namespace REngine {
 
 // Support mapping of the pair in A's frame, with the last support vertex of each shape kept
@@ -29,7 +31,10 @@ struct RSimplexPoint {
 struct RGjkResult {
   bool overlap = false;    // the origin is inside D (or within rounding of it)
   bool converged = false;  // false: the iteration cap was hit
-  RScalar distance = 0;    // |v| when apart
+  RScalar distance = 0;    // |v| when apart: an upper bound on the distance
+  // The largest v.w / |v| seen: the support plane of D normal to v, a lower bound on the
+  // distance. The answer is certain to within distance - lowerBound.
+  RScalar lowerBound = -std::numeric_limits<RScalar>::infinity();
   RVec3 closest = RVec3::Zero();  // v = witnessA - witnessB
   RVec3 witnessA = RVec3::Zero(), witnessB = RVec3::Zero();
   int iterations = 0;
@@ -38,10 +43,13 @@ struct RGjkResult {
 };
 
 // GJK on the cores of the two shapes (spheres are points here). booleanOnly: stop at the
-// first separating direction (distance is then only an upper bound).
+// first direction that separates them by more than the touching band (distance is then only
+// an upper bound, lowerBound above the band).
 RGjkResult Gjk(RPairSupport& support, bool booleanOnly);
 
 struct REpaResult {
+  // false: no verdict (the polytope could not be started or grown, or the iteration cap):
+  // the caller answers another way.
   bool converged = false;
   RScalar depth = 0;               // m, >= 0
   RVec3 normal = RVec3::UnitX();   // from A to B
