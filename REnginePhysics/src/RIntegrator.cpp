@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace REngine {
 
@@ -54,6 +56,10 @@ double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(
 }  // namespace
 
 void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
+  if (!(std::isfinite(dt) && dt > 0)) {
+    throw std::invalid_argument("RIntegrator::Update: dt must be finite and > 0 (got " +
+                                std::to_string(dt) + ")");
+  }
   const auto t0 = Clock::now();
   m_cacheStamp = NextCacheStamp();
   ++m_stepCount;
@@ -734,11 +740,14 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     w.point_A = bodies[r.a].m_q_WB.conjugate() * (p.position - bodies[r.a].m_x_W);
     w.lambdaN = r.lambdaN;
     w.lambdaE = r.lambdaE;
+    bool finite = std::isfinite(w.lambdaN) && std::isfinite(w.lambdaE) && AllFinite(w.point_A);
     for (int ph = 0; ph < 2; ++ph) {
       w.tangentImpulse[ph] = blk.lambdaT1[ph] * blk.t[0].d + blk.lambdaT2[ph] * blk.t[1].d;
       w.twistImpulse[ph] = blk.lambdaTwist[ph];
+      finite = finite && AllFinite(w.tangentImpulse[ph]) && std::isfinite(w.twistImpulse[ph]);
     }
-    m_warmNext.push_back(w);
+    // A step that overflowed must not seed the next one (its bodies are put back).
+    if (finite) m_warmNext.push_back(w);
   }
   for (const RBlock& blk : m_blocks) {
     const RContactRow& r = m_rows[blk.first];
@@ -1433,6 +1442,7 @@ void RIntegrator::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase 
 
 void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
+  m_nonFiniteLast.clear();
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     RRigidBody& b = bodies[i];
     // A sleeping body has no velocity, and nothing touched it: it stays where it is.
@@ -1503,8 +1513,26 @@ void RIntegrator::UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt) {
     if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
           AllFinite(b.m_q_WB))) {
       b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0;
-      if (!m_nonFinite) m_nonFinite = RNonFiniteBody{i, b.m_name, m_stepCount};
+      b.m_restTime = 0;
+      m_nonFiniteLast.push_back(RNonFiniteBody{i, b.m_name, m_stepCount});
+      if (!m_nonFinite) m_nonFinite = m_nonFiniteLast.back();
     }
+  }
+  // A body put back lost this step's impulses, and the contact memory of its pairs holds
+  // what made it overflow: started warm from that, it would overflow again every step.
+  if (!m_nonFiniteLast.empty()) {
+    auto reverted = [this](std::uint32_t i) {
+      for (const RNonFiniteBody& nf : m_nonFiniteLast) {
+        if (nf.bodyIndex == i) return true;
+      }
+      return false;
+    };
+    m_warm.erase(std::remove_if(m_warm.begin(), m_warm.end(),
+                                [&](const RWarmStart& w) {
+                                  return reverted(static_cast<std::uint32_t>(w.pair >> 32)) ||
+                                         reverted(static_cast<std::uint32_t>(w.pair));
+                                }),
+                 m_warm.end());
   }
 }
 

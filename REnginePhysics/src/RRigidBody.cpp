@@ -98,8 +98,11 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   SetAngularVelocity_W(def.angularVelocity_W);
 }
 
-void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q_WS) {
-  m_q_WB = q_WS * m_q_BS.conjugate();
+void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q) {
+  Require(AllFinite(position_W), "position", "must be finite");
+  const std::optional<RQuat> q_WS = QuatNormalized(q);
+  Require(q_WS.has_value(), "orientation", "must be a finite quaternion of non-zero length");
+  m_q_WB = *q_WS * m_q_BS.conjugate();
   m_q_WB.normalize();
   m_x_W = position_W - m_q_WB * m_p_BS;
   m_worldForm.stamp = 0;  // moved outside a step: the cached world form is stale
@@ -154,24 +157,61 @@ void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
 }
 
 void RRigidBody::SetVelocity_W(const RVec3& v_W) {
+  Require(AllFinite(v_W), "velocity", "must be finite");
   if (!m_isStatic) m_v_W = v_W;
   Wake();
 }
 
 void RRigidBody::SetAngularVelocity_W(const RVec3& w_W) {
+  Require(AllFinite(w_W), "angular_velocity", "must be finite");
   if (!m_isStatic) m_w_B = m_q_WB.conjugate() * w_W;
   Wake();
 }
 
+namespace {
+// acc + x, refused when x or the sum is not finite: one overflowing force would otherwise
+// turn every body it touches non-finite in the next step.
+RVec3 FiniteSum(const RVec3& acc, const RVec3& x, const char* field) {
+  const RVec3 sum = acc + x;
+  Require(AllFinite(x), field, "must be finite");
+  Require(AllFinite(sum), field, "makes the accumulated sum overflow");
+  return sum;
+}
+}  // namespace
+
+void RRigidBody::AddForce_W(const RVec3& f_W) {
+  m_force_W = FiniteSum(m_force_W, f_W, "force");
+  WakeIfNonZero(f_W);
+}
+
+void RRigidBody::AddTorque_W(const RVec3& t_W) {
+  m_torque_W = FiniteSum(m_torque_W, t_W, "torque");
+  WakeIfNonZero(t_W);
+}
+
+void RRigidBody::AddImpulse_W(const RVec3& j_W) {
+  m_linearImpulse_W = FiniteSum(m_linearImpulse_W, j_W, "impulse");
+  WakeIfNonZero(j_W);
+}
+
+void RRigidBody::AddAngularImpulse_W(const RVec3& h_W) {
+  m_angularImpulse_W = FiniteSum(m_angularImpulse_W, h_W, "angular_impulse");
+  WakeIfNonZero(h_W);
+}
+
 void RRigidBody::AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W) {
-  m_force_W += f_W;
-  m_torque_W += (p_W - m_x_W).cross(f_W);
+  Require(AllFinite(p_W), "point", "must be finite");
+  const RVec3 force = FiniteSum(m_force_W, f_W, "force");
+  m_torque_W = FiniteSum(m_torque_W, (p_W - m_x_W).cross(f_W), "force");
+  m_force_W = force;
   WakeIfNonZero(f_W);
 }
 
 void RRigidBody::AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W) {
-  m_linearImpulse_W += j_W;
-  m_angularImpulse_W += (p_W - m_x_W).cross(j_W);
+  Require(AllFinite(p_W), "point", "must be finite");
+  const RVec3 impulse = FiniteSum(m_linearImpulse_W, j_W, "impulse");
+  m_angularImpulse_W = FiniteSum(m_angularImpulse_W, (p_W - m_x_W).cross(j_W), "impulse");
+  m_linearImpulse_W = impulse;
   WakeIfNonZero(j_W);
 }
 

@@ -82,7 +82,9 @@ struct RStepProfile {
 };
 
 // A body whose state stopped being finite: which, and in which step (1-based count of
-// Update calls on this integrator). The body is left at its last finite state.
+// Update calls on this integrator). The body is left at its last finite state, its pending
+// forces and impulses are dropped, and so is the contact memory of its pairs, so the next
+// step starts it afresh.
 struct RNonFiniteBody {
   std::size_t bodyIndex = 0;
   std::string bodyName;
@@ -134,7 +136,9 @@ class RIntegrator {
   RIntegrator() = default;
   explicit RIntegrator(const RWorldSettings& settings) : m_settings(settings) {}
 
-  // Advances every body by dt seconds (dt > 0). Bodies may be added or removed by the game
+  // Advances every body by dt seconds. dt must be finite and > 0: anything else throws
+  // std::invalid_argument before anything moves (a negative dt would run time backwards,
+  // zero would divide by zero). Bodies may be added or removed by the game
   // between calls; contact memory (warm starts) is keyed by index and forgotten when the
   // count changes.
   void Update(std::vector<RRigidBody>& bodies, RScalar dt);
@@ -153,6 +157,8 @@ class RIntegrator {
   std::uint64_t CacheStamp() const { return m_cacheStamp; }
   // The first body that became non-finite, if any; stepping continues for the others.
   const std::optional<RNonFiniteBody>& NonFinite() const { return m_nonFinite; }
+  // Every body that became non-finite in the last Update (and was put back), in index order.
+  const std::vector<RNonFiniteBody>& NonFiniteInLastStep() const { return m_nonFiniteLast; }
 
   // Contacts found by the last Update (valid until the next), in pair order (a, then b).
   const std::vector<RContact>& Contacts() const { return m_contacts; }
@@ -266,6 +272,7 @@ class RIntegrator {
   std::uint64_t m_stepCount = 0;
   std::uint64_t m_cacheStamp = 0;
   std::optional<RNonFiniteBody> m_nonFinite;
+  std::vector<RNonFiniteBody> m_nonFiniteLast;
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
   std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static

@@ -143,20 +143,23 @@ class RRigidBody {
 
   // Setters for game code between steps. Velocities are ignored on static bodies. Each
   // wakes the body, and with it its island (RWorldSettings::RShortcuts::sleeping); moving a
-  // static body wakes every sleeping body.
+  // static body wakes every sleeping body. Invalid values are refused at the door: a
+  // non-finite position, velocity or quaternion, or a quaternion of zero length (q_WS is
+  // normalised), throws RBodyError naming the argument and leaves the body as it was.
   void SetShapePose(const RVec3& position_W, const RQuat& q_WS);
   void SetVelocity_W(const RVec3& v_W);
   void SetAngularVelocity_W(const RVec3& w_W);
 
   // Accumulators, cleared by each step after use. Forces and torques act over the whole
   // next step (N, N m, world frame); impulses act at its start (N s, N m s, world frame).
-  // A non-zero one wakes the body and its island.
-  void AddForce_W(const RVec3& f_W) { m_force_W += f_W, WakeIfNonZero(f_W); }
-  void AddTorque_W(const RVec3& t_W) { m_torque_W += t_W, WakeIfNonZero(t_W); }
+  // A non-zero one wakes the body and its island. A non-finite argument, or one that makes
+  // the accumulated sum overflow, throws RBodyError and changes nothing.
+  void AddForce_W(const RVec3& f_W);
+  void AddTorque_W(const RVec3& t_W);
   // Force at a world point: the force plus its torque about the centre of mass.
   void AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W);
-  void AddImpulse_W(const RVec3& j_W) { m_linearImpulse_W += j_W, WakeIfNonZero(j_W); }
-  void AddAngularImpulse_W(const RVec3& h_W) { m_angularImpulse_W += h_W, WakeIfNonZero(h_W); }
+  void AddImpulse_W(const RVec3& j_W);
+  void AddAngularImpulse_W(const RVec3& h_W);
   void AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W);
 
   // Sleeping (RWorldSettings::RShortcuts::sleeping): a sleeping body is not moved, and its
