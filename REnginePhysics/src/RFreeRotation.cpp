@@ -17,6 +17,15 @@ constexpr RScalar kGaussWeight[3] = {RScalar(5) / 18, RScalar(8) / 18, RScalar(5
 // Largest phase |lambda h| one quadrature panel spans: 3-point Gauss-Legendre's error is
 // ~phase^7 / 2e6 relative, below 1e-16 at 0.25 rad.
 constexpr RScalar kMaxPanelPhase = RScalar(0.25);
+// Panels at most, per integral: a period spans 4 K(m) of phase, 26 panels on a round
+// polhode and 320 at 1 - m = 1e-16; only a step exactly on the separatrix (no period) could
+// ask for more, and gets this many (its precession then less accurate, its work bounded).
+constexpr int kMaxPanels = 4096;
+
+int Panels(RScalar phase) {
+  return static_cast<int>(std::clamp(std::ceil(phase / kMaxPanelPhase), RScalar(1),
+                                     RScalar(kMaxPanels)));
+}
 
 bool NearlyEqual(RScalar x, RScalar y) {
   return std::abs(x - y) <= RTol::kEqualMoments * std::max(x, y);
@@ -64,6 +73,9 @@ void RFreeRotation::SetInertia(const RVec3& I_B) {
 // the difference of two large numbers, so nothing cancels that the physics does not make
 // sensitive. 1 - k^2 is computed on its own for the same reason.
 bool RFreeRotation::ComputeConstants(RScalar h, const RVec3& w_B) {
+  // A non-finite omega has no polhode: the caller's fallback carries the NaN to the
+  // integrator, which puts the body back and reports it.
+  if (!AllFinite(w_B) || !std::isfinite(h)) return false;
   const RVec3& I = m_I_B;
   // Every formula below is homogeneous in L: work with L / max|L_i| so that squares of
   // tiny components (1e-165) do not underflow to zero and divide it by itself.
@@ -108,16 +120,36 @@ bool RFreeRotation::ComputeConstants(RScalar h, const RVec3& w_B) {
   // The precession angle is integrated by Gauss-Legendre on panels short enough in phase
   // (|lambda h| / panels <= kMaxPanelPhase) for its O(phase^7) error to stay at rounding
   // level; one panel at game rates, more for a body spinning at hundreds of rad/s.
-  const RScalar phase = std::abs(m_lambda * h);
-  m_panels = std::max(1, static_cast<int>(std::ceil(phase / kMaxPanelPhase)));
-  const RScalar hp = h / m_panels;
+  const RScalar rate = std::abs(m_lambda);
+  if (!std::isfinite(rate)) return false;
+  m_periods = 0, m_psiPeriod = 0, m_hRest = h;
+  // A period is at least 2 pi of phase (K >= pi / 2): only beyond that can whole periods fit.
+  // (h < 0 runs the flow backwards: whole periods are counted negative.)
+  if (rate * std::abs(h) > 2 * kPi) {
+    const RScalar period = 4 * EllipticK(m_mc) / rate;  // s
+    if (std::isfinite(period) && period > 0 && period <= std::abs(h)) {
+      m_periods = std::copysign(std::floor(std::abs(h) / period), h);
+      m_hRest = h - m_periods * period;
+      const int panels = m_periodPanels = Panels(rate * period);
+      const RScalar hp = period / panels;
+      RJacobiSnCnDn nodes[3];
+      for (int j = 0; j < 3; ++j) {
+        const RScalar offset = RScalar(0.5) + (j - 1) * kGaussOffset;
+        nodes[j] = JacobiSnCnDn(m_lambda * (offset * hp), m_m, m_mc);
+      }
+      m_psiPeriod = PsiIntegral(m_phase, panels, nodes, JacobiSnCnDn(m_lambda * hp, m_m, m_mc),
+                                period);
+    }
+  }
+  m_panels = Panels(rate * std::abs(m_hRest));
+  const RScalar hp = m_hRest / m_panels;
   // Each offset evaluated on its own: building h from h/2 by the addition theorem costs
   // less but rounds the state's phase twice per step, which the separatrix amplifies
   // (measured: 17x the orientation error on the Dzhanibekov scene).
   m_node[0] = JacobiSnCnDn(m_lambda * ((RScalar(0.5) - kGaussOffset) * hp), m_m, m_mc);
   m_node[1] = JacobiSnCnDn(m_lambda * (RScalar(0.5) * hp), m_m, m_mc);
   m_node[2] = JacobiSnCnDn(m_lambda * ((RScalar(0.5) + kGaussOffset) * hp), m_m, m_mc);
-  m_end = JacobiSnCnDn(m_lambda * h, m_m, m_mc);
+  m_end = JacobiSnCnDn(m_lambda * m_hRest, m_m, m_mc);
   m_panelStep = m_panels > 1 ? JacobiSnCnDn(m_lambda * hp, m_m, m_mc) : m_end;
   m_cacheH = h;
   return true;
@@ -167,32 +199,13 @@ void RFreeRotation::Advance(RScalar h, RVec3& w_B, RQuat& q_WB) {
     }
     m_align0 = QuatFromTo(I.cwiseProduct(w_B) * m_invM, PoleAxis());
   }
-  const int a = m_a, b = m_b, c = m_c;
   const RScalar m = m_m;
-  auto omegaOf = [&](const RJacobiSnCnDn& j) {
-    RVec3 w;
-    w[a] = m_amp[0] * j.cn;
-    w[b] = m_amp[1] * j.sn;
-    w[c] = m_signC * m_amp[2] * j.dn;
-    return w;
-  };
   const RVec3 e = PoleAxis();
-
-  // psi' = omega . (l + e) / (1 + l . e), integrated by Gauss-Legendre on each panel.
-  RScalar dPsi = 0;
-  RJacobiSnCnDn panelStart = m_phase;
-  for (int p = 0; p < m_panels; ++p) {
-    if (p > 0) panelStart = Add(panelStart, m_panelStep, m);
-    for (int j = 0; j < 3; ++j) {
-      const RVec3 w = omegaOf(Add(panelStart, m_node[j], m));
-      const RVec3 l = I.cwiseProduct(w) * m_invM;
-      dPsi += kGaussWeight[j] * (w.dot(l + e) / (1 + l.dot(e)));
-    }
-  }
-  dPsi *= h / m_panels;
+  const RScalar dPsi = PsiIntegral(m_phase, m_panels, m_node, m_panelStep, m_hRest) +
+                       m_periods * m_psiPeriod;
 
   const RJacobiSnCnDn phase1 = Add(m_phase, m_end, m);
-  const RVec3 w1 = omegaOf(phase1);
+  const RVec3 w1 = OmegaOf(phase1);
   // q1 = q0 m(l0)^-1 Rot(e, dPsi) m(l1): maps l1 to where q0 mapped l0, so L_W is fixed.
   // m(l1) is next step's m(l0) while the polhode is unchanged.
   const RQuat align1 = QuatFromTo(I.cwiseProduct(w1) * m_invM, e);
@@ -204,6 +217,32 @@ void RFreeRotation::Advance(RScalar h, RVec3& w_B, RQuat& q_WB) {
   m_phase = phase1;
   m_cacheW_B = w_B;
   m_cacheValid = true;
+}
+
+RVec3 RFreeRotation::OmegaOf(const RJacobiSnCnDn& j) const {
+  RVec3 w;
+  w[m_a] = m_amp[0] * j.cn;
+  w[m_b] = m_amp[1] * j.sn;
+  w[m_c] = m_signC * m_amp[2] * j.dn;
+  return w;
+}
+
+// psi' = omega . (l + e) / (1 + l . e), integrated by Gauss-Legendre on each panel.
+RScalar RFreeRotation::PsiIntegral(const RJacobiSnCnDn& start, int panels,
+                                   const RJacobiSnCnDn* nodes, const RJacobiSnCnDn& panelStep,
+                                   RScalar length) const {
+  const RVec3 e = PoleAxis();
+  RScalar psi = 0;
+  RJacobiSnCnDn panelStart = start;
+  for (int p = 0; p < panels; ++p) {
+    if (p > 0) panelStart = Add(panelStart, panelStep, m_m);
+    for (int j = 0; j < 3; ++j) {
+      const RVec3 w = OmegaOf(Add(panelStart, nodes[j], m_m));
+      const RVec3 l = m_I_B.cwiseProduct(w) * m_invM;
+      psi += kGaussWeight[j] * (w.dot(l + e) / (1 + l.dot(e)));
+    }
+  }
+  return psi * (length / panels);
 }
 
 }  // namespace REngine

@@ -46,6 +46,10 @@ class RFreeRotation {
   // frame, rad/s; q_WB: body-to-world rotation. h may be negative (runs time backwards).
   void Advance(RScalar h, RVec3& w_B, RQuat& q_WB);
 
+  // Quadrature panels the last general-case step integrated (its cost): at most
+  // 2 x 4096 however fast the body spins (see m_periods).
+  int QuadraturePanels() const { return m_panels + (m_periods > 0 ? m_periodPanels : 0); }
+
  private:
   // Fills the polhode's constants for (h, w_B); false for a steady spin (omega constant).
   bool ComputeConstants(RScalar h, const RVec3& w_B);
@@ -78,7 +82,21 @@ class RFreeRotation {
   RJacobiSnCnDn m_phase;             // Jacobi functions at the last output's phase
   RJacobiSnCnDn m_node[3];           // at the phase offsets of a panel's 3 Gauss nodes
   RJacobiSnCnDn m_panelStep;         // at the phase offset of one panel
-  RJacobiSnCnDn m_end;               // at the phase offset of the whole step
+  RJacobiSnCnDn m_end;               // at the phase offset of the step less its periods
+  // A step longer than a period of the polhode (a fast spin: 1e8 rad/s, or a 4 mm box given
+  // 100 N m): omega is periodic, so the precession over a whole period is the same from any
+  // phase. The step is m_periods whole periods of m_psiPeriod each and a remainder m_hRest
+  // integrated by panels, so its work is bounded by one period's panels however fast the
+  // body spins. Otherwise m_periods = 0 and m_hRest = h.
+  RScalar m_periods = 0;             // whole periods in a step
+  RScalar m_psiPeriod = 0;           // precession over one period, rad
+  RScalar m_hRest = 0;               // the step less its whole periods, s
+  int m_periodPanels = 0;            // panels of the one-period integral
+  RVec3 OmegaOf(const RJacobiSnCnDn& j) const;
+  // The precession angle over `panels` panels of `length` s from phase `start`, by 3-point
+  // Gauss-Legendre on each (nodes: Jacobi values at the Gauss offsets of one panel).
+  RScalar PsiIntegral(const RJacobiSnCnDn& start, int panels, const RJacobiSnCnDn* nodes,
+                      const RJacobiSnCnDn& panelStep, RScalar length) const;
 };
 
 }  // namespace REngine
