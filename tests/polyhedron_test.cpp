@@ -269,10 +269,12 @@ TEST(Polyhedron, DegenerateInputs) {
   throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(1, 1, 0), RVec3(5, 2, 0)});  // flat
   throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-12)});       // sliver
   throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(NAN, 1, 0), RVec3(0, 0, 1)});         // NaN
-  // Thin but solid (1e-6 of its size) is a valid hull with the exact volume.
+  // Thinner than 1e-4 of its size is a sliver (#11): refused. Thin but solid (1e-3) is a
+  // valid hull with the exact volume.
+  throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-6)});
   const RConvexPolyhedron thin =
-      RConvexPolyhedron::Hull({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-6)});
-  EXPECT_LT(RelErr(thin.MassProperties().volume, 1e-6 / 6), 1e-9);
+      RConvexPolyhedron::Hull({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-3)});
+  EXPECT_LT(RelErr(thin.MassProperties().volume, 1e-3 / 6), 1e-9);
   // A unit cube 1e7 m out keeps its shape.
   std::vector<RVec3> far;
   for (const RVec3& p : BoxCorners(RVec3(0.5, 0.5, 0.5))) far.push_back(p + RVec3(1e7, -1e7, 1e7));
@@ -437,4 +439,99 @@ TEST(Polyhedron, NearCoplanarCloudsGiveTrueCornersAndMergedFaces) {
     EXPECT_EQ(h.Faces().size(), 6u) << trial;
     for (const RFace& f : h.Faces()) EXPECT_EQ(f.vertexCount, 4u) << trial;
   }
+}
+
+// Points of magnitude 1e300 (finite) crashed Qhull (a NULL dereference in qh_normalize2);
+// beyond 1e12 m a hull point is refused with a message, never handed to Qhull.
+TEST(Polyhedron, HugeCoordinatesAreRefused) {
+  for (RScalar big : {1e300, -1e200, 1e13}) {
+    const std::vector<RVec3> p{RVec3(big, 0, 0), RVec3(0, big, 0), RVec3(0, 0, big),
+                               RVec3(big, big, big), RVec3(0, 0, 0)};
+    EXPECT_THROW(RConvexPolyhedron::Hull(p), RHullError) << big;
+  }
+  // 1e11 m is accepted, with the exact volume of the tetrahedron (1e33 / 6 m^3).
+  const RScalar a = 1e11;
+  const RConvexPolyhedron h =
+      RConvexPolyhedron::Hull({RVec3(0, 0, 0), RVec3(a, 0, 0), RVec3(0, a, 0), RVec3(0, 0, a)});
+  EXPECT_LT(RelErr(h.MassProperties().volume, a * a * a / 6), 1e-12);
+}
+
+// Needles and slivers (#11): three points within 1e-9 m of each other and a fourth 10 m
+// away, or clouds flat or straight to 1e-9..1e-5 of their size. Before, about half of such
+// clouds became hulls, some with zero normals, vertices outside their faces or an infinite
+// inertia ratio; a needle dropped on the ground reached 16 km/s. Every one is refused now;
+// clouds just thick enough pass with every invariant of a convex polyhedron.
+TEST(Polyhedron, NeedlesAndSliversAreRefused) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<RScalar> u(-1, 1);
+  int accepted = 0;
+  for (int it = 0; it < 3000; ++it) {
+    std::vector<RVec3> p;
+    const RScalar thickness = std::pow(10.0, -9 + 4 * std::abs(u(rng)));  // of 10 m
+    const int n = 4 + it % 5;
+    switch (it % 3) {
+      case 0: {
+        const RVec3 c(10 * u(rng), 10 * u(rng), 10 * u(rng));
+        for (int k = 0; k < 3; ++k) p.push_back(c + thickness * RVec3(u(rng), u(rng), u(rng)));
+        p.push_back(RVec3(10 * u(rng), 10 * u(rng), 10 * u(rng)));
+        break;
+      }
+      case 1:
+        for (int k = 0; k < n; ++k) p.emplace_back(10 * u(rng), 10 * u(rng), thickness * u(rng));
+        break;
+      default:
+        for (int k = 0; k < n; ++k) p.emplace_back(10 * u(rng), thickness * u(rng), thickness * u(rng));
+    }
+    try {
+      (void)RConvexPolyhedron::Hull(p);
+      ++accepted;
+    } catch (const RHullError&) {
+    }
+  }
+  EXPECT_EQ(accepted, 0);
+  // Boxes as needles: refused by the body, naming the field.
+  RBodyDef needle;
+  needle.shape.type = RShapeType::kBox;
+  needle.shape.halfExtents = RVec3(1e-9, 1e-9, 10);
+  try {
+    RRigidBody body(needle);
+    ADD_FAILURE() << "a 1e-9 m thick needle was accepted";
+  } catch (const RBodyError& e) {
+    EXPECT_EQ(e.Field(), "shape.half_extents");
+  }
+  // A thin rod of 1:1000 is a body (inertia ratio 5e5).
+  needle.shape.halfExtents = RVec3(0.01, 0.01, 10);
+  EXPECT_NO_THROW(RRigidBody{needle});
+}
+
+// Clouds on the edge of acceptance: random points in slabs 1e-4 to 1e-2 of their size
+// thick. Whatever Hull accepts is a closed convex polyhedron: unit normals, V - E + F = 2,
+// every vertex inside every face plane (1e-9 of the size), positive finite volume.
+TEST(Polyhedron, AcceptedHullsAreConvexPolyhedra) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<RScalar> u(-1, 1);
+  int accepted = 0;
+  for (int it = 0; it < 2000; ++it) {
+    const RScalar thickness = std::pow(10.0, -4 + 2 * std::abs(u(rng)));
+    std::vector<RVec3> p;
+    for (int k = 0; k < 4 + it % 30; ++k) p.emplace_back(u(rng), u(rng), thickness * u(rng));
+    RConvexPolyhedron h;
+    try {
+      h = RConvexPolyhedron::Hull(p);
+    } catch (const RHullError&) {
+      continue;
+    }
+    ++accepted;
+    const auto V = static_cast<long>(h.Vertices().size()), E = static_cast<long>(h.Edges().size()),
+               F = static_cast<long>(h.Faces().size());
+    EXPECT_EQ(V - E + F, 2);
+    for (const RFace& f : h.Faces()) {
+      EXPECT_NEAR(f.plane.normal.norm(), 1, 1e-12);
+      for (const RVec3& v : h.Vertices()) EXPECT_LE(f.plane.SignedDistance(v), 1e-9 * 2);
+    }
+    const RPolyhedronMass m = h.MassProperties();
+    EXPECT_TRUE(m.volume > 0 && std::isfinite(m.volume));
+  }
+  // The band is not empty on either side: most such clouds are accepted.
+  EXPECT_GT(accepted, 1000);
 }

@@ -15,9 +15,18 @@ namespace REngine {
 
 namespace {
 
-// Relative thickness below which a cloud counts as flat: a hull thinner than this fraction
-// of its extent has no usable volume or inertia (and its face normals would be noise).
-constexpr RScalar kFlatTolerance = 1e-9;
+// Thinnest hull accepted, as a fraction of its extent (the largest coordinate about its
+// centroid): its width along every face normal must reach this. A thinner one is a needle or
+// a sliver: its inertia about the long axis is tiny against the others (a needle 1e-9 thick
+// dropped on the ground was flung at 16 km/s), and its face normals come from rounding. At
+// 1e-4, a 100 m panel may be 1 cm thick.
+constexpr RScalar kMinThickness = 1e-4;
+// Hull points further than this from the shape frame's origin are refused: beyond it the
+// squares in Qhull's and the mass properties' arithmetic leave the doubles (Qhull crashed on
+// points of 1e300). 1e12 m is far beyond any game object, and its squares stay finite.
+constexpr RScalar kMaxCoordinate = 1e12;
+// Every vertex on or below every face plane, to this fraction of the extent.
+constexpr RScalar kInsideTolerance = 1e-9;
 // Face planes closer than this (unit normals, and offsets relative to the extent) are one
 // plane: 1e-9 rad is far above rounding (1e-14) and far below any modelled bevel.
 constexpr RScalar kCoplanar = 1e-9;
@@ -83,6 +92,9 @@ RConvexPolyhedron RConvexPolyhedron::Hull(const std::vector<RVec3>& points) {
   }
   for (const RVec3& p : points) {
     if (!AllFinite(p)) throw RHullError("a hull point is not finite");
+    if (!(p.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+      throw RHullError("a hull point lies beyond 1e12 m of the shape frame's origin");
+    }
   }
   // Work about the centroid: a cloud 1e7 m from the origin keeps its digits.
   RVec3 centroid = RVec3::Zero();
@@ -252,18 +264,53 @@ RConvexPolyhedron RConvexPolyhedron::Hull(const std::vector<RVec3>& points) {
     poly.m_faces.push_back(face);
   }
 
-  // Reject slivers: thickness (3 V / A ~ smallest width) against the extent.
   poly.BuildTopology();
-  const RPolyhedronMass mass = poly.MassProperties();
-  RScalar area = 0;
-  for (const RFace& f : poly.m_faces) {
-    area += 0.5 * NewellNormal(poly.m_vertices, &poly.m_loops[f.firstVertex], f.vertexCount).norm();
-  }
-  if (!(mass.volume > 0) || 3 * mass.volume / area < kFlatTolerance * extent) {
-    throw RHullError("the points are coplanar within 1e-9 of the cloud's size: a hull needs 4 "
-                     "points that span a solid");
-  }
+  poly.Validate(extent);
   return poly.Transformed(RMat3::Identity(), centroid);
+}
+
+// What the narrow phase and the mass properties rely on, checked on every hull rather than
+// trusted to Qhull and the merging above: unit face normals, a closed surface of the sphere's
+// topology (V - E + F = 2, every edge between two faces), every vertex on or inside every
+// face plane, a width along every face normal of at least kMinThickness of the extent, and
+// finite mass properties of positive volume. Coplanar, collinear and needle-like clouds end
+// here.
+void RConvexPolyhedron::Validate(RScalar extent) const {
+  const auto flat = [] {
+    return RHullError("the points span no solid: the hull is flatter than 1e-4 of its size "
+                      "(coplanar, collinear or needle-like points)");
+  };
+  if (m_faces.size() < 4 || m_vertices.size() < 4) throw flat();
+  RScalar thinnest = std::numeric_limits<RScalar>::infinity();
+  for (const RFace& f : m_faces) {
+    if (!(std::abs(f.plane.normal.norm() - 1) <= 1e-9) || !std::isfinite(f.plane.offset)) {
+      throw flat();
+    }
+    RScalar lowest = f.plane.offset;
+    for (const RVec3& v : m_vertices) {
+      const RScalar s = f.plane.SignedDistance(v);
+      if (!(s <= kInsideTolerance * extent)) {
+        throw RHullError("the points give no consistent convex hull (a vertex lies outside a "
+                         "face): the cloud is degenerate to rounding");
+      }
+      lowest = std::min(lowest, f.plane.normal.dot(v));
+    }
+    thinnest = std::min(thinnest, f.plane.offset - lowest);
+  }
+  if (!(thinnest >= kMinThickness * extent)) throw flat();
+  const auto V = static_cast<long>(m_vertices.size()), E = static_cast<long>(m_edges.size()),
+             F = static_cast<long>(m_faces.size());
+  bool closed = V - E + F == 2;
+  for (const REdge& e : m_edges) closed = closed && e.f0 != e.f1;
+  if (!closed) {
+    throw RHullError("the points give no closed hull (V - E + F != 2): the cloud is "
+                     "degenerate to rounding");
+  }
+  const RPolyhedronMass mass = MassProperties();
+  if (!(mass.volume > 0) || !std::isfinite(mass.volume) || !AllFinite(mass.centroid) ||
+      !AllFinite(mass.inertia)) {
+    throw flat();
+  }
 }
 
 RConvexPolyhedron RConvexPolyhedron::Transformed(const RMat3& R, const RVec3& t) const {

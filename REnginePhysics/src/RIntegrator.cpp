@@ -540,7 +540,10 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       SetDirection(r.n, normal, r.rA, r.rB, sa, sb);
       r.block = static_cast<std::uint32_t>(m_blocks.size());
       r.target = -std::max(gap, RScalar(0)) / dt;
-      r.pseudoTarget = gap < -m_settings.penetrationSlop ? m_settings.positionCorrection * (-gap - m_settings.penetrationSlop) / dt : 0;
+      r.pseudoTarget = gap < -m_settings.penetrationSlop
+                           ? std::min(m_settings.positionCorrection * (-gap - m_settings.penetrationSlop),
+                                      m_settings.maxPositionCorrection) / dt
+                           : 0;
       r.gap = gap;
       r.deferN = 0;
       r.lambdaN = r.lambdaP = r.lambdaE = 0;

@@ -12,6 +12,7 @@ void Require(bool ok, const char* field, const char* what) {
   if (!ok) throw RBodyError(field, what);
 }
 bool PositiveFinite(RScalar x) { return std::isfinite(x) && x > 0; }
+constexpr RScalar kMaxInertiaRatio = 1e9;
 }  // namespace
 
 RRigidBody::RRigidBody(const RBodyDef& def)
@@ -91,6 +92,15 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     Require(std::isfinite(m_invMass) && AllFinite(m_I_B) && (m_I_B.array() > 0).all() &&
                 AllFinite(m_invI_B),
             massField, "gives a mass or inertia too small or too large to invert");
+    // A needle's inertia about its long axis is tiny against the others: an off-centre
+    // touch spins it up without limit (a box 1e-9 m thick and 10 m long). 1e9 is the
+    // largest ratio of effective masses the contact solver holds (README, stability
+    // envelope); a hull at the thinnest RConvexPolyhedron::Hull accepts stays below it.
+    const char* shapeField = def.shape.type == RShapeType::kHull ? "shape.points"
+                             : def.shape.type == RShapeType::kBox ? "shape.half_extents"
+                                                                   : "shape.radius";
+    Require(m_I_B.maxCoeff() <= kMaxInertiaRatio * m_I_B.minCoeff(), shapeField,
+            "is too thin: its largest principal moment exceeds 1e9 times its smallest");
     m_rotation.SetInertia(m_I_B);
   }
   SetShapePose(def.position_W, *q_WS);

@@ -54,8 +54,11 @@ class RConvexPolyhedron {
   // The convex hull of `points` (m). Survives duplicates, coplanar and collinear subsets and
   // clouds far from the origin (the hull is computed about the cloud's centroid). Interior
   // points and points on faces or edges are dropped; coplanar facets are merged into one
-  // polygon face. Throws RHullError when fewer than 4 points are not coplanar within
-  // 1e-9 of the cloud's extent. Qhull does the hull; this class owns the result.
+  // polygon face. Throws RHullError for points that span no usable solid: fewer than 4, a
+  // point beyond 1e12 m, a hull thinner than 1e-4 of its extent along a face normal
+  // (coplanar, collinear, needle-like clouds), or any hull that fails the checks of a
+  // closed convex polyhedron (unit normals, V - E + F = 2, vertices inside every face
+  // plane). Qhull does the hull; this class owns and checks the result.
   static RConvexPolyhedron Hull(const std::vector<RVec3>& points);
 
   // The same polyhedron with every vertex mapped x -> R x + t (planes follow).
@@ -98,6 +101,8 @@ class RConvexPolyhedron {
  private:
   // Fills edges, adjacency and the bounding radius from vertices, faces and loops.
   void BuildTopology();
+  // Throws RHullError unless the polyhedron is one the engine can use (see the definition).
+  void Validate(RScalar extent) const;
 
   std::vector<RVec3> m_vertices;
   std::vector<RFace> m_faces;

@@ -46,6 +46,10 @@ struct RWorldSettings {
   // Fraction of the penetration beyond the slop removed per step by position correction
   // (split impulses: positions move, velocities and energy do not change).
   RScalar positionCorrection = 0.5;
+  // Most a contact's position correction may move its bodies apart in one step, m: a body
+  // found deep inside another (spawned there, or a bad shape) comes out over several steps
+  // instead of being thrown out in one (Box2D caps it at 0.2 m the same way).
+  RScalar maxPositionCorrection = 0.2;
 
   // Work the engine skips when a scene does not need it. Each switch can be turned off to
   // measure what it buys and what it costs (rengine-bench --shortcuts); all are on by default.

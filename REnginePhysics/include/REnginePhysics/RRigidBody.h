@@ -71,8 +71,9 @@ struct RBodyDef {
 class RRigidBody {
  public:
   // Computes the mass properties. Throws RBodyError on a definition that would give a
-  // non-finite or non-positive size, mass or inertia (or non-finite inverses), or whose
-  // hull points do not span a solid, naming the field.
+  // non-finite or non-positive size, mass or inertia (or non-finite inverses), a dynamic
+  // body whose largest principal moment exceeds 1e9 times its smallest (a needle), or whose
+  // hull points do not span a solid (RConvexPolyhedron::Hull), naming the field.
   explicit RRigidBody(const RBodyDef& def);
 
   const std::string& Name() const { return m_name; }
