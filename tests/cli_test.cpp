@@ -513,3 +513,28 @@ TEST_F(Cli, HullSceneRuns) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("hash="), std::string::npos);
 }
+
+// Untrusted scenes cannot crash or hang the CLI (#11): a value nested 100k deep crashed it
+// (SIGSEGV); a body name with a control character went raw into the CSV; the work a scene
+// asks for is bounded by documented limits, and --max-seconds stops a run that takes too long.
+TEST_F(Cli, HostileScenesGetExitTwoNotACrash) {
+  const std::string deep = "{\"gravity\": " + std::string(100000, '[') +
+                           std::string(100000, ']') + ", \"bodies\": []}";
+  Result r = Run(Quote(Write("deep.json", deep)) + " --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 2) << r.err.substr(0, 300);
+  EXPECT_NE(r.err.find("nested deeper than 64"), std::string::npos) << r.err.substr(0, 300);
+  r = Run(Quote(Write("name.json", SceneOf({{"bad\\u0000name", kSphere}}))));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("bodies[0].name"), std::string::npos) << r.err;
+  const std::string one = Quote(Write("one.json", SceneOf({{"ball", kSphere}})));
+  r = Run(one + " --steps 100000001 --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("steps"), std::string::npos) << r.err;
+  // 1e8 steps of one body are allowed, and --max-seconds stops them early with exit 1 and
+  // the rows so far.
+  r = Run(one + " --steps 100000000 --every 1000 --max-seconds 0.05 --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.LastErrLine().find("--max-seconds 0.05 reached"), std::string::npos) << r.err;
+  EXPECT_GE(ParseCsv(ReadFile(Path("t.csv"))).size(), 2u);
+  EXPECT_EQ(Run(one + " --max-seconds -1").code, 2);
+}

@@ -435,3 +435,87 @@ TEST(Scene, CreateBodiesNamesTheBodysField) {
     EXPECT_EQ(e.JsonPath().rfind("bodies[1].", 0), 0u) << e.what();
   }
 }
+
+// A value nested 100k deep (200 KB, #11): the loader crashed (SIGSEGV) printing it with a
+// recursive dump. Refused as it is read, naming where, with a message of bounded length.
+TEST(Scene, DeepNestingIsRefusedAtAFixedDepth) {
+  const int depth = 100000;
+  const std::string text = "{\"gravity\": " + std::string(depth, '[') + std::string(depth, ']') +
+                           ", \"bodies\": []}";
+  try {
+    ParseScene(text, "deep.json");
+    FAIL() << "accepted";
+  } catch (const RSceneError& e) {
+    EXPECT_EQ(e.JsonPath().rfind("gravity", 0), 0u) << e.JsonPath().substr(0, 80);
+    EXPECT_NE(e.Problem().find("nested deeper than 64"), std::string::npos) << e.Problem();
+    EXPECT_LT(std::string(e.what()).size(), 600u);
+  }
+  // 60 deep is not refused for its depth (it is not a vector of 3 numbers).
+  const std::string ok = "{\"gravity\": " + std::string(60, '[') + std::string(60, ']') +
+                         ", \"bodies\": []}";
+  try {
+    ParseScene(ok, "ok.json");
+  } catch (const RSceneError& e) {
+    EXPECT_EQ(e.JsonPath(), "gravity");
+    EXPECT_NE(e.Problem().find("(got an array of 1 values)"), std::string::npos) << e.Problem();
+  }
+}
+
+// A huge value where a number belongs is summarised, not dumped.
+TEST(Scene, ErrorMessagesStayShortWhateverTheValue) {
+  std::string big = "[";
+  for (int i = 0; i < 200000; ++i) big += (i ? ",1" : "1");
+  big += "]";
+  for (const std::string& value : {big, "\"" + std::string(1 << 20, 'x') + "\""}) {
+    try {
+      ParseScene("{\"dt\": " + value + ", \"bodies\": []}", "big.json");
+      FAIL();
+    } catch (const RSceneError& e) {
+      EXPECT_EQ(e.JsonPath(), "dt");
+      EXPECT_LT(std::string(e.what()).size(), 200u) << std::string(e.what()).substr(0, 300);
+    }
+  }
+}
+
+// Names go into the CSV: a NUL or any control character is refused (it was written raw).
+TEST(Scene, NamesWithControlCharactersAreRefused) {
+  for (const char* name : {"a\\u0000b", "line\\nbreak", "tab\\there", "esc\\u001b[31m", "del\\u007f"}) {
+    const std::string text = std::string(R"({"bodies": [{"name": ")") + name +
+                             R"(", "shape": {"type": "sphere", "radius": 1}}]})";
+    try {
+      ParseScene(text, "names.json");
+      FAIL() << name;
+    } catch (const RSceneError& e) {
+      EXPECT_EQ(e.JsonPath(), "bodies[0].name") << name;
+      EXPECT_NE(e.Problem().find("control characters"), std::string::npos) << e.Problem();
+    }
+  }
+  // Other Unicode is a name like any other.
+  EXPECT_EQ(ParseScene(R"({"bodies": [{"name": "Schlepper \u00e9 \u2603", "shape": {"type": "sphere", "radius": 1}}]})",
+                       "names.json").bodies[0].name,
+            "Schlepper \xc3\xa9 \xe2\x98\x83");
+}
+
+// The limits refuse a scene by the field that asks for too much (small limits to test them).
+TEST(Scene, LimitsNameTheFieldThatExceedsThem) {
+  const std::string three = R"({"steps": 10, "bodies": [
+      {"name": "a", "shape": {"type": "sphere", "radius": 1}},
+      {"name": "b", "shape": {"type": "sphere", "radius": 1}},
+      {"name": "c", "shape": {"type": "hull", "points": [[0,0,0],[1,0,0],[0,1,0],[0,0,1],[1,1,1]]}}]})";
+  const struct {
+    RSceneLimits limits;
+    const char* path;
+  } cases[] = {{{1 << 20, 2, 100, 100, 1e9}, "bodies"},
+               {{1 << 20, 10, 4, 100, 1e9}, "bodies[2].shape.points"},
+               {{1 << 20, 10, 100, 9, 1e9}, "steps"},
+               {{1 << 20, 10, 100, 100, 29}, "steps"}};
+  for (const auto& c : cases) {
+    try {
+      ParseScene(three, "limits.json", c.limits);
+      ADD_FAILURE() << c.path;
+    } catch (const RSceneError& e) {
+      EXPECT_EQ(e.JsonPath(), c.path) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(ParseScene(three, "limits.json", {1 << 20, 3, 5, 10, 30}));
+}

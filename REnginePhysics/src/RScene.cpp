@@ -24,6 +24,9 @@ namespace {
 
 using json = nlohmann::json;
 
+// Deepest nesting of JSON values a scene may have (the format needs about 8).
+constexpr int kMaxSceneDepth = 64;
+
 // A problem at a JSON path. Thrown by the readers below and turned into an RSceneError,
 // with the file name, at the API boundary, so that no reader needs to know the file.
 struct Invalid {
@@ -42,10 +45,26 @@ std::string Element(const std::string& path, std::size_t i) {
   return path + '[' + std::to_string(i) + ']';
 }
 
-// " (got <value>)", short enough to keep a message on one line.
+// " (got <value>)", short enough to keep a message on one line, in bounded work whatever
+// the value: a scene from a stranger may hold a 100 MB string or array where a number
+// belongs, and dumping it whole (recursively, for nested arrays) to keep 40 characters
+// cost gigabytes or the stack. Small flat arrays and objects are shown, others summarised.
 std::string Got(const json& j) {
-  std::string s = j.dump();
-  if (s.size() > 40) s = s.substr(0, 37) + "...";
+  constexpr std::size_t kShown = 40;
+  std::string s;
+  if (j.is_string()) {
+    const std::string& text = j.get_ref<const std::string&>();
+    s = json(text.substr(0, kShown)).dump(-1, ' ', true, json::error_handler_t::replace);
+  } else if (j.is_array() || j.is_object()) {
+    bool flat = j.size() <= 8;
+    for (const json& e : j) flat = flat && !e.is_structured() && !e.is_string();
+    s = flat ? j.dump(-1, ' ', true, json::error_handler_t::replace)
+             : (j.is_array() ? "an array of " + std::to_string(j.size()) + " values"
+                             : "an object of " + std::to_string(j.size()) + " fields");
+  } else {
+    s = j.dump();  // a number, true, false or null
+  }
+  if (s.size() > kShown) s = s.substr(0, kShown - 3) + "...";
   return " (got " + s + ")";
 }
 
@@ -64,7 +83,13 @@ std::string WithoutPrefix(const char* what) {
 // error can name the path being read.
 class PathTracker {
  public:
-  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+  bool operator()(int depth, json::parse_event_t event, json& parsed) {
+    // The format nests about 8 deep (a compound's child's shape's points). A value nested
+    // 100k deep (200 KB of brackets) overflowed the stack in recursive functions that work
+    // on the parsed document; refusing it as it is read bounds every one of them.
+    if (depth > kMaxSceneDepth) {
+      Fail(Path(), "nested deeper than " + std::to_string(kMaxSceneDepth) + " levels");
+    }
     switch (event) {
       case json::parse_event_t::object_start: m_open.push_back({false, 0, {}, {}}); break;
       case json::parse_event_t::array_start: m_open.push_back({true, 0, {}, {}}); break;
@@ -211,6 +236,14 @@ std::string ReadName(const json& j, const std::string& path) {
   if (!j.is_string() || j.get_ref<const std::string&>().empty()) {
     Fail(path, "must be a non-empty string" + Got(j));
   }
+  // Names go into CSV files and terminals: a NUL, a line break or an escape sequence in one
+  // would corrupt the trajectory or the screen. (nlohmann has checked the UTF-8.)
+  for (const char c : j.get_ref<const std::string&>()) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      Fail(path, "must not contain control characters (U+0000 to U+001F, U+007F)" + Got(j));
+    }
+  }
   return j.get<std::string>();
 }
 
@@ -302,7 +335,7 @@ class Object {
   std::string m_path;
 };
 
-RShape ReadShape(const json& j, const std::string& path) {
+RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& limits) {
   const Object shape(j, path, {"type", "half_extents", "radius", "points"});
   RShape s;
   s.type = ReadChoice<RShapeType>(shape.Required("type"), shape.PathOf("type"),
@@ -326,6 +359,10 @@ RShape ReadShape(const json& j, const std::string& path) {
       if (!points.is_array() || points.size() < 4) {
         Fail(pointsPath, "must be an array of at least 4 points [x, y, z]" + Got(points));
       }
+      if (points.size() > limits.maxHullPoints) {
+        Fail(pointsPath, "has " + std::to_string(points.size()) + " points; at most " +
+                             std::to_string(limits.maxHullPoints) + " are allowed");
+      }
       for (std::size_t i = 0; i < points.size(); ++i) {
         s.points.push_back(ReadVec3(points[i], Element(pointsPath, i)));
       }
@@ -344,14 +381,15 @@ RShape ReadShape(const json& j, const std::string& path) {
 
 // A body, and the names in its "ignore" list (resolved once all names are known, since a
 // body may name one that comes after it).
-RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::string>& ignore) {
+RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::string>& ignore,
+                  const RSceneLimits& limits) {
   const Object body(j, path,
                     {"name", "shape", "static", "mass", "density", "position", "orientation",
                      "velocity", "angular_velocity", "restitution", "friction", "responds",
                      "ignore"});
   RBodyDef def;
   def.name = ReadName(body.Required("name"), body.PathOf("name"));
-  def.shape = ReadShape(body.Required("shape"), body.PathOf("shape"));
+  def.shape = ReadShape(body.Required("shape"), body.PathOf("shape"), limits);
   def.isStatic = body.Get("static", def.isStatic, ReadBool);
   if (body.Has("mass") && body.Has("density")) {
     Fail(body.PathOf("density"), "give mass or density, not both");
@@ -378,7 +416,7 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   return def;
 }
 
-RScene ReadScene(const json& doc) {
+RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   const Object root(doc, "",
                     {"format", "gravity", "dt", "steps", "restitution_combine",
                      "friction_combine", "solver", "bodies"});
@@ -405,11 +443,15 @@ RScene ReadScene(const json& doc) {
 
   const json& bodies = root.Required("bodies");
   if (!bodies.is_array()) Fail("bodies", "must be an array of bodies" + Got(bodies));
+  if (bodies.size() > limits.maxBodies) {
+    Fail("bodies", "has " + std::to_string(bodies.size()) + " bodies; at most " +
+                       std::to_string(limits.maxBodies) + " are allowed");
+  }
   std::vector<std::vector<std::string>> ignoreNames(bodies.size());
   std::unordered_map<std::string, std::size_t> indexOf;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const std::string path = Element("bodies", i);
-    scene.bodies.push_back(ReadBody(bodies[i], path, ignoreNames[i]));
+    scene.bodies.push_back(ReadBody(bodies[i], path, ignoreNames[i], limits));
     const auto [it, isNew] = indexOf.emplace(scene.bodies.back().name, i);
     if (!isNew) {
       Fail(Field(path, "name"), "\"" + it->first + "\" is already the name of " +
@@ -443,17 +485,42 @@ RSceneError::RSceneError(std::string file, std::string jsonPath, std::string pro
       m_jsonPath(std::move(jsonPath)),
       m_problem(std::move(problem)) {}
 
-RScene ParseScene(const std::string& jsonText, const std::string& fileNameForMessages) {
-  try {
-    RScene scene = ReadScene(ParseJson(jsonText));
-    scene.fileName = fileNameForMessages;
-    return scene;
-  } catch (const Invalid& e) {
-    throw RSceneError(fileNameForMessages, e.path, e.problem);
+void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits) {
+  if (scene.bodies.size() > limits.maxBodies) {
+    throw RSceneError(scene.fileName, "bodies",
+                      "has " + std::to_string(scene.bodies.size()) + " bodies; at most " +
+                          std::to_string(limits.maxBodies) + " are allowed");
+  }
+  if (scene.steps > limits.maxSteps) {
+    throw RSceneError(scene.fileName, "steps",
+                      "must be at most " + std::to_string(limits.maxSteps) + " (got " +
+                          std::to_string(scene.steps) + ")");
+  }
+  if (static_cast<double>(scene.steps) * static_cast<double>(scene.bodies.size()) >
+      limits.maxBodySteps) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%.3g", limits.maxBodySteps);
+    throw RSceneError(scene.fileName, "steps",
+                      std::to_string(scene.steps) + " steps of " +
+                          std::to_string(scene.bodies.size()) + " bodies exceed " + limit +
+                          " body-steps");
   }
 }
 
-RScene LoadScene(const std::string& path) {
+RScene ParseScene(const std::string& jsonText, const std::string& fileNameForMessages,
+                  const RSceneLimits& limits) {
+  RScene scene;
+  try {
+    scene = ReadScene(ParseJson(jsonText), limits);
+  } catch (const Invalid& e) {
+    throw RSceneError(fileNameForMessages, e.path, e.problem);
+  }
+  scene.fileName = fileNameForMessages;
+  CheckSceneLimits(scene, limits);
+  return scene;
+}
+
+RScene LoadScene(const std::string& path, const RSceneLimits& limits) {
   struct Close {
     void operator()(std::FILE* f) const { std::fclose(f); }
   };
@@ -462,12 +529,18 @@ RScene LoadScene(const std::string& path) {
   std::string text;
   char chunk[1 << 16];
   std::size_t n;
-  while ((n = std::fread(chunk, 1, sizeof chunk, file.get())) > 0) text.append(chunk, n);
+  while ((n = std::fread(chunk, 1, sizeof chunk, file.get())) > 0) {
+    text.append(chunk, n);
+    if (text.size() > limits.maxFileBytes) {
+      throw RSceneError(path, "", "larger than " + std::to_string(limits.maxFileBytes) +
+                                      " bytes, the most a scene may be");
+    }
+  }
   // A directory opens but does not read (EISDIR).
   if (std::ferror(file.get())) {
     throw RSceneError(path, "", std::string("cannot read: ") + std::strerror(errno));
   }
-  return ParseScene(text, path);
+  return ParseScene(text, path, limits);
 }
 
 std::vector<RRigidBody> CreateBodies(const RScene& scene) {

@@ -1,6 +1,7 @@
 // rengine-sim: runs a scene file and writes its trajectory (../shared/SCENE_FORMAT.md).
 //
 //   rengine-sim SCENE.json [--out TRAJ.csv] [--steps N] [--dt S] [--every K] [--quiet]
+//               [--max-seconds S]
 //   rengine-sim SCENE.json --describe
 //
 // Exit codes: 0 success; 2 bad input (scene, options, files); 1 a failure during the run.
@@ -20,6 +21,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -214,7 +216,7 @@ void Describe(const std::vector<RRigidBody>& bodies) {
 int Run(int argc, char** argv) {
   CLI::App app{"Runs a REngine scene (rengine-scene/1) and writes its trajectory as CSV.",
                "rengine-sim"};
-  std::string scenePath, outPath, stepsText, dtText, everyText;
+  std::string scenePath, outPath, stepsText, dtText, everyText, maxSecondsText;
   bool quiet = false, describe = false;
   app.add_option("scene", scenePath, "Scene file (JSON)")->required();
   auto* out = app.add_option("--out", outPath, "Trajectory CSV (default: standard output)");
@@ -222,6 +224,9 @@ int Run(int argc, char** argv) {
   auto* dt = app.add_option("--dt", dtText, "Step size, s (overrides the scene)");
   auto* every = app.add_option("--every", everyText,
                                "Write every K-th step (the first and last always), default 1");
+  auto* maxSeconds = app.add_option(
+      "--max-seconds", maxSecondsText,
+      "Stop with exit code 1 when stepping has taken this long (wall clock), rows so far kept");
   app.add_flag("--quiet", quiet, "No progress display");
   app.add_flag("--describe", describe,
                "Print each body's mass, centre of mass and principal axes as JSON, then exit")
@@ -236,6 +241,7 @@ int Run(int argc, char** argv) {
   RScene scene;
   std::vector<RRigidBody> bodies;
   std::uint64_t everyK = 1;
+  double budget = std::numeric_limits<double>::infinity();  // s of stepping
   try {
     // Options are checked before the scene is read: they are cheap, and the first error
     // reported should not depend on how large the scene is.
@@ -244,9 +250,11 @@ int Run(int argc, char** argv) {
     const std::optional<double> dtOverride =
         dt->count() ? std::optional(ParseStepSize(dtText, "--dt")) : std::nullopt;
     if (every->count()) everyK = ParseCount(everyText, "--every", 1);
+    if (maxSeconds->count()) budget = ParseStepSize(maxSecondsText, "--max-seconds");
     scene = LoadScene(scenePath);
     if (stepsOverride) scene.steps = *stepsOverride;
     if (dtOverride) scene.dt = *dtOverride;
+    CheckSceneLimits(scene, RSceneLimits{});  // --steps may have raised the work
     bodies = CreateBodies(scene);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "error: %s\n", e.message.c_str());
@@ -300,6 +308,14 @@ int Run(int argc, char** argv) {
     }
     if (step % everyK == 0 || step == scene.steps) writer.Rows(step, scene.dt, bodies);
     progress.Show(step, t1);
+    if (std::chrono::duration<double>(stepping).count() > budget && step < scene.steps) {
+      progress.Clear();
+      if (step % everyK != 0) writer.Rows(step, scene.dt, bodies);
+      finishOutput();
+      std::fprintf(stderr, "error: stopped after step %" PRIu64 " of %" PRIu64
+                           ": --max-seconds %s reached\n", step, scene.steps, maxSecondsText.c_str());
+      return kExitRunFailed;
+    }
   }
   progress.Clear();
   if (!finishOutput()) return kExitRunFailed;

@@ -44,11 +44,30 @@ struct RScene {
   std::string fileName;
 };
 
+// How much work a scene may ask for, so that a file from a stranger cannot make the loader
+// or rengine-sim run out of memory or run for days: a scene beyond a limit is bad input
+// like any other (RSceneError naming the field). Every shipped and planned scene is far
+// inside them (the largest scaling scenes have 30000 bodies; dzhanibekov runs 36000 steps);
+// a game that really wants more passes its own limits.
+struct RSceneLimits {
+  std::uint64_t maxFileBytes = std::uint64_t(256) << 20;  // the scene file: 256 MiB
+  std::uint64_t maxBodies = 100000;         // the pair loop visits n^2 / 2 pairs a step
+  std::uint64_t maxHullPoints = 100000;     // per hull: Qhull's time and memory
+  std::uint64_t maxSteps = 100000000;       // 1e8: 19 days of game time at 60 Hz
+  // bodies x steps: 1e10 is a 30000-body scene for 3e5 steps, or hours of stepping.
+  double maxBodySteps = 1e10;
+};
+
 // Reads and validates a scene file. Throws RSceneError (also when the file cannot be read).
-RScene LoadScene(const std::string& path);
+RScene LoadScene(const std::string& path, const RSceneLimits& limits = {});
 
 // Validates scene JSON held in memory; fileNameForMessages only labels errors.
-RScene ParseScene(const std::string& jsonText, const std::string& fileNameForMessages);
+RScene ParseScene(const std::string& jsonText, const std::string& fileNameForMessages,
+                  const RSceneLimits& limits = {});
+
+// Checks a scene's size against the limits (ParseScene does; call it again after changing
+// steps or bodies). Throws RSceneError naming "steps" or "bodies".
+void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits);
 
 // The scene's bodies, in scene order. A definition that parses but has no valid mass
 // properties (a box so large that its mass overflows) throws RSceneError with the path of
