@@ -538,3 +538,35 @@ TEST_F(Cli, HostileScenesGetExitTwoNotACrash) {
   EXPECT_GE(ParseCsv(ReadFile(Path("t.csv"))).size(), 2u);
   EXPECT_EQ(Run(one + " --max-seconds -1").code, 2);
 }
+
+// The determinism gate (#11): each shared reference scene's final-state hash is pinned, and
+// two runs agree. A change that alters the physics on purpose changes a hash: re-pin it here
+// with the reason in the commit message. A change that should not (a refactoring, a speed-up
+// of an exact shortcut) must leave every hash as it is.
+TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
+  const struct {
+    const char* scene;
+    const char* hash;
+  } pins[] = {
+      {"box_pile_1000", "073bbd87657d9a55"},     {"box_stack_10", "b93c00dd45e2d91c"},
+      {"debris_cloud_1000", "689edf07aa42abab"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"head_on_elastic", "0faffadb61f4169c"},
+  };
+  for (const auto& pin : pins) {
+    const std::string scene = Quote(std::string(RENGINE_SHARED_SCENES) + "/" + pin.scene + ".json");
+    std::string first;
+    for (int run = 0; run < 2; ++run) {
+      const Result r = Run(scene + " --quiet --out " + Quote(Path("t.csv")));
+      ASSERT_EQ(r.code, 0) << pin.scene << "\n" << r.err;
+      const std::string line = r.LastErrLine();
+      const std::size_t at = line.find("hash=");
+      ASSERT_NE(at, std::string::npos) << line;
+      const std::string hash = line.substr(at + 5, 16);
+      if (run == 0) first = hash;
+      EXPECT_EQ(hash, first) << pin.scene << ": two runs of the same scene differ";
+      EXPECT_EQ(hash, pin.hash) << pin.scene << " now ends with hash=" << hash
+                                << ". If the physics changed on purpose, pin the new hash in "
+                                   "this test and say why in the commit message.";
+    }
+  }
+}
