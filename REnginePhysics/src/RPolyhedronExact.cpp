@@ -14,7 +14,8 @@ constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
 // Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision
 // Detection, 5.1.9): minimise |p(s) - q(t)| over s, t in [0, 1]. Edges of a valid polyhedron
 // have non-zero length; a zero-length one is handled as a point all the same.
-void ClosestOnSegments(const RVec3& p0, const RVec3& p1, const RVec3& q0, const RVec3& q1,
+// Returns whether both closest points are interior to their segments (0 < s, t < 1).
+bool ClosestOnSegments(const RVec3& p0, const RVec3& p1, const RVec3& q0, const RVec3& q1,
                        RVec3& onP, RVec3& onQ) {
   const RVec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const RScalar a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
@@ -41,6 +42,7 @@ void ClosestOnSegments(const RVec3& p0, const RVec3& p1, const RVec3& q0, const 
   }
   onP = p0 + s * d1;
   onQ = q0 + t * d2;
+  return s > 0 && s < 1 && t > 0 && t < 1;
 }
 
 // Whether p's projection along the face's normal falls inside the face's polygon (loop
@@ -61,32 +63,44 @@ bool ProjectsInsideFace(const RConvexPolyhedron& poly, const RFace& f, const RVe
 // and every pair of edges (which covers vertex-vertex and vertex-edge). The normal comes from
 // the features (the face's normal, the edges' common perpendicular), not from the difference
 // of the witnesses: at 1e3 m from A's centre two points 1e-10 m apart differ by rounding.
-// A vertex within `slack` below a face plane counts as on it: touching shapes put vertices
-// on faces, and rounding puts them on either side.
+// The axis test said "apart", but maybe only by rounding: a vertex on or inside the other
+// solid (every face plane's signed distance <= 0) is a touching point, distance 0.
 template <class ToA, class ToB>
 void ClosestFeatures(const RConvexPolyhedron& a, const RConvexPolyhedron& b, const RMat3& R_AB,
-                     const ToA& toA, const ToB& toB, RScalar slack, RDistanceResult& r) {
+                     const ToA& toA, const ToB& toB, RDistanceResult& r) {
   RScalar bestD2 = kInf;
-  for (std::size_t j = 0; j < b.Vertices().size(); ++j) {
-    const RVec3 p = toA(b.Vertices()[j]);
-    for (const RFace& f : a.Faces()) {
-      const RScalar s = f.plane.SignedDistance(p);
-      if (s > -slack && s * std::abs(s) < bestD2 && ProjectsInsideFace(a, f, p)) {
-        bestD2 = std::max(s, RScalar(0)) * s, r.witnessA = p - s * f.plane.normal, r.witnessB = p;
-        r.normal = f.plane.normal;
+  // Vertex p (in P's frame) against polyhedron P's faces; `flip` maps P's face normals to
+  // the A-to-B normal and p's side to the witnesses.
+  auto vertexFaces = [&](const RConvexPolyhedron& poly, const RVec3& p, auto&& report) {
+    RScalar most = -kInf;
+    const RFace* mostFace = nullptr;
+    for (const RFace& f : poly.Faces()) {
+      const RScalar sd = f.plane.SignedDistance(p);
+      if (sd > most) most = sd, mostFace = &f;
+    }
+    if (most <= 0) {  // on or inside the solid, to rounding: touching
+      if (bestD2 > 0) bestD2 = 0, report(*mostFace, most);
+      return;
+    }
+    for (const RFace& f : poly.Faces()) {
+      const RScalar sd = f.plane.SignedDistance(p);
+      if (sd > 0 && sd * sd < bestD2 && ProjectsInsideFace(poly, f, p)) {
+        bestD2 = sd * sd, report(f, sd);
       }
     }
+  };
+  for (std::size_t j = 0; j < b.Vertices().size(); ++j) {
+    const RVec3 p = toA(b.Vertices()[j]);
+    vertexFaces(a, p, [&](const RFace& f, RScalar sd) {
+      r.witnessA = p - sd * f.plane.normal, r.witnessB = p, r.normal = f.plane.normal;
+    });
   }
   for (std::size_t i = 0; i < a.Vertices().size(); ++i) {
     const RVec3& pA = a.Vertices()[i];
-    const RVec3 p_B = toB(pA);
-    for (const RFace& f : b.Faces()) {
-      const RScalar s = f.plane.SignedDistance(p_B);
-      if (s > -slack && s * std::abs(s) < bestD2 && ProjectsInsideFace(b, f, p_B)) {
-        r.normal = -(R_AB * f.plane.normal);
-        bestD2 = std::max(s, RScalar(0)) * s, r.witnessA = pA, r.witnessB = pA + s * r.normal;
-      }
-    }
+    vertexFaces(b, toB(pA), [&](const RFace& f, RScalar sd) {
+      r.normal = -(R_AB * f.plane.normal);
+      r.witnessA = pA, r.witnessB = pA + sd * r.normal;
+    });
   }
   for (const REdge& ea : a.Edges()) {
     const RVec3& a0 = a.Vertices()[ea.v0];
@@ -94,16 +108,15 @@ void ClosestFeatures(const RConvexPolyhedron& a, const RConvexPolyhedron& b, con
     for (const REdge& eb : b.Edges()) {
       const RVec3 b0 = toA(b.Vertices()[eb.v0]), b1 = toA(b.Vertices()[eb.v1]);
       RVec3 cA, cB;
-      ClosestOnSegments(a0, a1, b0, b1, cA, cB);
+      const bool interior = ClosestOnSegments(a0, a1, b0, b1, cA, cB);
       const RVec3 gap = cB - cA;
       const RScalar d2 = gap.squaredNorm();
       if (!(d2 < bestD2)) continue;
       bestD2 = d2, r.witnessA = cA, r.witnessB = cB;
       const RVec3 perpendicular = (a1 - a0).cross(b1 - b0);
       const RScalar len = perpendicular.norm();
-      const bool crossing = len > RScalar(1e-9) * (a1 - a0).norm() * (b1 - b0).norm() &&
-                            (cA - a0).squaredNorm() > 0 && (cA - a1).squaredNorm() > 0 &&
-                            (cB - b0).squaredNorm() > 0 && (cB - b1).squaredNorm() > 0;
+      const bool crossing =
+          interior && len > RScalar(1e-9) * (a1 - a0).norm() * (b1 - b0).norm();
       if (crossing) {
         r.normal = perpendicular / len;
         if (r.normal.dot(gap) < 0) r.normal = -r.normal;
@@ -205,7 +218,7 @@ RDistanceResult ExactPolyhedra(const RConvexPolyhedron& a, const RConvexPolyhedr
   // Apart: the axis test's answer is only a lower bound (the closest points may meet at an
   // edge or a vertex of the difference); the closest features give the distance.
   r.normal = bestN;
-  ClosestFeatures(a, b, R, toA, toB, RCollisionSolver::kTouchingTolerance * (a.MaxRadius() + b.MaxRadius()), r);
+  ClosestFeatures(a, b, R, toA, toB, r);
   r.separation = std::max(r.separation, best);
   return r;
 }
