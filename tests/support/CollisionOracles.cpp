@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <csetjmp>
 #include <exception>
 #include <limits>
 
@@ -26,22 +25,28 @@ RVec3 FromCcd(const ccd_vec3_t& c) { return RVec3(ccdVec3X(&c), ccdVec3Y(&c), cc
 
 // libccd's EPA has no iteration cap: with a tolerance near rounding it can expand a
 // polytope forever on a flat Minkowski face. A budget of support calls guards every libccd
-// call; when it runs out the support function longjmps back to the wrapper, which reports
-// the oracle as failed. Only C frames and trivially destructible C++ locals lie between
-// setjmp and longjmp, as the standard requires; the polytope libccd had allocated leaks
-// (a few kB, on a path the tests count and report).
+// call. When it runs out, every later support of both shapes is the origin: the Minkowski
+// support is then 0, which libccd's EPA takes as "no expansion beyond the nearest face" and
+// stops at once (and GJK and MPR are capped by max_iterations), so the call returns through
+// its own clean-up and frees its polytope; the wrapper reports the oracle as failed. (It
+// used to longjmp out of libccd, leaking the polytope.)
 struct CcdGuard {
-  std::jmp_buf env;
   long budget;
+  bool spent = false;
 };
 thread_local CcdGuard* g_ccdGuard = nullptr;
 // EPA on the random suite's hulls (up to 64 x 64 vertices) needs at most ~70 support calls
 // (median 22) at the tolerance below; the budget is 30 times that.
 constexpr long kCcdSupportBudget = 2000;
+long g_ccdSupportBudget = kCcdSupportBudget;
 
 // libccd support: the vertex maximising dot(v, dir), by a plain loop over world vertices.
 void CcdSupport(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
-  if (g_ccdGuard != nullptr && --g_ccdGuard->budget < 0) std::longjmp(g_ccdGuard->env, 1);
+  if (g_ccdGuard != nullptr && (g_ccdGuard->spent || --g_ccdGuard->budget < 0)) {
+    g_ccdGuard->spent = true;
+    ccdVec3Set(out, 0, 0, 0);
+    return;
+  }
   const auto* hull = static_cast<const CcdPosedHull*>(obj);
   const RVec3 d = FromCcd(*dir);
   const RVec3* best = &hull->vertices_W[0];
@@ -61,13 +66,20 @@ constexpr int kCcdBudgetSpent = -100;
 template <typename Call>
 int GuardedCcd(Call call) {
   CcdGuard guard;
-  guard.budget = kCcdSupportBudget;
+  guard.budget = g_ccdSupportBudget;
   g_ccdGuard = &guard;
-  volatile int rc = kCcdBudgetSpent;
-  if (setjmp(guard.env) == 0) rc = call();
+  const int rc = call();
   g_ccdGuard = nullptr;
-  return rc;
+  return guard.spent ? kCcdBudgetSpent : rc;
 }
+
+}  // namespace
+
+void SetCcdSupportBudget(long budget) {
+  g_ccdSupportBudget = budget > 0 ? budget : kCcdSupportBudget;
+}
+
+namespace {
 
 void CcdCenter(const void* obj, ccd_vec3_t* center) {
   *center = ToCcd(static_cast<const CcdPosedHull*>(obj)->center_W);

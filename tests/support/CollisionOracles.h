@@ -94,6 +94,9 @@ struct OraclePenetration {
 // iteration cap and can loop at tight tolerances); spending it reports the oracle failed:
 // -1 here, ok = false below.
 // 1: intersect, 0: apart, -1: failed.
+// Support calls each libccd query may make before it is stopped and reported as failed
+// (its EPA has no iteration cap); <= 0 restores the default (2000). For tests of the guard.
+void SetCcdSupportBudget(long budget);
 int CcdGJKIntersect(const CcdPosedHull& a, const CcdPosedHull& b, const ccd_t& config);
 OraclePenetration CcdGJKPenetration(const CcdPosedHull& a, const CcdPosedHull& b,
                                     const ccd_t& config);
