@@ -389,7 +389,9 @@ RPolyhedronMass RConvexPolyhedron::MassProperties() const {
   }
   RPolyhedronMass m;
   m.volume = volume;
-  const RVec3 r = firstMoment / volume;  // centroid relative to o
+  // A flat polyhedron has no volume and no centroid of its own: Hull refuses it before it
+  // asks (the sanitizer's float-divide-by-zero stopped a scene test here once); o stands.
+  const RVec3 r = volume != 0 ? RVec3(firstMoment / volume) : RVec3::Zero();  // centroid - o
   m.centroid = o + r;
   // Covariance about the centroid (parallel axis), then inertia = tr(C) I - C.
   const RMat3 C = secondMoment - volume * r * r.transpose();
