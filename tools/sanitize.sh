@@ -9,12 +9,16 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/deps.sh
 rengine_install_deps clang libclang-rt-14-dev
-flags="-fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero -fno-sanitize-recover=all -fno-omit-frame-pointer"
+# fuzzer-no-link: coverage instrumentation, so the same build also holds the libFuzzer
+# targets of tests/fuzz (tools/fuzz.sh); the tests' own mains are unaffected.
+flags="-fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero,fuzzer-no-link -fno-sanitize-recover=all -fno-omit-frame-pointer"
 if [ ! -f build-asan/build.ninja ]; then
   CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DRENGINE_BUILD_FUZZERS=ON \
     -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags"
 fi
 cmake --build build-asan
+[ "${RENGINE_SANITIZE_BUILD_ONLY:-0}" = 1 ] && exit 0
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # install_consumer builds a separate project against the installed engine with the default

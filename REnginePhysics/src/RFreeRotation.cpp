@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace REngine {
 
@@ -81,6 +82,9 @@ bool RFreeRotation::ComputeConstants(RScalar h, const RVec3& w_B) {
   // tiny components (1e-165) do not underflow to zero and divide it by itself.
   const RVec3 Lraw = I.cwiseProduct(w_B);
   const RScalar scale = Lraw.cwiseAbs().maxCoeff();
+  // Below the smallest normal double there is no rotation to speak of (and 1 / scale would
+  // overflow): the caller turns the body by omega h, which is nothing.
+  if (!(scale >= std::numeric_limits<RScalar>::min())) return false;
   const RVec3 L = Lraw / scale;
   const int i1 = m_sorted[0], i2 = m_sorted[1], i3 = m_sorted[2];
   // M^2 - 2 E I_2 (scaled): positive when the polhode circles the axis of largest moment.
@@ -99,7 +103,10 @@ bool RFreeRotation::ComputeConstants(RScalar h, const RVec3& w_B) {
   // Omega is constant; the elliptic form would be 0/0 or lose its phase to underflow.
   if (P == 0 || (L[a] == 0 && L[c] == 0)) return false;
   m_signC = w_B[c] < 0 ? RScalar(-1) : RScalar(1);
-  m_invM = 1 / Lraw.norm();
+  // |L| from the scaled components when its square underflows (|L| < 1e-154; found by
+  // fuzz_world: 1 / 0).
+  const RScalar normL = Lraw.norm();
+  m_invM = 1 / (normL > 0 ? normL : scale * L.norm());
   m_amp[0] = scale * std::sqrt(P / (I[a] * (I[c] - I[a])));
   m_amp[1] = scale * std::sqrt(P / (I[b] * (I[c] - I[b])));
   m_amp[2] = scale * std::sqrt(Q / (I[c] * (I[c] - I[a])));

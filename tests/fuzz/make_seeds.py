@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""Writes the committed seed corpus of tests/fuzz (reproducible; run from anywhere).
+
+Each target's directory gets a few ordinary inputs and every reproducer of issue #11 that
+its encoding can express (see each fuzz_*.cpp for the encoding):
+  fuzz_scene: the format's example, small shared-style scenes, a value nested 100k deep,
+              hull points of 1e300, a name with a NUL and one with an escape sequence;
+  fuzz_hull:  a cube, points of 1e300, a needle (three points within 1e-9 m, one 10 m off);
+  fuzz_narrowphase: every mode, and the 26 m box touching the 4 km box (exact doubles);
+  fuzz_world: a stack, a spinning hull, an infinite force, a NaN pose.
+"""
+import json
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def write(target, name, data):
+    d = os.path.join(HERE, "corpus", target)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, name), "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+def u16(x):  # FuzzInput::Range's two bytes for a fraction x in [0, 1]
+    return struct.pack("<H", round(x * 65535))
+
+
+def raw(*xs):
+    return b"".join(struct.pack("<d", x) for x in xs)
+
+
+# --- fuzz_scene
+example = {"format": "rengine-scene/1", "gravity": [0, -9.81, 0], "dt": 0.016666666666666666,
+           "steps": 20, "bodies": [
+               {"name": "ground", "shape": {"type": "box", "half_extents": [50, 0.5, 50]},
+                "static": True, "position": [0, -0.5, 0]},
+               {"name": "crate", "shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+                "mass": 1.0, "position": [0, 0.5, 0], "restitution": 0.0, "friction": 0.5},
+               {"name": "ball", "shape": {"type": "sphere", "radius": 0.5}, "density": 2.0,
+                "position": [3, 2, 0], "ignore": ["crate"]},
+               {"name": "rock", "shape": {"type": "hull", "points": [[1, 0, 0], [0, 1, 0], [0, 0, 1], [-1, -1, -1]]},
+                "mass": 4.0, "position": [0, 5, 0], "responds": False}],
+           "solver": {"iterations": 4, "sleeping": False}}
+write("fuzz_scene", "example.json", json.dumps(example))
+write("fuzz_scene", "pair.json", json.dumps({"dt": 0.01, "steps": 5, "restitution_combine": "max", "bodies": [
+    {"name": "a", "shape": {"type": "sphere", "radius": 0.5}, "velocity": [3, 0, 0], "restitution": 1},
+    {"name": "b", "shape": {"type": "sphere", "radius": 0.5}, "position": [2, 0, 0], "mass": 3}]}))
+write("fuzz_scene", "deep_nesting.json", '{"gravity": ' + "[" * 100000 + "]" * 100000 + ', "bodies": []}')
+write("fuzz_scene", "hull_1e300.json", json.dumps({"bodies": [{"name": "big", "shape": {"type": "hull", "points": [
+    [1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300], [1e300, 1e300, 1e300], [0, 0, 0]]}}]}))
+write("fuzz_scene", "name_nul.json", '{"bodies": [{"name": "a\\u0000b", "shape": {"type": "sphere", "radius": 1}}]}')
+write("fuzz_scene", "name_escape.json", '{"bodies": [{"name": "\\u001b[2J", "shape": {"type": "sphere", "radius": 1}}]}')
+
+# --- fuzz_hull: mode byte, count byte, then points
+write("fuzz_hull", "cube", bytes([0, 8]) + b"".join(raw(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)))
+write("fuzz_hull", "points_1e300", bytes([0, 5]) + raw(1e300, 0, 0, 0, 1e300, 0, 0, 0, 1e300, 1e300, 1e300, 1e300, 0, 0, 0))
+# mode 1: grid 10^-k (k = 9), no offset, 4 points: three within a few grid steps, the 4th
+# scaled by 1e6 (the scale byte % 4 == 0) -> a needle 1e-9 m thick and ~0.1 m long.
+needle = bytes([1, 0, 9, 0, 0])
+for i, p in enumerate([(0, 0, 0), (1, 0, 0), (0, 1, 0), (100, 100, 100)]):
+    needle += bytes([1 if i < 3 else 0]) + bytes(c & 0xff for c in p)
+write("fuzz_hull", "needle", needle)
+
+# --- fuzz_narrowphase: flags byte (0x80 raw), shapes, rotations, positions
+for mode in range(5):
+    write("fuzz_narrowphase", f"boxes_mode{mode}", bytes([mode, 0]) + u16(0.6) * 3 + bytes([0]) + u16(0.4) * 3 +
+          u16(0.7) + u16(0.2) + u16(0.1) + u16(0.3) + u16(0.5) * 4 + u16(0.55) * 3)
+write("fuzz_narrowphase", "sphere_hull", bytes([0, 1]) + u16(0.5) + bytes([2]) + u16(0.5) + bytes([4]) +
+      b"".join(u16(v) for v in (0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1, 0.5, 0.2, 0.9, 0.3, 0.3, 0.3, 0.7, 0.7, 0.7)))
+issue = bytes([0x80 | 0, 0]) + raw(13.117647055900639, 0.57617071270942688, 0.50029640259522512)
+issue += bytes([0]) + raw(195.29190067006274, 1999.2532169117646, 1808.8235294117646)
+issue += raw(float.fromhex("0x1.1f80e1b73b9fp-1"), float.fromhex("-0x1.308cc2e6e5b98p-1"),
+             float.fromhex("0x1.fe82356c338bcp-4"), float.fromhex("0x1.1f82ffc2343cdp-1"))
+issue += raw(1, 0, 0, 0)
+issue += raw(float.fromhex("0x1.9b9b9b984cp-1"), float.fromhex("-0x1.fffffffbf4p-1"), float.fromhex("-0x1.efb3b3b3b3b3bp-1"))
+issue += raw(float.fromhex("-0x1.7d87098eb48f4p+7"), float.fromhex("0x1.f53292975567fp+10"), float.fromhex("-0x1.c724207b31cbap+10"))
+write("fuzz_narrowphase", "issue11_box_touching_huge_box", issue)
+
+# --- fuzz_world: gravity, iterations, sleeping, dt, count, bodies..., steps, calls
+def body(kind, static=0):
+    return bytes([kind]) + u16(0.5) * 3 + bytes([static]) + u16(0.4) + u16(0.5) * 3 + bytes([1]) + \
+        u16(0.6) * 4 + u16(0.5) * 6 + u16(0.5) + u16(0.3) + bytes([1])
+write("fuzz_world", "stack", bytes([1, 10, 0]) + u16(0.5) + bytes([3]) + body(0, 0) + body(0, 1) + body(1) + bytes([4, 1]))
+write("fuzz_world", "infinite_force", bytes([1, 10, 1]) + u16(0.5) + bytes([2]) + body(0) + body(2) +
+      bytes([2, 0, 0, 0, 0]) + raw(float("inf")) + bytes([1]) + raw(1) + bytes([1]) + raw(0) + bytes([1]))
+write("fuzz_world", "nan_pose", bytes([0, 4, 0]) + u16(0.5) + bytes([1]) + body(0) +
+      bytes([3, 0, 0, 6]) + bytes([0]) + raw(float("nan")) * 7)
