@@ -361,8 +361,9 @@ TEST_F(Cli, NumbersAreWrittenAsPrintfG17) {
     const double x = i < static_cast<int>(special.size()) ? special[i] : number(300);
     bodies.push_back(
         {"b" + std::to_string(i),
-         kSphere + ", \"position\": [" + g17(x) + ", " + g17(number(300)) + ", " +
-             g17(number(300)) + "], \"velocity\": [" + g17(number(300)) + ", " +
+         // Positions are accepted within 1e15 m; velocities over the whole range.
+         kSphere + ", \"position\": [" + g17(number(14)) + ", " + g17(number(14)) + ", " +
+             g17(number(14)) + "], \"velocity\": [" + g17(x) + ", " +
              g17(number(300)) + ", " + g17(number(300)) + "], \"angular_velocity\": [" +
              g17(number(100)) + ", " + g17(number(100)) + ", " + g17(number(100)) +
              "], \"orientation\": [" + g17(number(1)) + ", " + g17(number(1)) + ", " +
@@ -451,7 +452,7 @@ TEST_F(Cli, BadCommandLinesExitTwo) {
 TEST_F(Cli, NonFiniteBodyExitsOneNamingItAndTheStep) {
   const std::string scene = SceneOf({
       {"calm", kSphere},
-      {"runaway", kSphere + R"(, "position": [1.5e308, 0, 0], "velocity": [1e307, 0, 0])"},
+      {"runaway", kSphere + R"(, "position": [1e15, 0, 0], "velocity": [8e307, 0, 0])"},
   });
   const Result r = Run(Quote(Write("overflow.json", scene)) + " --dt 1 --out " +
                        Quote(Path("t.csv")));

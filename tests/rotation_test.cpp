@@ -405,3 +405,23 @@ TEST(FreeRotation, TinyAngularMomentumStaysFinite) {
     EXPECT_LT(QuatAngleBetween(q, body.Orientation_WB()), 1e-15) << tiny;
   }
 }
+
+// Exactly on the separatrix (I = 1, 1.5, 3 and L = (1, 0.75, 1): M^2 = 2 E I_2 to the bit),
+// stepped 1000 s at a time: omega approaches the intermediate axis and sech underflows, where
+// the addition theorem divided 0 by 0 (found by fuzz_world). The limit keeps the motion
+// finite, on the intermediate axis, with the energy and |L| it had.
+TEST(FreeRotation, ExactlyOnTheSeparatrixStaysFinite) {
+  const RVec3 I(1, 1.5, 3);
+  RFreeRotation rot;
+  rot.SetInertia(I);
+  RVec3 w(1, 0.5, 1.0 / 3);
+  RQuat q = RQuat::Identity();
+  const RScalar E0 = 0.5 * w.dot(I.cwiseProduct(w)), L0 = I.cwiseProduct(w).norm();
+  for (int i = 0; i < 5; ++i) {
+    rot.Advance(1000, w, q);
+    ASSERT_TRUE(AllFinite(w) && AllFinite(q)) << "step " << i;
+  }
+  EXPECT_NEAR(0.5 * w.dot(I.cwiseProduct(w)), E0, 1e-12 * E0);
+  EXPECT_NEAR(I.cwiseProduct(w).norm(), L0, 1e-12 * L0);
+  EXPECT_LT(std::abs(w.x()) + std::abs(w.z()), 1e-100);
+}

@@ -36,7 +36,18 @@ bool NearlyEqual(RScalar x, RScalar y) {
 // denominator 1 - m sn_u^2 sn_v^2 is written dn_u^2 + m sn_u^2 cn_v^2: a sum of
 // non-negative terms, with no cancellation near the separatrix (m -> 1).
 RJacobiSnCnDn Add(const RJacobiSnCnDn& u, const RJacobiSnCnDn& v, RScalar m) {
-  const RScalar inv = 1 / (u.dn * u.dn + m * u.sn * u.sn * v.cn * v.cn);
+  const RScalar den = u.dn * u.dn + m * u.sn * u.sn * v.cn * v.cn;
+  if (!(den > 0)) {
+    // Only on the separatrix (m = 1: sn = tanh, cn = dn = sech) far along it, where sech
+    // has underflowed: the limit of the formula, tanh's own addition theorem (found by
+    // fuzz_world: a box spun exactly onto the separatrix, stepped 1000 s, divided 0 by 0).
+    const RScalar t = 1 + u.sn * v.sn;
+    RJacobiSnCnDn r;
+    r.sn = t != 0 ? std::clamp((u.sn + v.sn) / t, RScalar(-1), RScalar(1)) : u.sn;
+    r.cn = r.dn = std::sqrt(std::max(RScalar(0), (1 - r.sn) * (1 + r.sn)));
+    return r;
+  }
+  const RScalar inv = 1 / den;
   RJacobiSnCnDn r;
   r.sn = (u.sn * v.cn * v.dn + v.sn * u.cn * u.dn) * inv;
   r.cn = (u.cn * v.cn - u.sn * u.dn * v.sn * v.dn) * inv;

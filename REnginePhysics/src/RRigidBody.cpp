@@ -13,6 +13,12 @@ void Require(bool ok, const char* field, const char* what) {
 }
 bool PositiveFinite(RScalar x) { return std::isfinite(x) && x > 0; }
 constexpr RScalar kMaxInertiaRatio = 1e9;
+// Positions the engine accepts: 1e15 m (6700 au) is beyond any game, and squared distances
+// there (1e30) are far from overflowing; at 1e185 m they overflow, and a sphere pair's
+// distance came out infinite (found by fuzz_narrowphase).
+constexpr RScalar kMaxPosition = 1e15;
+constexpr const char* kPositionRange = "must be finite and within 1e15 m of the origin";
+bool InRange(const RVec3& p) { return p.cwiseAbs().maxCoeff() <= kMaxPosition; }
 }  // namespace
 
 RRigidBody::RRigidBody(const RBodyDef& def)
@@ -41,7 +47,7 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     case RShapeType::kHull:
       break;
   }
-  Require(AllFinite(def.position_W), "position", "must be finite");
+  Require(InRange(def.position_W), "position", kPositionRange);
   Require(AllFinite(def.velocity_W), "velocity", "must be finite");
   Require(AllFinite(def.angularVelocity_W), "angular_velocity", "must be finite");
   const std::optional<RQuat> q_WS = QuatNormalized(def.q_WS);
@@ -109,7 +115,7 @@ RRigidBody::RRigidBody(const RBodyDef& def)
 }
 
 void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q) {
-  Require(AllFinite(position_W), "position", "must be finite");
+  Require(InRange(position_W), "position", kPositionRange);
   const std::optional<RQuat> q_WS = QuatNormalized(q);
   Require(q_WS.has_value(), "orientation", "must be a finite quaternion of non-zero length");
   m_q_WB = *q_WS * m_q_BS.conjugate();

@@ -31,9 +31,23 @@ class FuzzInput {
   }
   // 10^Range(lo, hi): sizes and ratios spread over decades.
   double Decades(double lo, double hi) { return std::pow(10.0, Range(lo, hi)); }
-  RVec3 Vec(double lo, double hi) { return RVec3(Range(lo, hi), Range(lo, hi), Range(lo, hi)); }
+  // (Reads are sequenced one per statement: the order in which a function's arguments are
+  // evaluated differs between compilers, and an input must mean the same to all of them.)
+  RVec3 Vec(double lo, double hi) {
+    const double x = Range(lo, hi), y = Range(lo, hi), z = Range(lo, hi);
+    return RVec3(x, y, z);
+  }
+  RVec3 RawVec() {
+    const double x = RawDouble(), y = RawDouble(), z = RawDouble();
+    return RVec3(x, y, z);
+  }
+  RQuat RawQuat() {  // (w, x, y, z), as read
+    const double w = RawDouble(), x = RawDouble(), y = RawDouble(), z = RawDouble();
+    return RQuat(w, x, y, z);
+  }
   RQuat Rotation() {
-    RQuat q(Range(-1, 1), Range(-1, 1), Range(-1, 1), Range(-1, 1));
+    const double w = Range(-1, 1), x = Range(-1, 1), y = Range(-1, 1), z = Range(-1, 1);
+    const RQuat q(w, x, y, z);
     return q.norm() > 1e-3 ? q.normalized() : RQuat::Identity();
   }
   bool Empty() const { return m_pos >= m_size; }

@@ -20,16 +20,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const int count = 4 + in.Byte() % 60;
   std::vector<RVec3> points;
   if (mode % 2 == 0) {
-    for (int i = 0; i < count && !in.Empty(); ++i) {
-      points.emplace_back(in.RawDouble(), in.RawDouble(), in.RawDouble());
-    }
+    for (int i = 0; i < count && !in.Empty(); ++i) points.push_back(in.RawVec());
   } else {
     const double grid = std::pow(10.0, -double(in.Byte() % 13));  // 1 m .. 1e-12 m
-    const RVec3 offset = in.Vec(-1e7, 1e7) * double(in.Byte() % 2);
+    RVec3 offset = in.Vec(-1e7, 1e7);
+    offset *= double(in.Byte() % 2);
     for (int i = 0; i < count && !in.Empty(); ++i) {
-      const auto c = [&] { return double(static_cast<std::int8_t>(in.Byte())); };
       const double scale = (in.Byte() % 4 == 0) ? 1e6 : 1.0;  // a few far points: needles
-      points.push_back(offset + grid * scale * RVec3(c(), c(), c()));
+      const auto c = [&] { return double(static_cast<std::int8_t>(in.Byte())); };
+      const double x = c(), y = c(), z = c();
+      points.push_back(offset + grid * scale * RVec3(x, y, z));
     }
   }
   RConvexPolyhedron h;
@@ -57,16 +57,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     double lowest = f.plane.offset;
     for (const RVec3& p : v) {
       // Hull's tolerance is 1e-9 of the cloud's extent about the cloud's centroid, at most
-      // twice this one; the offset is relative to the frame origin (the cloud may sit 1e7 m
-      // out), so its rounding counts too.
+      // twice this one; and a cloud 1e7 m out rounds n . p to ~1e-16 of |p|.
       const double s = f.plane.SignedDistance(p);
-      RENGINE_FUZZ_CHECK(s <= 2e-9 * extent + 1e-15 * std::abs(f.plane.offset),
+      RENGINE_FUZZ_CHECK(s <= 2e-9 * extent + 1e-15 * p.cwiseAbs().maxCoeff(),
                          "vertex %.3g outside a face (extent %.3g)", s, extent);
       lowest = std::min(lowest, f.plane.normal.dot(p));
     }
     thinnest = std::min(thinnest, f.plane.offset - lowest);
   }
-  RENGINE_FUZZ_CHECK(thinnest >= 0.5e-4 * extent, "thinnest %.3g of extent %.3g", thinnest, extent);
+  // Hull measures the width about the cloud's centroid; here the planes are those of the
+  // cloud's own frame, whose rounding (1e-16 of the distance from its origin) counts.
+  const double far = mean.cwiseAbs().maxCoeff();
+  RENGINE_FUZZ_CHECK(thinnest >= 0.5e-4 * extent - 4e-15 * far, "thinnest %.3g of extent %.3g",
+                     thinnest, extent);
   const RPolyhedronMass m = h.MassProperties();
   RENGINE_FUZZ_CHECK(m.volume > 0 && std::isfinite(m.volume) && AllFinite(m.centroid) &&
                          AllFinite(m.inertia),

@@ -29,8 +29,12 @@ RShape ShapeFrom(FuzzInput& in, bool raw) {
   switch (in.Byte() % 3) {
     case 0:
       s.type = RShapeType::kBox;
-      s.halfExtents = raw ? RVec3(in.RawDouble(), in.RawDouble(), in.RawDouble())
-                          : RVec3(in.Decades(-2, 3), in.Decades(-2, 3), in.Decades(-2, 3));
+      if (raw) {
+        s.halfExtents = in.RawVec();
+      } else {
+        const double x = in.Decades(-2, 3), y = in.Decades(-2, 3), z = in.Decades(-2, 3);
+        s.halfExtents = RVec3(x, y, z);
+      }
       break;
     case 1:
       s.type = RShapeType::kSphere;
@@ -74,14 +78,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   RBodyDef da, db;
   da.shape = ShapeFrom(in, raw);
   db.shape = ShapeFrom(in, raw);
-  auto rawVec = [&] { return RVec3(in.RawDouble(), in.RawDouble(), in.RawDouble()); };
-  auto rawRotation = [&] { return RQuat(in.RawDouble(), in.RawDouble(), in.RawDouble(), in.RawDouble()); };
-  da.q_WS = raw ? rawRotation() : in.Rotation();
-  db.q_WS = raw ? rawRotation() : in.Rotation();
+  da.q_WS = raw ? in.RawQuat() : in.Rotation();
+  db.q_WS = raw ? in.RawQuat() : in.Rotation();
   const RVec3 offset = mode == 4 ? in.Vec(-1e7, 1e7) : RVec3::Zero();
   const double reach = 4 * std::max(1.0, std::max(da.shape.halfExtents.norm(), db.shape.halfExtents.norm()));
-  da.position_W = offset + (raw ? rawVec() : RVec3::Zero());
-  db.position_W = offset + (raw ? rawVec() : mode == 2 ? RVec3::Zero() : in.Vec(-reach, reach));
+  da.position_W = offset + (raw ? in.RawVec() : RVec3::Zero());
+  db.position_W = offset + (raw ? in.RawVec() : mode == 2 ? RVec3::Zero() : in.Vec(-reach, reach));
   if (mode == 2 && !raw) db.shape = da.shape, db.q_WS = da.q_WS;
   std::vector<RRigidBody> bodies;
   try {

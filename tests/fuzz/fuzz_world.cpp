@@ -20,7 +20,10 @@ double Value(FuzzInput& in) {
   // Mostly game-sized values, sometimes any bit pattern.
   return in.Byte() % 8 == 0 ? in.RawDouble() : in.Range(-1, 1) * in.Decades(-3, 4);
 }
-RVec3 Vector(FuzzInput& in) { return RVec3(Value(in), Value(in), Value(in)); }
+RVec3 Vector(FuzzInput& in) {
+  const double x = Value(in), y = Value(in), z = Value(in);  // in this order
+  return RVec3(x, y, z);
+}
 
 bool Finite(const RRigidBody& b) {
   return AllFinite(b.Position_W()) && AllFinite(b.Orientation_WB()) && AllFinite(b.Velocity_W()) &&
@@ -43,7 +46,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (in.Byte() % 3) {
       case 0:
         d.shape.type = RShapeType::kBox;
-        d.shape.halfExtents = RVec3(in.Decades(-2, 1), in.Decades(-2, 1), in.Decades(-2, 1));
+        d.shape.halfExtents = RVec3::Constant(in.Decades(-2, 1));
+        d.shape.halfExtents.y() = in.Decades(-2, 1), d.shape.halfExtents.z() = in.Decades(-2, 1);
         break;
       case 1:
         d.shape.type = RShapeType::kSphere;
@@ -81,12 +85,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         switch (in.Byte() % 7) {
           case 0: b.AddForce_W(Vector(in)); break;
           case 1: b.AddTorque_W(Vector(in)); break;
-          case 2: b.AddImpulseAtPoint_W(Vector(in), Vector(in)); break;
-          case 3: b.AddForceAtPoint_W(Vector(in), Vector(in)); break;
+          case 2: {
+            const RVec3 j = Vector(in), p = Vector(in);
+            b.AddImpulseAtPoint_W(j, p);
+            break;
+          }
+          case 3: {
+            const RVec3 f = Vector(in), p = Vector(in);
+            b.AddForceAtPoint_W(f, p);
+            break;
+          }
           case 4: b.SetVelocity_W(Vector(in)); break;
           case 5: b.SetAngularVelocity_W(Vector(in)); break;
-          default:
-            b.SetShapePose(Vector(in), RQuat(Value(in), Value(in), Value(in), Value(in)));
+          default: {
+            const RVec3 x = Vector(in);
+            const double qw = Value(in), qx = Value(in), qy = Value(in), qz = Value(in);
+            b.SetShapePose(x, RQuat(qw, qx, qy, qz));
+          }
         }
       } catch (const std::invalid_argument&) {
       }

@@ -55,7 +55,7 @@ struct RBodyDef {
   bool isStatic = false;
   std::optional<RScalar> mass;  // kg; when unset, density * volume
   RScalar density = 1;          // kg/m^3, used when mass is unset
-  RVec3 position_W = RVec3::Zero();           // origin of S in the world, m
+  RVec3 position_W = RVec3::Zero();           // origin of S in the world, m (|x_i| <= 1e15)
   RQuat q_WS = RQuat::Identity();             // orientation of S in the world
   RVec3 velocity_W = RVec3::Zero();           // centre-of-mass velocity, world, m/s
   RVec3 angularVelocity_W = RVec3::Zero();    // world frame, rad/s
@@ -145,8 +145,9 @@ class RRigidBody {
   // Setters for game code between steps. Velocities are ignored on static bodies. Each
   // wakes the body, and with it its island (RWorldSettings::RShortcuts::sleeping); moving a
   // static body wakes every sleeping body. Invalid values are refused at the door: a
-  // non-finite position, velocity or quaternion, or a quaternion of zero length (q_WS is
-  // normalised), throws RBodyError naming the argument and leaves the body as it was.
+  // non-finite velocity or quaternion, a quaternion of zero length (q_WS is normalised), or
+  // a position not finite or beyond 1e15 m of the origin, throws RBodyError naming the
+  // argument and leaves the body as it was.
   void SetShapePose(const RVec3& position_W, const RQuat& q_WS);
   void SetVelocity_W(const RVec3& v_W);
   void SetAngularVelocity_W(const RVec3& w_W);
