@@ -170,7 +170,7 @@ TEST(ApiInput, PositionCorrectionIsCappedPerStep) {
 // Positions beyond 1e15 m are refused (at 1e185 m a sphere pair's distance overflowed to
 // infinity: found by fuzz_narrowphase); 1e15 m itself is a body.
 TEST(ApiInput, PositionsBeyondTheRangeAreRefused) {
-  for (RScalar x : {1.0000001e15, -1e185, 1e308}) {
+  for (RScalar x : {1.0000001e15, -1e185, 1e308, kNaN, -kInf}) {
     EXPECT_THROW(RRigidBody(Box(RVec3(0, x, 0))), RBodyError) << x;
     RRigidBody body(Box(RVec3::Zero()));
     EXPECT_THROW(body.SetShapePose(RVec3(x, 0, 0), RQuat::Identity()), RBodyError) << x;

@@ -18,7 +18,8 @@ constexpr RScalar kMaxInertiaRatio = 1e9;
 // distance came out infinite (found by fuzz_narrowphase).
 constexpr RScalar kMaxPosition = 1e15;
 constexpr const char* kPositionRange = "must be finite and within 1e15 m of the origin";
-bool InRange(const RVec3& p) { return p.cwiseAbs().maxCoeff() <= kMaxPosition; }
+// (AllFinite first: Eigen's maxCoeff passes over a NaN.)
+bool InRange(const RVec3& p) { return AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition; }
 }  // namespace
 
 RRigidBody::RRigidBody(const RBodyDef& def)
