@@ -505,6 +505,10 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
         ++leads;
       }
     }
+    if (leads == 0) {  // separations that are not numbers (see ImpactGeometry): no rows
+      c.resolved = false;
+      continue;
+    }
     leadCentre /= leads;
     const RVec3& normal = c.manifold.normal;
     RVec3 t1, t2;
@@ -1279,6 +1283,9 @@ bool RIntegrator::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolv
         centre_A += m.points[i].position, ++leads;
       }
     }
+    // No point within the slop of the deepest: the separations are not numbers (bodies
+    // flung to 1e300 m/s overflow the pair's pose). No impact to find (found by fuzz_world).
+    if (leads == 0) return false;
     centre_A /= leads;
     // World, relative to each body's centre of mass at t.
     const RVec3 n = R_WA * m.normal;

@@ -93,12 +93,14 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     Require(PositiveFinite(m_mass), massField, "density * volume is not a positive finite mass");
     m_invMass = 1 / m_mass;
     m_I_B = mp.principalMoments * (m_mass / mp.volume);
-    m_invI_B = m_I_B.cwiseInverse();
-    // A mass of 1e-310 is positive and finite, but its inverse is not: refuse it here rather
-    // than let the first step produce infinities.
-    Require(std::isfinite(m_invMass) && AllFinite(m_I_B) && (m_I_B.array() > 0).all() &&
-                AllFinite(m_invI_B),
+    // A mass of 1e-310 is positive and finite, but its inverse is not, and a tiny body's
+    // moments underflow to 0: refuse it here rather than let the first step produce
+    // infinities (and invert only what is invertible).
+    Require(std::isfinite(m_invMass) && AllFinite(m_I_B) && (m_I_B.array() > 0).all(),
             massField, "gives a mass or inertia too small or too large to invert");
+    m_invI_B = m_I_B.cwiseInverse();
+    Require(AllFinite(m_invI_B), massField,
+            "gives a mass or inertia too small or too large to invert");
     // A needle's inertia about its long axis is tiny against the others: an off-centre
     // touch spins it up without limit (a box 1e-9 m thick and 10 m long). 1e9 is the
     // largest ratio of effective masses the contact solver holds (README, stability
@@ -216,19 +218,25 @@ void RRigidBody::AddAngularImpulse_W(const RVec3& h_W) {
   WakeIfNonZero(h_W);
 }
 
-void RRigidBody::AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W) {
+namespace {
+// x acting at world point p on a body whose centre of mass is at com: x added to `linear`,
+// its moment to `angular`; neither changes unless both sums are finite.
+void AddAtPoint(RVec3& linear, RVec3& angular, const RVec3& x, const RVec3& p_W,
+                const RVec3& com_W, const char* field) {
   Require(AllFinite(p_W), "point", "must be finite");
-  const RVec3 force = FiniteSum(m_force_W, f_W, "force");
-  m_torque_W = FiniteSum(m_torque_W, (p_W - m_x_W).cross(f_W), "force");
-  m_force_W = force;
+  const RVec3 sum = FiniteSum(linear, x, field);
+  angular = FiniteSum(angular, (p_W - com_W).cross(x), field);
+  linear = sum;
+}
+}  // namespace
+
+void RRigidBody::AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W) {
+  AddAtPoint(m_force_W, m_torque_W, f_W, p_W, m_x_W, "force");
   WakeIfNonZero(f_W);
 }
 
 void RRigidBody::AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W) {
-  Require(AllFinite(p_W), "point", "must be finite");
-  const RVec3 impulse = FiniteSum(m_linearImpulse_W, j_W, "impulse");
-  m_angularImpulse_W = FiniteSum(m_angularImpulse_W, (p_W - m_x_W).cross(j_W), "impulse");
-  m_linearImpulse_W = impulse;
+  AddAtPoint(m_linearImpulse_W, m_angularImpulse_W, j_W, p_W, m_x_W, "impulse");
   WakeIfNonZero(j_W);
 }
 
