@@ -7,7 +7,10 @@ its encoding can express (see each fuzz_*.cpp for the encoding):
               hull points of 1e300, a name with a NUL and one with an escape sequence;
   fuzz_hull:  a cube, points of 1e300, a needle (three points within 1e-9 m, one 10 m off);
   fuzz_narrowphase: every mode, and the 26 m box touching the 4 km box (exact doubles);
-  fuzz_world: a stack, a spinning hull, an infinite force, a NaN pose.
+  fuzz_world: small worlds shaped after the reproducers (a stack; API calls given
+              infinities and NaN). The engine-level reproducers (an infinite force freezing
+              a stack, a zero quaternion, a negative dt, a spin of 1e8 rad/s) are gtests in
+              api_input_test.cpp and rotation_test.cpp, where each value is exact.
 """
 import json
 import os
@@ -50,6 +53,7 @@ write("fuzz_scene", "pair.json", json.dumps({"dt": 0.01, "steps": 5, "restitutio
 write("fuzz_scene", "deep_nesting.json", '{"gravity": ' + "[" * 100000 + "]" * 100000 + ', "bodies": []}')
 write("fuzz_scene", "hull_1e300.json", json.dumps({"bodies": [{"name": "big", "shape": {"type": "hull", "points": [
     [1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300], [1e300, 1e300, 1e300], [0, 0, 0]]}}]}))
+write("fuzz_scene", "steps_2e63.json", '{"steps": 9223372036854775807, "bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 1}}]}')
 write("fuzz_scene", "name_nul.json", '{"bodies": [{"name": "a\\u0000b", "shape": {"type": "sphere", "radius": 1}}]}')
 write("fuzz_scene", "name_escape.json", '{"bodies": [{"name": "\\u001b[2J", "shape": {"type": "sphere", "radius": 1}}]}')
 
