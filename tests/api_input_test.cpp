@@ -202,3 +202,25 @@ TEST(ApiInput, ExtremeFiniteValuesNeverMakeNonNumbers) {
     }
   }
 }
+
+// Sizes the narrow phase cannot square are refused (a box 1e134 m wide and 1e-237 m thick
+// had a finite mass and a sane inertia ratio: found by fuzz_narrowphase), and so is a box
+// thinner than 1e-4 of its size, the rule hulls follow.
+TEST(ApiInput, ShapeSizesOutsideTheRangeAreRefused) {
+  RBodyDef d = Box(RVec3::Zero());
+  for (const RVec3& e : {RVec3(1e-237, 7e133, 1.7e133), RVec3(2e12, 1e12, 1e12),
+                         RVec3(1, 1, 0.99e-4)}) {
+    d.shape.halfExtents = e;
+    try {
+      RRigidBody body(d);
+      ADD_FAILURE() << e.transpose();
+    } catch (const RBodyError& error) {
+      EXPECT_EQ(error.Field(), "shape.half_extents");
+    }
+  }
+  d.shape.halfExtents = RVec3(1, 1, 1e-4);  // the thinnest box accepted
+  EXPECT_NO_THROW(RRigidBody{d});
+  d.shape.type = RShapeType::kSphere;
+  d.shape.radius = 1.1e12;
+  EXPECT_THROW(RRigidBody{d}, RBodyError);
+}

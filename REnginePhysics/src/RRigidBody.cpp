@@ -13,6 +13,8 @@ void Require(bool ok, const char* field, const char* what) {
 }
 bool PositiveFinite(RScalar x) { return std::isfinite(x) && x > 0; }
 constexpr RScalar kMaxInertiaRatio = 1e9;
+constexpr RScalar kMaxSize = 1e12;       // m
+constexpr RScalar kMinThickness = 1e-4;  // of the largest size
 // Positions the engine accepts: 1e15 m (6700 au) is beyond any game, and squared distances
 // there (1e30) are far from overflowing; at 1e185 m they overflow, and a sphere pair's
 // distance came out infinite (found by fuzz_narrowphase).
@@ -38,13 +40,22 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
           "must be a finite number >= 0");
   switch (def.shape.type) {
+    // Sizes within 1e12 m, as hull points are (RConvexPolyhedron::Hull), and a box no
+    // thinner than 1e-4 of its size, as a hull: a box 1e134 m wide and 1e-237 m thick had a
+    // finite mass and a sane inertia ratio, and overflowed the narrow phase's squares (found
+    // by fuzz_narrowphase).
     case RShapeType::kSphere:
-      Require(PositiveFinite(def.shape.radius), "shape.radius", "must be finite and > 0");
+      Require(PositiveFinite(def.shape.radius) && def.shape.radius <= kMaxSize, "shape.radius",
+              "must be finite, > 0 and at most 1e12 m");
       break;
-    case RShapeType::kBox:
-      Require(AllFinite(def.shape.halfExtents) && (def.shape.halfExtents.array() > 0).all(),
-              "shape.half_extents", "must be finite and > 0");
+    case RShapeType::kBox: {
+      const RVec3& e = def.shape.halfExtents;
+      Require(AllFinite(e) && (e.array() > 0).all() && e.maxCoeff() <= kMaxSize,
+              "shape.half_extents", "must be finite, > 0 and at most 1e12 m");
+      Require(e.minCoeff() >= kMinThickness * e.maxCoeff(), "shape.half_extents",
+              "is too thin: its smallest half extent is below 1e-4 of its largest");
       break;
+    }
     case RShapeType::kHull:
       break;
   }

@@ -71,7 +71,8 @@ struct RBodyDef {
 class RRigidBody {
  public:
   // Computes the mass properties. Throws RBodyError on a definition that would give a
-  // non-finite or non-positive size, mass or inertia (or non-finite inverses), a dynamic
+  // non-finite or non-positive size, mass or inertia (or non-finite inverses), a size beyond
+  // 1e12 m, a box thinner than 1e-4 of its largest half extent, a dynamic
   // body whose largest principal moment exceeds 1e9 times its smallest (a needle), or whose
   // hull points do not span a solid (RConvexPolyhedron::Hull), naming the field.
   explicit RRigidBody(const RBodyDef& def);
