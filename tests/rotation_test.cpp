@@ -425,3 +425,22 @@ TEST(FreeRotation, ExactlyOnTheSeparatrixStaysFinite) {
   EXPECT_NEAR(I.cwiseProduct(w).norm(), L0, 1e-12 * L0);
   EXPECT_LT(std::abs(w.x()) + std::abs(w.z()), 1e-100);
 }
+
+// A spin about one principal axis with the others' components so small that their squares
+// underflow (found by fuzz_world: a zero divisor in the polhode's constants): a steady spin,
+// omega kept, the body turned by omega h.
+TEST(FreeRotation, NearlySteadySpinWithUnderflowingComponentsStaysFinite) {
+  const RVec3 I(1, 2, 3);
+  for (int axis = 0; axis < 3; ++axis) {
+    RFreeRotation rot;
+    rot.SetInertia(I);
+    RVec3 w = RVec3::Constant(1e-170);
+    w[axis] = 2;
+    const RVec3 w0 = w;
+    RQuat q = RQuat::Identity();
+    rot.Advance(0.5, w, q);
+    EXPECT_TRUE(AllFinite(w) && AllFinite(q)) << axis;
+    EXPECT_LT((w - w0).norm(), 1e-15) << axis;
+    EXPECT_NEAR(QuatAngleBetween(q, RQuat::Identity()), 1.0, 1e-12) << axis;  // |omega| h
+  }
+}

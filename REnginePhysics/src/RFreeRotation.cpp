@@ -112,7 +112,9 @@ bool RFreeRotation::ComputeConstants(RScalar h, const RVec3& w_B) {
   // Steady spins: about the axis of largest or smallest moment (P = 0: L_a = L_b = 0), or
   // exactly about the intermediate one (L_a = L_c = 0, on the separatrix's fixed point).
   // Omega is constant; the elliptic form would be 0/0 or lose its phase to underflow.
-  if (P == 0 || (L[a] == 0 && L[c] == 0)) return false;
+  // Q = 0 likewise: L_b and L_c so small against L_a that their squares underflow (found by
+  // fuzz_world: (I_c - I_b) Q was a zero divisor); the spin is steady to 1e-300.
+  if (P == 0 || Q == 0 || (L[a] == 0 && L[c] == 0)) return false;
   m_signC = w_B[c] < 0 ? RScalar(-1) : RScalar(1);
   // |L| from the scaled components when its square underflows (|L| < 1e-154; found by
   // fuzz_world: 1 / 0).
