@@ -550,7 +550,7 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
     const char* hash;
   } pins[] = {
       {"box_pile_1000", "073bbd87657d9a55"},     {"box_stack_10", "b93c00dd45e2d91c"},
-      {"debris_cloud_1000", "db90d8996bee3edc"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"debris_cloud_1000", "065c41fd2ba16dca"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {

@@ -1056,3 +1056,25 @@ TEST(CollisionCrosscheck, LibccdOracleStoppedByItsBudgetDoesNotLeak) {
   const OraclePenetration p = CcdGJKPenetration(a, b, config);
   EXPECT_TRUE(p.ok && p.overlap);
 }
+
+// A 20 m needle of a hull and a 2 cm box 6.7 mm apart (found by fuzz_narrowphase): GJK's
+// tetrahedron, flat to rounding, passed its "encloses the origin" sign tests while its own
+// support plane separated the shapes; EPA then reported them touching. An overlap is now
+// believed only where no support plane separates the shapes by more than the band.
+TEST(CollisionAdversarial, NeedleHullAndSmallBoxApart) {
+  RShape needle;
+  needle.type = RShapeType::kHull;
+  needle.points = {{-0x1.378372959f036p+3, -0x1.363875a0e315bp+3, -0x1.377e9482f69a4p+3},
+                   {0x1.f26bea88fe6bbp+0, 0x1.eaa040a74607fp-1, 0x1.f2622e63ad9ap-1},
+                   {0x1.f64ce1673234cp+0, 0x1.e6dc7e3904b52p+0, 0x1.e6c905ee63109p+0},
+                   {-0x1.360f16024b98p+3, -0x1.378372959f036p+3, -0x1.378372959f036p+3},
+                   {-0x1.378372959f036p+3, -0x1.378372959f036p+3, -0x1.378372959f036p+3}};
+  const BodySpec a{needle, RVec3::Zero(),
+                   RQuat(-0.5, -0.5, -0.5, -0.5)};
+  const BodySpec b{BoxShape(RVec3::Constant(0.01)), RVec3(-4, -4, -4), RQuat(-0.5, -0.5, -0.5, -0.5)};
+  const Reference ref = ReferenceFor(a, b);
+  ASSERT_GT(ref.separation, 0.006);
+  for (const OffsetAnswer& ans : CheckAtOffsets("needle hull and small box", a, b, ref)) {
+    EXPECT_EQ(ans.r.status, RCollisionStatus::kSeparated);
+  }
+}

@@ -479,7 +479,8 @@ TEST(Scene, ErrorMessagesStayShortWhateverTheValue) {
 
 // Names go into the CSV: a NUL or any control character is refused (it was written raw).
 TEST(Scene, NamesWithControlCharactersAreRefused) {
-  for (const char* name : {"a\\u0000b", "line\\nbreak", "tab\\there", "esc\\u001b[31m", "del\\u007f"}) {
+  for (const char* name : {"a\\u0000b", "line\\nbreak", "tab\\there", "esc\\u001b[31m", "del\\u007f",
+                           "next\\u0085line"}) {
     const std::string text = std::string(R"({"bodies": [{"name": ")") + name +
                              R"(", "shape": {"type": "sphere", "radius": 1}}]})";
     try {

@@ -145,6 +145,8 @@ RDistanceResult ExactPolyhedra(const RConvexPolyhedron& a, const RConvexPolyhedr
   RScalar best = -kInf;
   RVec3 bestN = RVec3::UnitX();
   std::uint32_t bestA = 0, bestB = 0;  // supporting vertex, or edge indices
+  bool edgesSupport = true;              // kEdges: the edges themselves support along bestN
+  std::uint32_t supportB = 0;            // kEdges: B's supporting vertex
   for (const RFace& f : a.Faces()) {
     const RVec3& n = f.plane.normal;
     const RVec3 n_B = R.transpose() * n;
@@ -188,7 +190,19 @@ RDistanceResult ExactPolyhedra(const RConvexPolyhedron& a, const RConvexPolyhedr
       // Outward from A (its frame's origin, the centre of mass, is inside it).
       if (n.dot(vA[ea.v0]) < 0) n = -n;
       const RScalar s = n.dot(toA(vB[eb.v0]) - vA[ea.v0]);
-      if (s > best) best = s, bestN = n, bestA = ia, bestB = ib, kind = Kind::kEdges;
+      if (!(s > best)) continue;
+      // Along n the two edges are the supporting features when their arcs cross; on a
+      // sliver of a hull whose face normals are nearly parallel the test is at the mercy of
+      // rounding (fuzz_narrowphase: a 20 m needle's edge gave 0 where the shapes were 6.7 mm
+      // apart along n). The supports decide.
+      const std::uint32_t i = a.Support(vA.data(), n);
+      const std::uint32_t j = b.Support(vB.data(), -(R.transpose() * n));
+      const RScalar supported = n.dot(toA(vB[j]) - vA[i]);
+      if (supported > best) {
+        best = supported, bestN = n, bestA = ia, bestB = ib, kind = Kind::kEdges;
+        edgesSupport = std::abs(supported - s) <= RScalar(1e-12) * (a.MaxRadius() + b.MaxRadius());
+        supportB = j;
+      }
     }
   }
 
@@ -206,6 +220,11 @@ RDistanceResult ExactPolyhedra(const RConvexPolyhedron& a, const RConvexPolyhedr
         r.witnessB = r.witnessA + best * bestN;
         break;
       case Kind::kEdges: {
+        if (!edgesSupport) {  // the supporting vertex of B, and its projection onto A's
+          r.witnessB = toA(vB[supportB]);
+          r.witnessA = r.witnessB - best * bestN;
+          break;
+        }
         const REdge& ea = a.Edges()[bestA];
         const REdge& eb = b.Edges()[bestB];
         ClosestOnSegments(vA[ea.v0], vA[ea.v1], toA(vB[eb.v0]), toA(vB[eb.v1]), r.witnessA,

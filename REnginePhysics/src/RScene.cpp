@@ -237,11 +237,16 @@ std::string ReadName(const json& j, const std::string& path) {
     Fail(path, "must be a non-empty string" + Got(j));
   }
   // Names go into CSV files and terminals: a NUL, a line break or an escape sequence in one
-  // would corrupt the trajectory or the screen. (nlohmann has checked the UTF-8.)
-  for (const char c : j.get_ref<const std::string&>()) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      Fail(path, "must not contain control characters (U+0000 to U+001F, U+007F)" + Got(j));
+  // would corrupt the trajectory or the screen; U+0080-U+009F (UTF-8 C2 80-9F) hold C1
+  // controls, U+0085 a line break to some readers. (nlohmann has checked the UTF-8.)
+  const std::string& text = j.get_ref<const std::string&>();
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto u = static_cast<unsigned char>(text[i]);
+    const bool c1 = u == 0xc2 && i + 1 < text.size() &&
+                    static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+                    static_cast<unsigned char>(text[i + 1]) <= 0x9f;
+    if (u < 0x20 || u == 0x7f || c1) {
+      Fail(path, "must not contain control characters (U+0000-U+001F, U+007F-U+009F)" + Got(j));
     }
   }
   return j.get<std::string>();
