@@ -161,10 +161,11 @@ RDistanceResult ExactPolyhedra(const RConvexPolyhedron& a, const RConvexPolyhedr
     if (s > best) best = s, bestN = n, bestA = i, kind = Kind::kFaceB;
   }
   // Edge pairs whose arcs on the Gauss map cross: those, and only those, span a face of the
-  // Minkowski difference, and along its normal both edges are supporting, so the
-  // separation is read off their vertices. Arcs (u1, u2) of A's edge and (-w1, -w2) of B's
-  // (B enters the difference negated) cross when each arc's endpoints lie on either side of
-  // the other's great circle, on the same hemisphere.
+  // Minkowski difference (the pruning that makes the test O(E_a E_b) cheap tests). Arcs
+  // (u1, u2) of A's edge and (-w1, -w2) of B's (B enters the difference negated) cross when
+  // each arc's endpoints lie on either side of the other's great circle, on the same
+  // hemisphere. Along such a normal both edges support, so their vertices give the
+  // separation; a candidate that would beat the best is confirmed by the supports.
   const std::vector<RFace>& fA = a.Faces();
   const std::vector<RFace>& fB = b.Faces();
   for (std::uint32_t ia = 0; ia < a.Edges().size(); ++ia) {
