@@ -1,0 +1,590 @@
+// The contact solver (RIntegrator::FindImpulses): rows, warm starts, manifold blocks,
+// friction patches and the end of the step; see RIntegrator.h.
+#include <REnginePhysics/RIntegrator.h>
+
+#include "RSolverRows.h"
+
+#include <REngineMath/RQuaternion.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace REngine {
+
+using namespace solver;
+
+// Sequential impulses (Catto 2005) over every contact point, with the velocities each body
+// will move with during the step (its pending impulses and half the step's acceleration
+// included: kick-drift-kick moves bodies with the mid-step velocity, so a resting contact
+// that holds that velocity at zero does not sink at all). In phases: impacts (SolveImpacts),
+// then the contacts: accumulated normal impulses clamped at zero (a contact pushes, never
+// pulls: the separating-velocity guard), friction per manifold within the Coulomb disc of
+// mu times the manifold's normal impulse (SolvePatch), every row starting from last step's
+// impulses for the same features; small islands solved exactly (SolveIslands); then the
+// end of the step (SolveEndOfStep). Penetration beyond a slop is removed by
+// pseudo-velocities (split impulses), solved apart so that position correction never adds
+// kinetic energy.
+void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
+  m_rows.clear();
+  m_impacts.clear();
+  m_blocks.clear();
+  const std::size_t n = bodies.size();
+  // Warm-start memory is keyed by body index: when the game adds or removes bodies the
+  // indices shift, and another pair would inherit a stranger's impulses.
+  if (n != m_warmBodyCount) m_warm.clear(), m_warmBodyCount = n;
+  m_warmNext.clear();
+  KeepSleepingWarmStarts(bodies);
+  m_solverBodies.resize(n);
+  const RScalar halfDt = RScalar(0.5) * dt;
+  bool anyRow = false;
+  for (const RContact& c : m_contacts) {
+    const RRigidBody& a = bodies[c.a];
+    const RRigidBody& b = bodies[c.b];
+    anyRow = anyRow || (a.m_responds && b.m_responds && (!a.m_isStatic || !b.m_isStatic) &&
+                        c.manifold.pointCount > 0);
+  }
+  if (!anyRow) {
+    std::swap(m_warm, m_warmNext);
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const RRigidBody& b = bodies[i];
+    RSolverBody& s = m_solverBodies[i];
+    s.invM = b.m_invMass;
+    s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();
+    if (b.m_isStatic) {
+      s.v.setZero(), s.w.setZero(), s.invI.setZero();
+      continue;
+    }
+    const RMat3 R = b.m_q_WB.toRotationMatrix();
+    s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
+    s.v = m_moveV[i];  // computed by CollisionDetection's pre-pass this step
+    s.w = R * b.m_w_B + s.invI * (b.m_angularImpulse_W + b.m_torque_W * halfDt);
+  }
+
+  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
+    RContact& c = m_contacts[ci];
+    const RRigidBody& A = bodies[c.a];
+    const RRigidBody& B = bodies[c.b];
+    // A manifold without points (the narrow phase hit its iteration cap) gives no rows: its
+    // impact point and centroid would be 0/0.
+    c.resolved = A.m_responds && B.m_responds && (!A.m_isStatic || !B.m_isStatic) &&
+                 c.manifold.pointCount > 0;
+    if (!c.resolved) continue;
+    const RSolverBody& sa = m_solverBodies[c.a];
+    const RSolverBody& sb = m_solverBodies[c.b];
+    const RScalar e = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
+    const RScalar mu = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
+    // Impacts bounce in a phase of their own, before the contacts are solved (below): each
+    // manifold gets one impact row at the centre of its leading points (those within the
+    // slop of the deepest). A whole face hitting flat bounces through the face's centre,
+    // with no torque, a corner through the corner: one constraint, whose outcome is the
+    // closed form and conserves energy at e = 1. Restitution targets at several points of
+    // one manifold, solved one after another, could return more energy than came in.
+    int deepest = 0;
+    for (int k = 1; k < c.manifold.pointCount; ++k) {
+      if (c.manifold.points[k].separation < c.manifold.points[deepest].separation) deepest = k;
+    }
+    const RScalar leadSeparation = c.manifold.points[deepest].separation;
+    RVec3 leadCentre = RVec3::Zero();
+    int leads = 0;
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      if (c.manifold.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
+        leadCentre += c.manifold.points[k].position;
+        ++leads;
+      }
+    }
+    if (leads == 0) {  // separations that are not numbers (see ImpactGeometry): no rows
+      c.resolved = false;
+      continue;
+    }
+    leadCentre /= leads;
+    const RVec3& normal = c.manifold.normal;
+    RVec3 t1, t2;
+    OrthonormalBasis(normal, t1, t2);
+    {
+      RImpactRow r;
+      r.a = c.a, r.b = c.b, r.contact = ci, r.point = deepest;
+      const RVec3 rA = leadCentre - A.m_x_W, rB = leadCentre - B.m_x_W;
+      SetDirection(r.dir[0], normal, rA, rB, sa, sb);
+      SetDirection(r.dir[1], t1, rA, rB, sa, sb);
+      SetDirection(r.dir[2], t2, rA, rB, sa, sb);
+      r.rA = rA, r.rB = rB;
+      r.gap = leadSeparation;
+      r.restitution = e;
+      r.friction = mu;
+      r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
+      r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
+      r.miss = false;
+      m_impacts.push_back(r);
+    }
+    const std::uint32_t firstRow = static_cast<std::uint32_t>(m_rows.size());
+    const RWarmStart* patchWarm = nullptr;  // the first of its points found last step
+    // One contact row per manifold point: no restitution; the contact may close its gap
+    // within the step (speculative: a fast body stops at the surface, not inside it) but
+    // not approach beyond it.
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      const RVec3& position = c.manifold.points[k].position;
+      const RScalar gap = c.manifold.points[k].separation;
+      RContactRow r;
+      r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
+      r.rA = position - A.m_x_W;
+      r.rB = position - B.m_x_W;
+      SetDirection(r.n, normal, r.rA, r.rB, sa, sb);
+      r.block = static_cast<std::uint32_t>(m_blocks.size());
+      r.target = -std::max(gap, RScalar(0)) / dt;
+      r.pseudoTarget = gap < -m_settings.penetrationSlop
+                           ? std::min(m_settings.positionCorrection * (-gap - m_settings.penetrationSlop),
+                                      m_settings.maxPositionCorrection) / dt
+                           : 0;
+      r.gap = gap;
+      r.deferN = 0;
+      r.lambdaN = r.lambdaP = r.lambdaE = 0;
+      r.endTarget = kNever;
+      r.lever = 0;  // set with the patch below
+      // Warm start from the same features last step, or else from the nearest of last
+      // step's points of this pair (in a's frame, where a resting contact stays put).
+      const std::uint64_t pair = PairKey(c.a, c.b);
+      auto it = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
+                                 [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; });
+      const RVec3 point_A = A.m_q_WB.conjugate() * (position - A.m_x_W);
+      const std::uint32_t feature = c.manifold.points[r.point].featureId;
+      const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());
+      // The same feature wins over any nearer point. Two new rows may take the same old
+      // point (a corner that became two clip points): each starts from its impulse, and
+      // the passes below redistribute.
+      const RWarmStart* match = nullptr;
+      const RWarmStart* nearest = nullptr;
+      RScalar bestD2 = reach * reach;
+      for (; it != m_warm.end() && it->pair == pair; ++it) {
+        if (it->feature == feature) {
+          match = &*it;
+          break;
+        }
+        const RScalar d2 = (it->point_A - point_A).squaredNorm();
+        if (d2 < bestD2) bestD2 = d2, nearest = &*it;
+      }
+      if (!match) match = nearest;
+      if (match) {
+        ++m_pairStats.warmStarted;
+        r.lambdaN = match->lambdaN;
+        r.lambdaE = match->lambdaE;
+        if (!patchWarm) patchWarm = match;
+      }
+      m_rows.push_back(r);
+    }
+    // The manifold's friction patch (see RBlock): at the centroid of its points, limited by
+    // mu times their total normal impulse, and a twist limited by mu times the sum of each
+    // point's normal impulse and distance from the centroid.
+    RBlock blk;
+    blk.first = firstRow;
+    blk.count = c.manifold.pointCount;
+    blk.useBlock = blk.count > 1;
+    blk.pinv.setZero();  // filled below, once every row is warm-started
+    RVec3 centroid = RVec3::Zero();
+    for (int k = 0; k < c.manifold.pointCount; ++k) centroid += c.manifold.points[k].position;
+    centroid /= c.manifold.pointCount;
+    blk.rA = centroid - A.m_x_W, blk.rB = centroid - B.m_x_W;
+    SetDirection(blk.t[0], t1, blk.rA, blk.rB, sa, sb);
+    SetDirection(blk.t[1], t2, blk.rA, blk.rB, sa, sb);
+    blk.normal = normal;
+    blk.twistIA = sa.invI * normal, blk.twistIB = sb.invI * normal;
+    blk.kTwist = normal.dot(blk.twistIA) + normal.dot(blk.twistIB);
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      m_rows[firstRow + k].lever = (c.manifold.points[k].position - centroid).norm();
+    }
+    blk.friction = mu;
+    for (int ph = 0; ph < 2; ++ph) blk.lambdaT1[ph] = blk.lambdaT2[ph] = blk.lambdaTwist[ph] = 0;
+    if (patchWarm) {
+      for (int ph = 0; ph < 2; ++ph) {
+        blk.lambdaT1[ph] = patchWarm->tangentImpulse[ph].dot(t1);
+        blk.lambdaT2[ph] = patchWarm->tangentImpulse[ph].dot(t2);
+        blk.lambdaTwist[ph] = patchWarm->twistImpulse[ph];
+      }
+    }
+    m_blocks.push_back(blk);
+  }
+
+  m_pairStats.contactPoints = m_rows.size();
+  WarmStart(RPhase::kVelocity);
+  SolveImpacts(bodies, dt);
+  // A manifold whose impact the narrow phase, run again along the motion, found not to
+  // happen within this step keeps no speculative rows: their linear prediction from the
+  // start of the step (which said it would) would stop the bodies short, an inelastic
+  // collision that never happened. Points already touching keep their rows.
+  // (Impact rows and blocks are both one per resolved contact, in the same order.)
+  for (std::size_t i = 0; i < m_impacts.size(); ++i) {
+    if (!m_impacts[i].miss || m_impacts[i].lambdaN != 0) continue;
+    for (int k = 0; k < m_blocks[i].count; ++k) {
+      RContactRow& r = m_rows[m_blocks[i].first + k];
+      if (r.gap > 0 && r.lambdaN == 0) r.target = kNever;
+    }
+  }
+  // Bodies that impacted move with their piecewise path's velocity, deferV less than the
+  // velocity after the impacts that the contact phase works on; the end of the step needs
+  // the difference to predict which contacts are then closed.
+  for (RContactRow& r : m_rows) {
+    r.deferN = r.n.d.dot(m_solverBodies[r.b].deferV - m_solverBodies[r.a].deferV);
+  }
+  const int iterations = std::max(1, m_settings.solverIterations);
+  // Rows come grouped by contact. A manifold's normal rows are solved together: its points
+  // share two bodies, and solving them one after another favours the first, leaving a
+  // small torque that tilts stacked bodies step after step. The block's matrix is rank
+  // deficient (four points of one face constrain three degrees of freedom), so the
+  // minimum-norm least-squares inverse is precomputed once per step; when its answer
+  // would pull at a point, that manifold falls back to one point at a time.
+  for (RBlock& blk : m_blocks) {
+    if (!blk.useBlock) continue;
+    const std::uint32_t first = blk.first;
+    const RSolverBody& sa = m_solverBodies[m_rows[first].a];
+    const RSolverBody& sb = m_solverBodies[m_rows[first].b];
+    // Padded with zeros to 4 x 4: the padding's eigenvalues are 0 and drop out of the
+    // inverse, so one fixed-size symmetric eigensolver serves every point count.
+    Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero();
+    for (int i = 0; i < blk.count; ++i) {
+      const RDirection& di = m_rows[first + i].n;
+      for (int j = 0; j <= i; ++j) {
+        const RDirection& dj = m_rows[first + j].n;
+        K(i, j) = K(j, i) =
+            (sa.invM + sb.invM) * di.d.dot(dj.d) + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
+      }
+    }
+    // Minimum-norm inverse: sum of v v^T / s over the eigenpairs with s above 1e-12 of the
+    // largest. The directions below are the coplanar points' null space (exactly 0 but for
+    // rounding, ~1e-16 of the largest); the softest real direction, a heavy body's, is
+    // shared with the light body it touches and stays near the light body's stiffness.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<RScalar, 4, 4>> eigen(K);
+    const Eigen::Matrix<RScalar, 4, 1>& s = eigen.eigenvalues();  // ascending
+    const RScalar floor = RScalar(1e-14) * s[3];
+    blk.pinv.setZero();
+    for (int k = 0; k < 4; ++k) {
+      if (!(s[k] > floor)) continue;
+      const Eigen::Matrix<RScalar, 4, 1> v = eigen.eigenvectors().col(k);
+      blk.pinv += (v / s[k]) * v.transpose();
+    }
+  }
+
+  const std::size_t nBlocks = m_blocks.size();
+  for (int it = 0; it < iterations; ++it) {
+    // Alternate the sweep's direction, for the same reason as the blocks across manifolds.
+    for (std::size_t bb = 0; bb < nBlocks; ++bb) {
+      RBlock& blk = m_blocks[(it % 2 == 0) ? bb : nBlocks - 1 - bb];
+      RContactRow* rows = &m_rows[blk.first];
+      // Normal: reach the targets, never pull.
+      SolveNormalBlock(blk, rows, RPhase::kVelocity);
+      // Friction, bounded by this pass's normal impulses.
+      SolvePatch(blk, false, RPhase::kVelocity);
+      // Position correction on the pseudo-velocities, as a block like the velocities: one
+      // point at a time, the first point of a face would be favoured and the correction
+      // would tilt the box (a 20-box stack then leans further every step and falls).
+      SolveNormalBlock(blk, rows, RPhase::kPosition);
+    }
+  }
+  BuildIslands(bodies);
+  SolveIslands(RPhase::kVelocity);
+  SolveIslands(RPhase::kPosition);
+  // What the contact phase changed after the impacts (see the deferred impulses below).
+  for (RSolverBody& s : m_solverBodies) s.contactDeltaV = s.v - s.vImpacts;
+  SolveEndOfStep(bodies, dt);
+
+  // Accumulate on the bodies (applied by UpdateObjects), report, and remember.
+  auto accumulate = [&bodies](std::uint32_t a, std::uint32_t b, const RVec3& rA,
+                                    const RVec3& rB, const RVec3& J) {
+    RRigidBody& A = bodies[a];
+    RRigidBody& B = bodies[b];
+    if (!A.m_isStatic) {
+      A.m_linearImpulse_W -= J;
+      A.m_angularImpulse_W -= rA.cross(J);
+    }
+    if (!B.m_isStatic) {
+      B.m_linearImpulse_W += J;
+      B.m_angularImpulse_W += rB.cross(J);
+    }
+  };
+  // An impulse at the end of the step acts where the contact is then: the point moves with
+  // the bodies, with the lighter one's displacement when one is much heavier (the ground's
+  // contact with a sliding box moves with the box). The same point for both bodies keeps
+  // angular momentum exact. Lever arms are about the centres at the start of the step;
+  // UpdateObjects moves them to where the centres end.
+  auto accumulateEnd = [&bodies, this, dt](std::uint32_t a, std::uint32_t b, const RVec3& rA,
+                                           const RVec3& rB, const RVec3& J) {
+    RRigidBody& A = bodies[a];
+    RRigidBody& B = bodies[b];
+    if (J.isZero(0)) return;
+    const RSolverBody& sa = m_solverBodies[a];
+    const RSolverBody& sb = m_solverBodies[b];
+    const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
+    const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
+    if (!A.m_isStatic) {
+      A.m_endLinearImpulse_W -= J;
+      A.m_endAngularImpulse_W -= (rA + shift).cross(J);
+    }
+    if (!B.m_isStatic) {
+      B.m_endLinearImpulse_W += J;
+      B.m_endAngularImpulse_W += (rB + shift).cross(J);
+    }
+  };
+  for (const RContactRow& r : m_rows) {
+    accumulate(r.a, r.b, r.rA, r.rB, r.lambdaN * r.n.d);
+    if (r.lambdaE != 0) accumulateEnd(r.a, r.b, r.rA, r.rB, r.lambdaE * r.n.d);
+    m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN + r.lambdaE;
+    const RBlock& blk = m_blocks[r.block];
+    const RContactPoint& p = m_contacts[r.contact].manifold.points[r.point];
+    RWarmStart w;
+    w.pair = PairKey(r.a, r.b);
+    w.feature = p.featureId;
+    w.point_A = bodies[r.a].m_q_WB.conjugate() * (p.position - bodies[r.a].m_x_W);
+    w.lambdaN = r.lambdaN;
+    w.lambdaE = r.lambdaE;
+    bool finite = std::isfinite(w.lambdaN) && std::isfinite(w.lambdaE) && AllFinite(w.point_A);
+    for (int ph = 0; ph < 2; ++ph) {
+      w.tangentImpulse[ph] = blk.lambdaT1[ph] * blk.t[0].d + blk.lambdaT2[ph] * blk.t[1].d;
+      w.twistImpulse[ph] = blk.lambdaTwist[ph];
+      finite = finite && AllFinite(w.tangentImpulse[ph]) && std::isfinite(w.twistImpulse[ph]);
+    }
+    // A step that overflowed must not seed the next one (its bodies are put back).
+    if (finite) m_warmNext.push_back(w);
+  }
+  for (const RBlock& blk : m_blocks) {
+    const RContactRow& r = m_rows[blk.first];
+    accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[0] * blk.t[0].d + blk.lambdaT2[0] * blk.t[1].d);
+    accumulateEnd(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[1] * blk.t[0].d + blk.lambdaT2[1] * blk.t[1].d);
+    // The twist: a pure torque about the normal.
+    if (!bodies[r.a].m_isStatic) {
+      bodies[r.a].m_angularImpulse_W -= blk.lambdaTwist[0] * blk.normal;
+      bodies[r.a].m_endAngularImpulse_W -= blk.lambdaTwist[1] * blk.normal;
+    }
+    if (!bodies[r.b].m_isStatic) {
+      bodies[r.b].m_angularImpulse_W += blk.lambdaTwist[0] * blk.normal;
+      bodies[r.b].m_endAngularImpulse_W += blk.lambdaTwist[1] * blk.normal;
+    }
+  }
+  // An impact's impulse is a one-off, not remembered: carried into the next step it would
+  // push apart bodies that are already separating, energy from nowhere. It is reported at
+  // the manifold's deepest point.
+  for (const RImpactRow& r : m_impacts) {
+    if (r.lambdaN == 0) continue;
+    RRigidBody& A = bodies[r.a];
+    RRigidBody& B = bodies[r.b];
+    if (!A.m_isStatic) A.m_linearImpulse_W -= r.impulse, A.m_angularImpulse_W -= r.angularA;
+    if (!B.m_isStatic) B.m_linearImpulse_W += r.impulse, B.m_angularImpulse_W += r.angularB;
+    m_contacts[r.contact].normalImpulse[r.point] += r.lambdaN;
+  }
+  // Impacts within the step: the bodies move with their piecewise path's velocity and get
+  // the rest at the end (SolveImpacts).
+  for (std::size_t i = 0; i < n; ++i) {
+    const RSolverBody& s = m_solverBodies[i];
+    RRigidBody& b = bodies[i];
+    if (b.m_isStatic || s.deferV.isZero(0)) continue;
+    const RVec3 J = s.deferV / b.m_invMass;
+    b.m_linearImpulse_W -= J;
+    b.m_deferredImpulse_W = J;
+    // The contact phase's impulses act on the body at its start-of-step pose, but it then
+    // moves deferV dt less than its final velocity would take it: the spin that keeps
+    // angular momentum exact (the orbital term x x m v misses dt deferV x J_contact).
+    b.m_angularImpulse_W += dt * s.deferV.cross(s.contactDeltaV / b.m_invMass);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (bodies[i].m_isStatic) continue;
+    bodies[i].m_pseudoVelocity_W = m_solverBodies[i].vp;
+    bodies[i].m_pseudoAngular_W = m_solverBodies[i].wp;
+  }
+  std::sort(m_warmNext.begin(), m_warmNext.end(), [](const RWarmStart& x, const RWarmStart& y) {
+    return x.pair < y.pair || (x.pair == y.pair && x.feature < y.feature);
+  });
+  std::swap(m_warm, m_warmNext);
+}
+
+
+// Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when
+// the rows were built) to the solver bodies' velocities.
+void RIntegrator::WarmStart(RPhase phase) {
+  const int ph = phase == RPhase::kEnd ? 1 : 0;
+  for (RContactRow& r : m_rows) {
+    const RScalar lambda = Lambda(r, phase);
+    if (lambda == 0) continue;
+    RSolverBody& sa = m_solverBodies[r.a];
+    RSolverBody& sb = m_solverBodies[r.b];
+    Push(r.n, lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+  }
+  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
+}
+
+// Applies patch impulses (tangential at the centroid, twist about the normal) to the solver
+// bodies' velocities.
+void RIntegrator::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist) {
+  const RContactRow& r = m_rows[blk.first];
+  RSolverBody& sa = m_solverBodies[r.a];
+  RSolverBody& sb = m_solverBodies[r.b];
+  if (d1 != 0) Push(blk.t[0], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+  if (d2 != 0) Push(blk.t[1], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+  if (dTwist != 0) sa.w -= dTwist * blk.twistIA, sb.w += dTwist * blk.twistIB;
+}
+
+// A manifold's friction: the tangential impulse at its centroid stops the sliding there,
+// within the Coulomb disc of mu times the manifold's total normal impulse, and the twist
+// stops the spin about the normal within mu times the sum of each point's normal impulse
+// times its distance from the centroid. One patch instead of friction at each point: the
+// points' friction solved one after another twists the body a little and leaves each
+// point's impulse slightly off the sliding direction, which loses about 1% of the friction
+// of a box sliding down an incline. clampOnly: only bring the impulses back inside limits
+// that the normal impulses changed.
+void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
+  const int ph = phase == RPhase::kEnd ? 1 : 0;
+  RContactRow* rows = &m_rows[blk.first];
+  RScalar normal = 0, twistArm = 0;
+  for (int i = 0; i < blk.count; ++i) {
+    const RScalar l = Lambda(rows[i], phase);
+    normal += l, twistArm += l * rows[i].lever;
+  }
+  const RSolverBody& sa = m_solverBodies[rows[0].a];
+  const RSolverBody& sb = m_solverBodies[rows[0].b];
+  RScalar lt1 = blk.lambdaT1[ph], lt2 = blk.lambdaT2[ph], lw = blk.lambdaTwist[ph];
+  if (!clampOnly) {
+    // Both tangents at once, through the 2 x 2 effective mass: one at a time the answer
+    // would depend on which two tangents the basis picked, and that choice jumps when the
+    // normal's z component changes sign (a slope moved 1e6 m away slid 1e-5 m further).
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w),
+                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w));
+    lt1 += step.x(), lt2 += step.y();
+    if (blk.kTwist > 0) lw -= blk.normal.dot(sb.w - sa.w) / blk.kTwist;
+  }
+  const RScalar limit = blk.friction * normal;
+  const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);  // std::hypot: 5% of a pile step
+  if (norm > limit) lt1 *= limit / norm, lt2 *= limit / norm;
+  const RScalar twistLimit = blk.friction * twistArm;
+  lw = std::clamp(lw, -twistLimit, twistLimit);
+  const RScalar d1 = lt1 - blk.lambdaT1[ph], d2 = lt2 - blk.lambdaT2[ph], dw = lw - blk.lambdaTwist[ph];
+  blk.lambdaT1[ph] = lt1, blk.lambdaT2[ph] = lt2, blk.lambdaTwist[ph] = lw;
+  ApplyPatch(blk, d1, d2, dw);
+}
+
+// The end of the step. The contact impulses found so far act at its start, on the velocity
+// the bodies move with (the mid-step velocity of kick-drift-kick), which is what keeps a
+// resting box exactly in place; but the step's second half-kick of gravity then leaves it
+// with -g dt / 2 at the end, and a box stuck on a slope with g sin(theta) dt / 2 down the
+// slope: at rest, reported moving. So every contact that is closed at the end of the step
+// gets a second impulse there: no approach, friction within its cone, solved like the
+// first (blocks, patches, islands) on the end velocities. A resting body then ends each
+// step at rest, and the support it needs is shared between the two ends of the step, the
+// way kick-drift-kick shares a force; a sliding box's friction is shared the same way. The
+// impulses are inelastic (targets of zero, never pulling): they cannot add energy.
+void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar dt) {
+  const RScalar halfDt = RScalar(0.5) * dt;
+  bool any = false;
+  for (RContactRow& r : m_rows) {
+    const RSolverBody& sa = m_solverBodies[r.a];
+    const RSolverBody& sb = m_solverBodies[r.b];
+    // Closed at the end: the gap after moving with this step's velocities (a touching band
+    // of a micrometre per metre of size for rounding).
+    const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
+    const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
+    const RScalar band = 1e-6 * (bodies[r.a].BoundingRadius() + bodies[r.b].BoundingRadius());
+    // A contact that closes faster than the restitution threshold is an impact, and the
+    // next step's impact phase bounces it; stopped here it would end inelastic.
+    auto accel = [&](std::uint32_t i) -> RVec3 {
+      const RRigidBody& b = bodies[i];
+      return b.m_isStatic ? RVec3::Zero() : RVec3(b.m_force_W * b.m_invMass + m_settings.gravity_W);
+    };
+    const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
+    // A body that had an impact this step is not at rest: its end-of-step velocity is the
+    // impact's outcome, left as it is.
+    const bool impacted = sa.tau > 0 || sb.tau > 0;
+    // Nor is a polyhedron whose spin carries the contact point further than the slop within
+    // the step: this impulse is solved with the lever arms of the step's start and applied
+    // at its end, and on a cube spinning at 5 rad/s the arm has turned 0.08 m by then, so an
+    // impulse that stops the approach in the solver's frame adds energy in the body's (a
+    // pair in the debris cloud gained 1e-5 of its energy in one step). A sphere's contact
+    // point does not turn with it.
+    auto arc = [&](std::uint32_t i, const RSolverBody& s, const RVec3& arm) {
+      return bodies[i].Polyhedron_B() ? s.w.norm() * arm.norm() * dt : RScalar(0);
+    };
+    const bool spinning = arc(r.a, sa, r.rA) + arc(r.b, sb, r.rB) > m_settings.penetrationSlop;
+    r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
+                          !spinning
+                      ? RScalar(0) : kNever;
+    if (r.endTarget == kNever) r.lambdaE = 0;
+    any = any || r.endTarget == 0;
+  }
+  if (!any) {
+    for (RContactRow& r : m_rows) r.lambdaE = 0;
+    for (RBlock& blk : m_blocks) blk.lambdaT1[1] = blk.lambdaT2[1] = blk.lambdaTwist[1] = 0;
+    return;
+  }
+  // The end velocities: the second half-kick of the applied forces and gravity.
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const RRigidBody& b = bodies[i];
+    RSolverBody& s = m_solverBodies[i];
+    s.vMid = s.v - s.deferV;
+    if (b.m_isStatic) continue;
+    s.v += (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
+    s.w += s.invI * (b.m_torque_W * halfDt);
+  }
+  WarmStart(RPhase::kEnd);  // last step's end impulses, found with the rows
+  const int iterations = std::max(1, m_settings.solverIterations);
+  const std::size_t nBlocks = m_blocks.size();
+  for (int it = 0; it < iterations; ++it) {
+    for (std::size_t bb = 0; bb < nBlocks; ++bb) {
+      RBlock& blk = m_blocks[(it % 2 == 0) ? bb : nBlocks - 1 - bb];
+      SolveNormalBlock(blk, &m_rows[blk.first], RPhase::kEnd);
+      SolvePatch(blk, false, RPhase::kEnd);
+    }
+  }
+  SolveIslands(RPhase::kEnd);
+}
+
+
+// One manifold's normal rows: the block's minimum-norm answer when it pushes at every point,
+// else one point at a time. On the velocities (towards the rows' targets, impulses lambdaN)
+// or on the pseudo-velocities of position correction (pseudoTarget, lambdaP).
+void RIntegrator::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase) {
+  const bool pseudo = phase == RPhase::kPosition;
+  RSolverBody& sa = m_solverBodies[rows[0].a];
+  RSolverBody& sb = m_solverBodies[rows[0].b];
+  RVec3& va = pseudo ? sa.vp : sa.v;
+  RVec3& wa = pseudo ? sa.wp : sa.w;
+  RVec3& vb = pseudo ? sb.vp : sb.v;
+  RVec3& wb = pseudo ? sb.wp : sb.w;
+  auto lambda = [phase](RContactRow& r) -> RScalar& { return Lambda(r, phase); };
+  auto target = [phase](const RContactRow& r) { return Target(r, phase); };
+  if (phase != RPhase::kVelocity) {
+    // Most contacts need no position correction, and many are not in contact at the end of
+    // the step: nothing to do unless some row does or did.
+    bool active = false;
+    for (int i = 0; i < blk.count; ++i) active = active || target(rows[i]) > 0 || lambda(rows[i]) > 0 || (phase == RPhase::kEnd && target(rows[i]) == 0);
+    if (!active) return;
+  }
+  bool allTargets = true;
+  for (int i = 0; i < blk.count; ++i) allTargets = allTargets && target(rows[i]) != kNever;
+  if (blk.useBlock && allTargets) {
+    Eigen::Matrix<RScalar, 4, 1> rhs = Eigen::Matrix<RScalar, 4, 1>::Zero();
+    for (int i = 0; i < blk.count; ++i) rhs[i] = target(rows[i]) - Speed(rows[i].n, va, wa, vb, wb);
+    const Eigen::Matrix<RScalar, 4, 1> delta = blk.pinv * rhs;
+    bool valid = true;
+    for (int i = 0; i < blk.count; ++i) valid = valid && lambda(rows[i]) + delta[i] >= 0;
+    if (valid) {
+      for (int i = 0; i < blk.count; ++i) {
+        lambda(rows[i]) += delta[i];
+        if (delta[i] != 0) Push(rows[i].n, delta[i], sa.invM, sb.invM, va, wa, vb, wb);
+      }
+      return;
+    }
+  }
+  for (int i = 0; i < blk.count; ++i) {
+    RContactRow& r = rows[i];
+    const RScalar l = std::max(
+        lambda(r) - (Speed(r.n, va, wa, vb, wb) - target(r)) / r.n.k, RScalar(0));
+    const RScalar d = l - lambda(r);
+    lambda(r) = l;
+    if (d != 0) Push(r.n, d, sa.invM, sb.invM, va, wa, vb, wb);
+  }
+}
+
+}  // namespace REngine

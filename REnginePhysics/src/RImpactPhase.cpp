@@ -1,0 +1,179 @@
+// The impact phase (RIntegrator::SolveImpacts): impacts at their time within the step,
+// restitution through one row per manifold.
+#include <REnginePhysics/RIntegrator.h>
+
+#include "RSolverRows.h"
+
+#include <REngineMath/RQuaternion.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace REngine {
+
+using namespace solver;
+
+// The geometry of an impact within the step, at time t (updated): the narrow phase again at
+// the poses the bodies have then (moved along their paths; orientations as at the start),
+// advanced conservatively until the leading points touch: t += gap / approach, which for
+// two spheres converges to the exact moment, so an oblique collision gets the normal along
+// the line of centres at contact, not at the start of the step. The impulse point is the
+// centre of the leading points, the same for both bodies (lever arms from where their
+// centres are at t), so angular momentum is exact. False if they do not meet this step.
+template <class Advance>
+bool RIntegrator::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa,
+                                 RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
+                                 RVec3& rA, RVec3& rB, RDirection* dir) const {
+  const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+  const RRelativePose X0 = RelativePose(A, B);
+  const RMat3 R_WA = A.m_q_WB.toRotationMatrix();
+  const RScalar tolerance = RCollisionSolver::kTouchingTolerance * (A.BoundingRadius() + B.BoundingRadius());
+  constexpr int kAdvances = 16;
+  for (int k = 0; k < kAdvances; ++k) {
+    advance(sa, t), advance(sb, t);
+    RRelativePose X = X0;
+    X.t_AB += R_WA.transpose() * (sb.moved - sa.moved);
+    const RContactManifold m =
+        RCollisionSolver::Manifold(shapeA, shapeB, X, std::numeric_limits<RScalar>::max());
+    if (m.pointCount == 0) return false;
+    int deepest = 0;
+    for (int i = 1; i < m.pointCount; ++i) {
+      if (m.points[i].separation < m.points[deepest].separation) deepest = i;
+    }
+    const RScalar lead = m.points[deepest].separation;
+    RVec3 centre_A = RVec3::Zero();
+    int leads = 0;
+    for (int i = 0; i < m.pointCount; ++i) {
+      if (m.points[i].separation <= lead + m_settings.penetrationSlop) {
+        centre_A += m.points[i].position, ++leads;
+      }
+    }
+    // No point within the slop of the deepest: the separations are not numbers (bodies
+    // flung to 1e300 m/s overflow the pair's pose). No impact to find (found by fuzz_world).
+    if (leads == 0) return false;
+    centre_A /= leads;
+    // World, relative to each body's centre of mass at t.
+    const RVec3 n = R_WA * m.normal;
+    const RVec3 p = R_WA * centre_A + sa.moved;  // from A's centre at the start
+    rA = p - sa.moved;
+    rB = p - (B.m_x_W - A.m_x_W) - sb.moved;
+    RVec3 t1, t2;
+    OrthonormalBasis(n, t1, t2);
+    SetDirection(dir[0], n, rA, rB, sa, sb);
+    SetDirection(dir[1], t1, rA, rB, sa, sb);
+    SetDirection(dir[2], t2, rA, rB, sa, sb);
+    if (lead <= tolerance) return true;
+    const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
+    if (vn >= 0) return false;
+    // Meeting after the step: not an impact of this step, unless the gap left is within
+    // the slop (a row of balls a micrometre apart: the impulse goes down the row now).
+    if (t + lead / -vn > dt) return lead <= m_settings.penetrationSlop;
+    t += lead / -vn;
+  }
+  return true;  // close enough: the remaining gap shrinks every advance
+}
+
+// The impact phase: every manifold approaching faster than the restitution threshold, and
+// reaching contact within the step, bounces through its impact row: the impulse that turns
+// the approach speed vn into -e vn, then friction at the same point bounded by mu times
+// that impulse. Passes repeat while some manifold still impacts, so an impulse travels
+// along a chain of touching bodies the way it does in a Newton's cradle (the striker stops,
+// the last ball leaves), instead of being shared out as a block. Each application changes
+// the kinetic energy by (e^2 - 1) vn^2 / (2 k) <= 0, and friction only removes sliding, so
+// no pass can add energy whatever the order.
+//
+// Impacts happen at their time within the step, not at its start: a contact that is gap
+// away at approach speed vn hits at t = gap / -vn (never before an earlier impact of either
+// body). Each body keeps the displacement it has travelled up to its last impact; the
+// impulse acts where the contact then is (one point for both bodies, moved with the lighter
+// one, so angular momentum is exact); and the body moves during the step with the
+// velocity that gives the piecewise path (before the impact, then after it). The velocity
+// it ends with is the one after its impacts: the difference is deferred to the end of the
+// step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
+void RIntegrator::SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt) {
+  for (RSolverBody& s : m_solverBodies) {
+    s.moved.setZero(), s.tau = 0;
+    s.deferV.setZero();
+  }
+  const std::size_t count = m_impacts.size();
+  if (count == 0) {
+    for (RSolverBody& s : m_solverBodies) s.vImpacts = s.v;
+    return;
+  }
+  // Moves a body along its present velocity up to time t of the step.
+  auto advance = [](RSolverBody& s, RScalar t) {
+    if (t <= s.tau) return;
+    s.moved += s.v * (t - s.tau), s.tau = t;
+  };
+  bool anyImpact = false;
+  const int passes = std::max(1, m_settings.solverIterations);
+  for (int pass = 0; pass < passes; ++pass) {
+    bool any = false;
+    for (std::size_t ii = 0; ii < count; ++ii) {
+      RImpactRow& r = m_impacts[(pass % 2 == 0) ? ii : count - 1 - ii];
+      RSolverBody& sa = m_solverBodies[r.a];
+      RSolverBody& sb = m_solverBodies[r.b];
+      const RScalar vn0 = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
+      if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
+      // When: the gap closed at this approach, and no earlier than either body's last.
+      RScalar t = std::max(sa.tau, sb.tau);
+      if (r.gap > 0) t = std::max(t, r.gap / -vn0);
+      if (t > dt) continue;
+      advance(sa, t), advance(sb, t);
+      RDirection dir[3];
+      RVec3 rA, rB;
+      if (t == 0) {
+        // At the start: the manifold's own impact point and normal.
+        rA = r.rA, rB = r.rB;
+        for (int k = 0; k < 3; ++k) SetDirection(dir[k], r.dir[k].d, rA, rB, sa, sb);
+      } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir)) {
+        r.miss = true;  // they pass each other, or meet only after the step
+        continue;
+      }
+      const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
+      if (vn >= 0) continue;
+      any = anyImpact = true;
+      const RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
+      r.lambdaN += dn;
+      Push(dir[0], dn, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      // Friction at the same point, within mu times this row's normal impulse so far.
+      const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(dir[1], dir[2], Speed(dir[1], sa.v, sa.w, sb.v, sb.w),
+                                     Speed(dir[2], sa.v, sa.w, sb.v, sb.w));
+      const RScalar lt1 = r.lambdaT1 + step.x(), lt2 = r.lambdaT2 + step.y();
+      const RScalar limit = r.friction * r.lambdaN;
+      const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
+      const RScalar scale = norm > limit ? limit / norm : RScalar(1);
+      const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
+      r.lambdaT1 += d1, r.lambdaT2 += d2;
+      if (d1 != 0) Push(dir[1], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      if (d2 != 0) Push(dir[2], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
+      r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
+    }
+    if (!any) break;
+  }
+  for (RSolverBody& s : m_solverBodies) s.vImpacts = s.v;
+  if (!anyImpact) return;
+  // The velocity each body moves with this step gives its piecewise path; the rest of the
+  // change waits for the end of the step. The contact phase works on the velocities after
+  // the impacts, the bodies' real ones, so that its impulses, inelastic there, cannot add
+  // energy; the difference is taken out of the motion only (FindImpulses).
+  for (RSolverBody& s : m_solverBodies) {
+    if (s.tau <= 0 || s.invM == 0) continue;
+    advance(s, dt);
+    // Rotation is not split: moving a body's orientation along a piecewise spin and then
+    // handing it the deferred angular momentum would change its kinetic energy (which
+    // depends on the orientation for unequal moments). It turns with its spin after the
+    // impact for the whole step.
+    s.deferV = s.v - s.moved / dt;
+  }
+}
+
+}  // namespace REngine

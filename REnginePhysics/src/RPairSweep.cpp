@@ -1,0 +1,210 @@
+// The pair sweep (RIntegrator::DetectPairs): every pair, bounding spheres and boxes grown by
+// the step's motion, the filters, then CheckCollision; see RIntegrator.h.
+#include <REnginePhysics/RIntegrator.h>
+
+#include "RSolverRows.h"
+
+#include <REngineMath/RQuaternion.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace REngine {
+
+using namespace solver;
+
+namespace {
+
+// When within the step the manifold's deepest point closes, moving with the bodies' step
+// velocities: 0 when it is closed already, infinity when it does not close this step.
+RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, const RVec3& vb,
+                     const RContactManifold& m, RScalar dt) {
+  if (m.pointCount == 0) return m.query.separation <= 0 ? 0 : std::numeric_limits<RScalar>::infinity();
+  int deepest = 0;
+  for (int k = 1; k < m.pointCount; ++k) {
+    if (m.points[k].separation < m.points[deepest].separation) deepest = k;
+  }
+  const RScalar gap = m.points[deepest].separation;
+  if (gap <= 0) return 0;
+  const RVec3& p = m.points[deepest].position;
+  const RVec3 wa = a.IsStatic() ? RVec3::Zero() : a.AngularVelocity_W();
+  const RVec3 wb = b.IsStatic() ? RVec3::Zero() : b.AngularVelocity_W();
+  const RScalar vn = m.normal.dot(vb + wb.cross(p - b.Position_W()) - va -
+                                        wa.cross(p - a.Position_W()));
+  if (vn < 0 && gap <= -vn * dt) return gap / -vn;
+  return std::numeric_limits<RScalar>::infinity();
+}
+
+}  // namespace
+
+bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
+  m_contacts.clear();
+  m_pairStats = RPairStats{};
+  const std::size_t n = bodies.size();
+  const RWorldSettings::RShortcuts& shortcuts = m_settings.shortcuts;
+  // Bounding spheres about the centres of mass, each grown by how far its surface can
+  // move within the step (speed plus the farthest point's rotation, times dt): a pair
+  // whose grown spheres are apart cannot touch before the next step. Stored as separate
+  // arrays so the O(n^2) sweep below is a tight loop over contiguous doubles; the arrays
+  // keep their capacity between steps.
+  // The velocities are those the body will move with this step: a missile given its
+  // launch impulse this step is as fast as one that has flown for a while.
+  // Every pair is also looked at within a fixed allowance: two bodies that rest on each
+  // other have no relative velocity at the start of a step, yet the lower one is held and
+  // the upper one is not, so they close by up to g dt^2 within the step; and a contact
+  // that overlaps by less than the slop must not flicker out when it floats up by a
+  // rounding error. A contact found early is harmless: its row pushes only if needed.
+  const RScalar allowance = m_settings.gravity_W.norm() * dt * dt + m_settings.penetrationSlop;
+  m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
+  m_moveV.resize(n), m_moveW.resize(n);
+  const RScalar halfDt = RScalar(0.5) * dt;
+  for (std::size_t i = 0; i < n; ++i) {
+    RRigidBody& b = bodies[i];
+    const RScalar r = b.BoundingRadius();
+    m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
+    if (b.m_sleeping) {
+      // Reach and margin as if it were awake and resting (half a step of gravity), so that
+      // the margin between a sleeper and a resting neighbour is the one two awake bodies
+      // have: a neighbour beyond it while both were awake does not wake it.
+      m_moveV[i] = m_settings.gravity_W * halfDt, m_moveW[i] = 0;
+    } else if (b.m_isStatic) {
+      m_moveV[i].setZero(), m_moveW[i] = 0;
+      // Without the shortcut a static body's world form is recomputed every step, as a
+      // moving body's is.
+      if (b.m_isStatic && !shortcuts.staticForms) b.m_worldForm.stamp = 0;
+    } else {
+      m_moveV[i] = b.m_v_W + b.m_linearImpulse_W * b.m_invMass +
+                   (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
+      const RVec3 kick_B = b.m_q_WB.conjugate() * (b.m_angularImpulse_W + b.m_torque_W * halfDt);
+      m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
+    }
+    m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
+  }
+  // Bodies that cannot start a contact: asleep, or static, and responding (a sensor keeps
+  // reporting what sleeps on it). A pair of two of them is skipped; a sleeping body touched
+  // by any other (in the speculative margin) wakes with its island.
+  auto passive = [](const RRigidBody& b) {
+    return (b.m_sleeping || b.m_isStatic) && b.m_responds;
+  };
+  bool woke = false;
+  // The bodies that can start a contact, in index order. A passive body is only paired with
+  // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
+  // the pairs are still visited in (i, then j) order.
+  m_active.clear();
+  std::uint64_t passiveCount = 0, staticCount = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (passive(bodies[i])) {
+      ++passiveCount, staticCount += bodies[i].m_isStatic;
+    } else {
+      m_active.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  // The touching band, and a relative allowance for the rounding of the squares.
+  constexpr RScalar kGrow = 1 + 1e-9;
+  const bool bounds = shortcuts.boundsRejection;
+  std::size_t nextActive = 0;  // first entry of m_active above i
+  m_near.resize(n), m_candidates.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
+    const RRigidBody& a = bodies[i];
+    while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
+    const bool passiveA = passive(a);
+    // The candidates j > i: every later body, or, for a passive body, the later awake ones.
+    // First the bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown
+    // spheres touch, in a branch-free loop over contiguous arrays that the compiler
+    // vectorises (the contiguous case; the awake list is a gather); then the pairs that
+    // passed, in index order. A body with a non-finite position passes no test: UpdateObjects
+    // never leaves one so, but game code could set it.
+    const std::size_t count = passiveA ? m_active.size() - nextActive : n - i - 1;
+    RScalar* near = m_near.data();
+    if (!bounds) {
+      std::fill(near, near + count, RScalar(0));
+    } else if (!passiveA) {
+      const RScalar* cx = m_cx.data() + i + 1;
+      const RScalar* cy = m_cy.data() + i + 1;
+      const RScalar* cz = m_cz.data() + i + 1;
+      const RScalar* reach = m_reach.data() + i + 1;
+      for (std::size_t k = 0; k < count; ++k) {
+        const RScalar dx = cx[k] - xi, dy = cy[k] - yi, dz = cz[k] - zi;
+        const RScalar lim = (ri + reach[k]) * kGrow;
+        near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+      }
+    } else {
+      const std::uint32_t* active = m_active.data() + nextActive;
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::size_t j = active[k];
+        const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
+        const RScalar lim = (ri + m_reach[j]) * kGrow;
+        near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+      }
+    }
+    // The few that passed, compacted by a tight loop of its own (kept apart from the pair
+    // work below, whose register pressure would otherwise put this counter in memory).
+    std::uint32_t* candidates = m_candidates.data();
+    std::size_t found = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      candidates[found] = static_cast<std::uint32_t>(k);
+      found += near[k] >= 0;
+    }
+    for (std::size_t c = 0; c < found; ++c) {
+      const std::size_t k = candidates[c];
+      const std::size_t j = passiveA ? m_active[nextActive + k] : i + 1 + k;
+      const RRigidBody& b = bodies[j];
+      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
+          (m_filter && !m_filter(a, b, m_filterUser))) {
+        ++m_pairStats.rejectedFilter;
+        continue;
+      }
+      // Bounding boxes from the stamped world forms, grown the same way: they reject the
+      // many pairs whose spheres overlap only because a body is long or flat (the ground).
+      const RWorldForm& fa = a.WorldForm(m_cacheStamp);
+      const RWorldForm& fb = b.WorldForm(m_cacheStamp);
+      const RScalar grow = (ri - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
+      if (bounds && (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
+                     ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any())) {
+        ++m_pairStats.rejectedBoxes;
+        continue;
+      }
+      ++m_pairStats.narrowPhase;
+      RContact contact;
+      const RScalar approach = (m_moveV[j] - m_moveV[i]).norm() +
+                               m_moveW[i] * a.BoundingRadius() + m_moveW[j] * b.BoundingRadius();
+      if (RCollisionSolver::CheckCollisionWithMargin(a, b, approach * dt + allowance,
+                                                     contact.manifold)) {
+        // A sleeping body touched by one that responds wakes, with its island. A sensor
+        // or a laser (does not respond) is reported against it without waking it.
+        if ((a.m_sleeping || b.m_sleeping) && a.m_responds && b.m_responds) {
+          const RRigidBody& sleeper = a.m_sleeping ? a : b;
+          m_wakeMark[sleeper.m_sleepIsland] = 1;
+          woke = true;
+          continue;
+        }
+        contact.a = static_cast<std::uint32_t>(i);
+        contact.b = static_cast<std::uint32_t>(j);
+        contact.timeOfImpact = TimeOfImpact(a, b, m_moveV[i], m_moveV[j], contact.manifold, dt);
+        m_contacts.push_back(contact);
+      }
+    }
+  }
+  // Pairs never visited: two passive static bodies (counted with the filter's), or two
+  // passive bodies of which one at least sleeps. (Counts are those of the last sweep when
+  // waking islands made it run again.)
+  const std::uint64_t staticPairs = staticCount * (staticCount - (staticCount > 0)) / 2;
+  m_pairStats.rejectedFilter += staticPairs;
+  m_pairStats.rejectedSleeping = passiveCount * (passiveCount - (passiveCount > 0)) / 2 - staticPairs;
+  m_pairStats.pairs = n * (n - (n > 0)) / 2;
+  m_pairStats.rejectedBounds = m_pairStats.pairs - m_pairStats.rejectedFilter -
+                               m_pairStats.rejectedSleeping - m_pairStats.rejectedBoxes -
+                               m_pairStats.narrowPhase;
+  m_pairStats.contacts = m_contacts.size();
+  return woke;
+}
+
+}  // namespace REngine

@@ -1,0 +1,62 @@
+// Private to REnginePhysics: the contact solver's row arithmetic, shared by the contact
+// solver, the impact phase and the island solver (RIntegrator's subsystem files): a
+// direction's lever arms and effective mass, the relative speed along it, an impulse
+// applied along it, and the friction step through the 2 x 2 tangent block.
+#pragma once
+
+#include <REngineMath/RMath.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <limits>
+
+namespace REngine::solver {
+
+inline std::uint64_t PairKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
+
+template <class Dir, class Body>
+void SetDirection(Dir& dir, const RVec3& d, const RVec3& rA, const RVec3& rB, const Body& a,
+                  const Body& b) {
+  dir.d = d;
+  dir.rAxd = rA.cross(d);
+  dir.rBxd = rB.cross(d);
+  dir.iA = a.invI * dir.rAxd;
+  dir.iB = b.invI * dir.rBxd;
+  dir.k = a.invM + b.invM + dir.rAxd.dot(dir.iA) + dir.rBxd.dot(dir.iB);
+}
+
+template <class Dir>
+RScalar Speed(const Dir& dir, const RVec3& va, const RVec3& wa, const RVec3& vb,
+              const RVec3& wb) {
+  return dir.d.dot(vb - va) + dir.rBxd.dot(wb) - dir.rAxd.dot(wa);
+}
+
+template <class Dir>
+void Push(const Dir& dir, RScalar lambda, RScalar invMA, RScalar invMB, RVec3& va, RVec3& wa,
+          RVec3& vb, RVec3& wb) {
+  va -= (invMA * lambda) * dir.d;
+  wa -= lambda * dir.iA;
+  vb += (invMB * lambda) * dir.d;
+  wb += lambda * dir.iB;
+}
+
+// A previous point closer than this fraction of the pair's size to a new one is taken as
+// the same contact when no feature id matches (a corner sliding past a reference edge
+// changes its id, not its place).
+inline constexpr RScalar kWarmMatchDistance = RScalar(0.05);
+
+// The tangential impulses that stop the sliding velocity (v1, v2) along two tangents of a
+// point, solved together through their 2 x 2 effective mass.
+template <class Dir>
+Eigen::Matrix<RScalar, 2, 1> TangentStep(const Dir& t1, const Dir& t2, RScalar v1, RScalar v2) {
+  const RScalar k12 = t1.rAxd.dot(t2.iA) + t1.rBxd.dot(t2.iB);  // t1 . t2 = 0
+  const RScalar det = t1.k * t2.k - k12 * k12;
+  if (!(det > 0)) return {-v1 / t1.k, -v2 / t2.k};
+  return {-(t2.k * v1 - k12 * v2) / det, -(t1.k * v2 - k12 * v1) / det};
+}
+
+// The target of a row that is not in contact at the end of the step: never reached.
+inline constexpr RScalar kNever = -std::numeric_limits<RScalar>::infinity();
+
+}  // namespace REngine::solver
