@@ -84,6 +84,12 @@ TEST(ApiInput, VelocitiesForcesAndImpulsesMustBeFinite) {
     EXPECT_THROW(body.AddImpulseAtPoint_W(v, RVec3::Zero()), RBodyError);
     EXPECT_THROW(body.AddImpulseAtPoint_W(RVec3::UnitX(), v), RBodyError);
   }
+  // A finite angular velocity that overflows when turned into the body frame (found by
+  // fuzz_world: the body's spin became NaN before any step) is refused too.
+  body.SetShapePose(RVec3::Zero(), RQuat(1, 2, 3, 4));
+  EXPECT_THROW(body.SetAngularVelocity_W(RVec3(1.7e308, -1.7e308, 1.7e308)), RBodyError);
+  EXPECT_TRUE(AllFinite(body.AngularVelocity_B()));
+  body.SetShapePose(RVec3::Zero(), RQuat::Identity());
   // Finite arguments whose sum overflows are refused too, and leave the sum as it was.
   body.AddForce_W(big);
   EXPECT_THROW(body.AddForce_W(big), RBodyError);

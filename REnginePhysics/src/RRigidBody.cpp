@@ -194,7 +194,10 @@ void RRigidBody::SetVelocity_W(const RVec3& v_W) {
 
 void RRigidBody::SetAngularVelocity_W(const RVec3& w_W) {
   Require(AllFinite(w_W), "angular_velocity", "must be finite");
-  if (!m_isStatic) m_w_B = m_q_WB.conjugate() * w_W;
+  // Rotating 1e308 rad/s into the body frame overflows to NaN (found by fuzz_world).
+  const RVec3 w_B = m_q_WB.conjugate() * w_W;
+  Require(AllFinite(w_B), "angular_velocity", "is too large to turn into the body frame");
+  if (!m_isStatic) m_w_B = w_B;
   Wake();
 }
 
