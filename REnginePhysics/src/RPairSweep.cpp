@@ -4,17 +4,9 @@
 
 #include "RSolverRows.h"
 
-#include <REngineMath/RQuaternion.h>
-
-#include <Eigen/Dense>
-
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <stdexcept>
-#include <string>
 
 namespace REngine {
 
