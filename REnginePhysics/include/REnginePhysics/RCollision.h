@@ -40,8 +40,9 @@ enum class RCollisionStatus : std::uint8_t {
   kSeparated,     // separation > touching band
   kTouching,      // |separation| within the touching band
   kPenetrating,   // separation < -touching band
-  kIterationCap,  // GJK hit its iteration cap: no verdict (never "separated"). When EPA
-                  // finds no face, polyhedra fall back on their face normals instead.
+  kIterationCap,  // no verdict. No query returns it any more: where GJK or EPA cannot
+                  // certify an answer, the exact enumeration answers (RPolyhedronExact).
+                  // Kept so that callers written against it still compile.
 };
 
 // Result of a distance / penetration query between two shapes.
@@ -101,8 +102,7 @@ class RCollisionSolver {
   // The pair of bodies in world terms: whether they touch now or may touch within dt, and
   // if so the manifold with world-space normal and points. "May touch": the gap is within
   // a bound on how far any point of b can approach any point of a in dt, from the bodies'
-  // current velocities. Returns false (and leaves `out` unspecified) otherwise; true with
-  // no points when a query hit its iteration cap.
+  // current velocities. Returns false (and leaves `out` unspecified) otherwise.
   static bool CheckCollision(const RRigidBody& a, const RRigidBody& b, RScalar dt,
                              RContactManifold& out);
   // The same with the speculative margin (m) given: the integrator passes one from the
