@@ -1,6 +1,6 @@
-// The contact solver (RIntegrator::FindImpulses): rows, warm starts, manifold blocks,
+// The contact solver (RWorldStep::FindImpulses): rows, warm starts, manifold blocks,
 // friction patches and the end of the step; see RIntegrator.h.
-#include <REnginePhysics/RIntegrator.h>
+#include "RWorldStep.h"
 
 #include "RSolverRows.h"
 
@@ -25,14 +25,16 @@ using namespace solver;
 // end of the step (SolveEndOfStep). Penetration beyond a slop is removed by
 // pseudo-velocities (split impulses), solved apart so that position correction never adds
 // kinetic energy.
-void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
+void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   m_rows.clear();
   m_impacts.clear();
   m_blocks.clear();
   const std::size_t n = bodies.size();
-  // Warm-start memory is keyed by body index: when the game adds or removes bodies the
-  // indices shift, and another pair would inherit a stranger's impulses.
-  if (n != m_warmBodyCount) m_warm.clear(), m_warmBodyCount = n;
+  // Warm-start memory is keyed by slot (and generation). A plain vector's slots are its
+  // indices: when the game adds or removes bodies they shift, and another pair would
+  // inherit a stranger's impulses.
+  if (bodies.byIndex && n != m_warmBodyCount) m_warm.clear();
+  m_warmBodyCount = bodies.byIndex ? n : 0;
   m_warmNext.clear();
   KeepSleepingWarmStarts(bodies);
   m_solverBodies.resize(n);
@@ -145,7 +147,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       r.lever = 0;  // set with the patch below
       // Warm start from the same features last step, or else from the nearest of last
       // step's points of this pair (in a's frame, where a resting contact stays put).
-      const std::uint64_t pair = PairKey(c.a, c.b);
+      const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
       auto it = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
                                  [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; });
       const RVec3 point_A = A.m_q_WB.conjugate() * (position - A.m_x_W);
@@ -158,6 +160,8 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
       const RWarmStart* nearest = nullptr;
       RScalar bestD2 = reach * reach;
       for (; it != m_warm.end() && it->pair == pair; ++it) {
+        // A body that took over a freed slot is not the one the memory is of.
+        if (it->genA != c.handleA.generation || it->genB != c.handleB.generation) continue;
         if (it->feature == feature) {
           match = &*it;
           break;
@@ -332,7 +336,9 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
     const RBlock& blk = m_blocks[r.block];
     const RContactPoint& p = m_contacts[r.contact].manifold.points[r.point];
     RWarmStart w;
-    w.pair = PairKey(r.a, r.b);
+    const RContact& c = m_contacts[r.contact];
+    w.pair = PairKey(c.handleA.index, c.handleB.index);
+    w.genA = c.handleA.generation, w.genB = c.handleB.generation;
     w.feature = p.featureId;
     w.point_A = bodies[r.a].m_q_WB.conjugate() * (p.position - bodies[r.a].m_x_W);
     w.lambdaN = r.lambdaN;
@@ -399,7 +405,7 @@ void RIntegrator::FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt) {
 
 // Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when
 // the rows were built) to the solver bodies' velocities.
-void RIntegrator::WarmStart(RPhase phase) {
+void RWorldStep::WarmStart(RPhase phase) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   for (RContactRow& r : m_rows) {
     const RScalar lambda = Lambda(r, phase);
@@ -413,7 +419,7 @@ void RIntegrator::WarmStart(RPhase phase) {
 
 // Applies patch impulses (tangential at the centroid, twist about the normal) to the solver
 // bodies' velocities.
-void RIntegrator::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist) {
+void RWorldStep::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist) {
   const RContactRow& r = m_rows[blk.first];
   RSolverBody& sa = m_solverBodies[r.a];
   RSolverBody& sb = m_solverBodies[r.b];
@@ -430,7 +436,7 @@ void RIntegrator::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar 
 // point's impulse slightly off the sliding direction, which loses about 1% of the friction
 // of a box sliding down an incline. clampOnly: only bring the impulses back inside limits
 // that the normal impulses changed.
-void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
+void RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   RContactRow* rows = &m_rows[blk.first];
   RScalar normal = 0, twistArm = 0;
@@ -470,7 +476,7 @@ void RIntegrator::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
 // step at rest, and the support it needs is shared between the two ends of the step, the
 // way kick-drift-kick shares a force; a sliding box's friction is shared the same way. The
 // impulses are inelastic (targets of zero, never pulling): they cannot add energy.
-void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar dt) {
+void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
   bool any = false;
   for (RContactRow& r : m_rows) {
@@ -538,7 +544,7 @@ void RIntegrator::SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar 
 // One manifold's normal rows: the block's minimum-norm answer when it pushes at every point,
 // else one point at a time. On the velocities (towards the rows' targets, impulses lambdaN)
 // or on the pseudo-velocities of position correction (pseudoTarget, lambdaP).
-void RIntegrator::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase) {
+void RWorldStep::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase) {
   const bool pseudo = phase == RPhase::kPosition;
   RSolverBody& sa = m_solverBodies[rows[0].a];
   RSolverBody& sb = m_solverBodies[rows[0].b];

@@ -1,6 +1,6 @@
-// The impact phase (RIntegrator::SolveImpacts): impacts at their time within the step,
+// The impact phase (RWorldStep::SolveImpacts): impacts at their time within the step,
 // restitution through one row per manifold.
-#include <REnginePhysics/RIntegrator.h>
+#include "RWorldStep.h"
 
 #include "RSolverRows.h"
 
@@ -20,7 +20,7 @@ using namespace solver;
 // centre of the leading points, the same for both bodies (lever arms from where their
 // centres are at t), so angular momentum is exact. False if they do not meet this step.
 template <class Advance>
-bool RIntegrator::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa,
+bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa,
                                  RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
                                  RVec3& rA, RVec3& rB, RDirection* dir) const {
   const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
@@ -89,7 +89,7 @@ bool RIntegrator::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolv
 // velocity that gives the piecewise path (before the impact, then after it). The velocity
 // it ends with is the one after its impacts: the difference is deferred to the end of the
 // step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
-void RIntegrator::SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt) {
+void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
   for (RSolverBody& s : m_solverBodies) {
     s.moved.setZero(), s.tau = 0;
     s.deferV.setZero();

@@ -1,6 +1,6 @@
 // The island direct solve: islands of contact rows solved exactly by an active-set method
-// on their dense matrix (RIntegrator::BuildIslands, SolveIslands).
-#include <REnginePhysics/RIntegrator.h>
+// on their dense matrix (RWorldStep::BuildIslands, SolveIslands).
+#include "RWorldStep.h"
 
 #include "RSolverRows.h"
 
@@ -75,7 +75,7 @@ void EnvelopeCholeskySolve(const RScalar* L, int m, int ld, const int* first, RS
 // meanwhile; the direct solve holds it exactly in the first step. Friction keeps its
 // iterated impulses, clamped again to the new cones. Larger islands (a whole pile) keep
 // the iterated answer: a dense solve grows as the cube of the rows.
-void RIntegrator::BuildIslands(const std::vector<RRigidBody>& bodies) {
+void RWorldStep::BuildIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   m_islandParent.resize(n);
   for (std::size_t i = 0; i < n; ++i) m_islandParent[i] = static_cast<std::uint32_t>(i);
@@ -109,7 +109,7 @@ void RIntegrator::BuildIslands(const std::vector<RRigidBody>& bodies) {
   }
 }
 
-void RIntegrator::SolveIslands(RPhase phase) {
+void RWorldStep::SolveIslands(RPhase phase) {
   for (const auto& [first, last] : m_islands) {
     m_islandIndex.clear();
     for (std::size_t k = first; k < last; ++k) m_islandIndex.push_back(m_islandRows[k].second);
@@ -121,7 +121,7 @@ void RIntegrator::SolveIslands(RPhase phase) {
 // The island's matrix K (m x m, row-major, in m_islandK), assembled from the pairs of
 // manifolds that share a dynamic body: the others couple nothing, and in a stack or a pile
 // a manifold touches only a few of the island's others.
-void RIntegrator::AssembleIslandMatrix() {
+void RWorldStep::AssembleIslandMatrix() {
   const int m = static_cast<int>(m_islandIndex.size());
   RScalar* K = m_islandK.data();
   std::fill(K, K + std::size_t(m) * m, RScalar(0));
@@ -166,7 +166,7 @@ void RIntegrator::AssembleIslandMatrix() {
 // The active-set solve of one island's normal rows (m_islandIndex), on the velocities or on
 // the pseudo-velocities. Applies the answer and returns true if it converged; otherwise
 // leaves the iterated impulses as they are.
-bool RIntegrator::SolveIslandDirect(RPhase phase) {
+bool RWorldStep::SolveIslandDirect(RPhase phase) {
   const bool pseudo = phase == RPhase::kPosition;
   const int m = static_cast<int>(m_islandIndex.size());
   const int ld = m;

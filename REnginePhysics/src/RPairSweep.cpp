@@ -1,6 +1,6 @@
-// The pair sweep (RIntegrator::DetectPairs): every pair, bounding spheres and boxes grown by
+// The pair sweep (RWorldStep::DetectPairs): every pair, bounding spheres and boxes grown by
 // the step's motion, the filters, then CheckCollision; see RIntegrator.h.
-#include <REnginePhysics/RIntegrator.h>
+#include "RWorldStep.h"
 
 #include "RSolverRows.h"
 
@@ -36,7 +36,7 @@ RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, 
 
 }  // namespace
 
-bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
+bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   m_contacts.clear();
   m_pairStats = RPairStats{};
   const std::size_t n = bodies.size();
@@ -168,7 +168,13 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
       RContact contact;
       const RScalar approach = (m_moveV[j] - m_moveV[i]).norm() +
                                m_moveW[i] * a.BoundingRadius() + m_moveW[j] * b.BoundingRadius();
-      if (RCollisionSolver::CheckCollisionWithMargin(a, b, approach * dt + allowance,
+      // The pair in slot order, whatever the bodies' places in storage: its manifold, normal
+      // and feature ids, and so its warm start, do not change when a removal moves a body.
+      const bool flip = bodies.Slot(j) < bodies.Slot(i);
+      const std::size_t ia = flip ? j : i, ib = flip ? i : j;
+      const RRigidBody& A = bodies[ia];
+      const RRigidBody& B = bodies[ib];
+      if (RCollisionSolver::CheckCollisionWithMargin(A, B, approach * dt + allowance,
                                                      contact.manifold)) {
         // A sleeping body touched by one that responds wakes, with its island. A sensor
         // or a laser (does not respond) is reported against it without waking it.
@@ -178,9 +184,10 @@ bool RIntegrator::DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt) {
           woke = true;
           continue;
         }
-        contact.a = static_cast<std::uint32_t>(i);
-        contact.b = static_cast<std::uint32_t>(j);
-        contact.timeOfImpact = TimeOfImpact(a, b, m_moveV[i], m_moveV[j], contact.manifold, dt);
+        contact.a = static_cast<std::uint32_t>(ia);
+        contact.b = static_cast<std::uint32_t>(ib);
+        contact.handleA = bodies.handles[ia], contact.handleB = bodies.handles[ib];
+        contact.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], contact.manifold, dt);
         m_contacts.push_back(contact);
       }
     }

@@ -1,6 +1,6 @@
 // Sleeping islands (RWorldSettings::RShortcuts::sleeping): waking before the step, putting to
 // sleep after it; see RIntegrator.h.
-#include <REnginePhysics/RIntegrator.h>
+#include "RWorldStep.h"
 
 #include "RSolverRows.h"
 
@@ -11,37 +11,50 @@ namespace REngine {
 
 using namespace solver;
 
-void RIntegrator::KeepSleepingWarmStarts(const std::vector<RRigidBody>& bodies) {
-  auto passive = [&bodies](std::uint32_t i) {
+void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
+  // The body in a slot, if it is the one the memory is of and it is stepped.
+  auto passive = [&bodies](std::uint32_t slot, std::uint32_t generation) {
+    if (slot >= bodies.slotCount) return false;
+    const std::uint32_t i = bodies.denseOfSlot[slot];
+    if (i >= bodies.count || bodies.handles[i].generation != generation) return false;
     return bodies[i].m_sleeping || bodies[i].m_isStatic;
   };
   for (const RWarmStart& w : m_warm) {
     const std::uint32_t a = static_cast<std::uint32_t>(w.pair >> 32);
     const std::uint32_t b = static_cast<std::uint32_t>(w.pair & 0xffffffffu);
-    if (passive(a) && passive(b)) m_warmNext.push_back(w);
+    if (passive(a, w.genA) && passive(b, w.genB)) m_warmNext.push_back(w);
   }
 }
 
-void RIntegrator::WakeIslands(std::vector<RRigidBody>& bodies) {
+void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
-  m_wakeMark.assign(n, 0);  // keeps its capacity: no allocation once the world's size is set
-  // Island ids are body indices: when bodies were added or removed they mean nothing, and a
-  // removed body may have held a sleeping stack up. A sleeping body ignores gravity, so a
-  // change of gravity wakes everything too; and so does static geometry that the game moved,
-  // which may have held sleeping bodies where it was (their contacts are not kept while they
-  // sleep, so which ones is not known).
+  // Island ids are slots (a plain vector's: indices).
+  m_wakeMark.assign(bodies.slotCount, 0);  // keeps its capacity: no allocation once sized
+  // A plain vector's bodies are known by index: when bodies were added or removed the ids
+  // mean nothing, and a removed body may have held a sleeping stack up. An RBodies reports
+  // its departures instead (RBodies::Remove, Disable): only their islands wake.
+  // A sleeping body ignores gravity, so a change of gravity wakes everything; and so does
+  // static geometry that the game moved or added, which may hold or have held sleeping bodies
+  // (their contacts are not kept while they sleep, so which ones is not known).
   // Any body not where this integrator left it (see RRigidBody::m_slot) wakes everything:
-  // a removal and an addition in one frame keep the count and may still remove a support.
-  bool moved = m_wakeAll;
+  // in a plain vector a removal and an addition in one frame keep the count and may still
+  // remove a support; a body that was stepped by another integrator brings island ids
+  // that mean nothing here. (A body an RBodies has just added has not been stepped.)
+  bool moved = m_wakeAll || (bodies.wakeAll && *bodies.wakeAll);
   for (std::size_t i = 0; i < n && !moved; ++i) {
     const RRigidBody& b = bodies[i];
-    moved = b.m_staticMoved || b.m_slot != i || b.m_slotWorld != m_worldId.value;
+    const bool fresh = !bodies.byIndex && b.m_slotWorld == 0;
+    moved = b.m_staticMoved ||
+            (!fresh && (b.m_slot != bodies.Slot(i) || b.m_slotWorld != m_worldId.value));
   }
   m_wakeAll = false;
-  if (!m_settings.shortcuts.sleeping || n != m_sleepBodyCount || moved ||
+  if (bodies.wakeAll) *bodies.wakeAll = false;
+  const bool countChanged = bodies.byIndex && n != m_sleepBodyCount;
+  if (!m_settings.shortcuts.sleeping || countChanged || moved ||
       m_settings.gravity_W != m_sleepGravity_W) {
     m_sleepBodyCount = n;
     m_sleepGravity_W = m_settings.gravity_W;
+    if (bodies.wakeIslands) bodies.wakeIslands->clear();
     for (RRigidBody& b : bodies) {
       if (b.m_sleeping || b.m_sleepIsland != RRigidBody::kNoIsland) {
         b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RRigidBody::kNoIsland;
@@ -49,19 +62,27 @@ void RIntegrator::WakeIslands(std::vector<RRigidBody>& bodies) {
     }
     return;
   }
-  // A body the game woke (RRigidBody::Wake) still names the island it slept with.
+  m_sleepBodyCount = n;
   bool any = false;
+  // Islands a removed or disabled body belonged to.
+  if (bodies.wakeIslands) {
+    for (std::uint32_t island : *bodies.wakeIslands) {
+      if (island < m_wakeMark.size()) m_wakeMark[island] = 1, any = true;
+    }
+    bodies.wakeIslands->clear();
+  }
+  // A body the game woke (RRigidBody::Wake) still names the island it slept with.
   for (const RRigidBody& b : bodies) {
-    if (!b.m_sleeping && b.m_sleepIsland != RRigidBody::kNoIsland) {
+    if (!b.m_sleeping && b.m_sleepIsland < m_wakeMark.size()) {
       m_wakeMark[b.m_sleepIsland] = 1, any = true;
     }
   }
   if (any) WakeMarked(bodies);
 }
 
-void RIntegrator::WakeMarked(std::vector<RRigidBody>& bodies) {
+void RWorldStep::WakeMarked(const RStepBodies& bodies) {
   for (RRigidBody& b : bodies) {
-    if (b.m_sleepIsland != RRigidBody::kNoIsland && m_wakeMark[b.m_sleepIsland]) {
+    if (b.m_sleepIsland < m_wakeMark.size() && m_wakeMark[b.m_sleepIsland]) {
       b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RRigidBody::kNoIsland;
     }
   }
@@ -72,13 +93,13 @@ void RIntegrator::WakeMarked(std::vector<RRigidBody>& bodies) {
 // bodies. An island sleeps when every body in it has been slower than the sleep speed for
 // the sleep time and either static geometry holds it (a static body pushed one of its
 // bodies this step) or it is exactly still: a drifting body in space is never stopped.
-void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
+void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   bool anyRested = false;
   std::uint64_t asleep = 0;
   for (std::size_t i = 0; i < n; ++i) {
     RRigidBody& b = bodies[i];
-    b.m_staticMoved = false, b.m_slot = static_cast<std::uint32_t>(i), b.m_slotWorld = m_worldId.value;
+    b.m_staticMoved = false, b.m_slot = bodies.Slot(i), b.m_slotWorld = m_worldId.value;
     anyRested = anyRested || (!b.m_isStatic && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
     asleep += b.m_sleeping;
   }
@@ -123,7 +144,7 @@ void RIntegrator::SleepIslands(std::vector<RRigidBody>& bodies) {
     const std::uint32_t r = find(i);
     if (m_sleepRest[r] >= m_settings.sleepTime && (m_sleepSupported[r] || m_sleepStill[r])) {
       b.m_sleeping = true;
-      b.m_sleepIsland = r;
+      b.m_sleepIsland = bodies.Slot(r);  // the id: its root's slot
       b.m_v_W.setZero(), b.m_w_B.setZero();
       ++m_pairStats.sleepingBodies;
     }

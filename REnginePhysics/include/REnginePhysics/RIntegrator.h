@@ -16,10 +16,12 @@
 #pragma once
 
 #include <REngineMath/RMath.h>
+#include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -90,7 +92,8 @@ struct RStepProfile {
 // forces and impulses are dropped, and so is the contact memory of its pairs, so the next
 // step starts it afresh.
 struct RNonFiniteBody {
-  std::size_t bodyIndex = 0;
+  std::size_t bodyIndex = 0;  // dense index in the step (RBodies: position, see HandleAt)
+  RBodyHandle handle;         // RBodies' handle (a plain vector's: index, generation 0)
   std::string bodyName;
   std::uint64_t step = 0;
 };
@@ -98,7 +101,10 @@ struct RNonFiniteBody {
 // A pair of bodies in contact (or about to be, within the step) found by the last Update,
 // with its manifold in world space (normal from bodies[a] to bodies[b]).
 struct RContact {
-  std::uint32_t a = 0, b = 0;  // indices into the bodies vector, a < b
+  // Dense indices of the two bodies in the step (a plain vector's indices, an RBodies'
+  // positions), and their handles: a has the lower slot (a plain vector: a < b).
+  std::uint32_t a = 0, b = 0;
+  RBodyHandle handleA, handleB;
   RContactManifold manifold;
   // Normal impulse the solver applied at each manifold point this step, N s (0 when either
   // body does not respond: such contacts are reported, not resolved).
@@ -133,232 +139,65 @@ struct RPairStats {
   std::uint64_t warmStarted = 0;    // rows that found last step's impulses
 };
 
-std::uint64_t NextCacheStamp();
+
+class RWorldStep;  // the working state (private to REnginePhysics)
+struct RStepBodies;
 
 class RIntegrator {
  public:
-  RIntegrator() = default;
-  explicit RIntegrator(const RWorldSettings& settings) : m_settings(settings) {}
+  RIntegrator();
+  explicit RIntegrator(const RWorldSettings& settings);
+  ~RIntegrator();
+  // A copy is another world with the same settings, contact memory and outputs.
+  RIntegrator(const RIntegrator& other);
+  RIntegrator& operator=(const RIntegrator& other);
+  RIntegrator(RIntegrator&&) noexcept;
+  RIntegrator& operator=(RIntegrator&&) noexcept;
 
-  // Advances every body by dt seconds. dt must be finite and > 0: anything else throws
-  // std::invalid_argument before anything moves (a negative dt would run time backwards,
-  // zero would divide by zero). Bodies may be added or removed by the game
-  // between calls; contact memory (warm starts) is keyed by index and forgotten when the
-  // count changes.
+  // Advances every enabled body by dt seconds. dt must be finite and > 0: anything else
+  // throws std::invalid_argument before anything moves (a negative dt would run time
+  // backwards, zero would divide by zero). Contact memory and sleeping islands are keyed by
+  // handle (see RBodies): adding, removing or disabling bodies between calls forgets nothing
+  // else and wakes only what they touched.
+  void Update(RBodies& bodies, RScalar dt);
+  // The same for a plain vector, where a body is known by its index: when the count changes
+  // contact memory is forgotten and every island wakes (so is a body found at another index).
   void Update(std::vector<RRigidBody>& bodies, RScalar dt);
   // Forgets last step's contact impulses and wakes every sleeping body: call after
-  // reordering bodies without changing their count, so no pair inherits another's warm
-  // start. (Reordering is also detected for sleeping: every body remembers its index.)
-  void ForgetContacts() { m_warm.clear(), m_wakeAll = true; }
+  // reordering a plain vector of bodies without changing their count, so no pair inherits
+  // another's warm start. (Reordering is also detected for sleeping: every body remembers
+  // its index.)
+  void ForgetContacts();
 
-  const RWorldSettings& Settings() const { return m_settings; }
-  RWorldSettings& Settings() { return m_settings; }
-  const RStepProfile& Profile() const { return m_profile; }
-  std::uint64_t StepCount() const { return m_stepCount; }
+  const RWorldSettings& Settings() const;
+  RWorldSettings& Settings();
+  const RStepProfile& Profile() const;
+  std::uint64_t StepCount() const;
   // World-space caches tagged with this stamp are current. Update draws one before its
   // collision detection and another after moving the bodies, so between steps this stamp
   // describes the bodies' present poses.
-  std::uint64_t CacheStamp() const { return m_cacheStamp; }
+  std::uint64_t CacheStamp() const;
   // The first body that became non-finite, if any; stepping continues for the others.
-  const std::optional<RNonFiniteBody>& NonFinite() const { return m_nonFinite; }
+  const std::optional<RNonFiniteBody>& NonFinite() const;
   // Every body that became non-finite in the last Update (and was put back), in index order.
-  const std::vector<RNonFiniteBody>& NonFiniteInLastStep() const { return m_nonFiniteLast; }
+  const std::vector<RNonFiniteBody>& NonFiniteInLastStep() const;
 
-  // Contacts found by the last Update (valid until the next), in pair order (a, then b).
-  const std::vector<RContact>& Contacts() const { return m_contacts; }
-  const RPairStats& PairStats() const { return m_pairStats; }
+  // Contacts found by the last Update (valid until the next), in the pair sweep's order.
+  const std::vector<RContact>& Contacts() const;
+  const RPairStats& PairStats() const;
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
   // answer changes for a pair must Wake() its dynamic body.
-  void SetPairFilter(RPairFilter filter, void* user) {
-    m_filter = filter, m_filterUser = user, m_wakeAll = true;
-  }
+  void SetPairFilter(RPairFilter filter, void* user);
 
  private:
-  void CollisionDetection(std::vector<RRigidBody>& bodies, RScalar dt);
-  // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
-  // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
-  bool DetectPairs(std::vector<RRigidBody>& bodies, RScalar dt);
-  // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
-  // one of whose bodies the game woke (or all, when the body count or gravity changed);
-  // after it, puts to sleep the islands that have rested long enough.
-  void WakeIslands(std::vector<RRigidBody>& bodies);
-  void WakeMarked(std::vector<RRigidBody>& bodies);
-  void SleepIslands(std::vector<RRigidBody>& bodies);
-  // Solves the contacts found this step for impulses and accumulates them on the bodies;
-  // called from CollisionDetection. Sequential impulses, warm-started, with each manifold's
-  // normal rows solved as one block and an impacting manifold bouncing through one row.
-  void FindImpulses(std::vector<RRigidBody>& bodies, RScalar dt);
-  void UpdateObjects(std::vector<RRigidBody>& bodies, RScalar dt);
+  // The step, as the design reads: stamp, CollisionDetection, UpdateObjects.
+  void Step(const RStepBodies& bodies, RScalar dt);
+  // Pairs -> CheckCollision -> FindImpulses: impulses accumulated on the bodies.
+  void CollisionDetection(const RStepBodies& bodies, RScalar dt);
+  // Applies the accumulated impulses and integrates the motion; then sleeping.
+  void UpdateObjects(const RStepBodies& bodies, RScalar dt);
 
-  // One direction of a contact point's constraint, with everything the solver's inner
-  // loop needs precomputed (Catto's formulation): relative velocity along d is
-  // d.(vB - vA) + rBxd.wB - rAxd.wA, and an impulse lambda d changes wA by -lambda iA and
-  // wB by lambda iB.
-  struct RDirection {
-    RVec3 d;                   // unit direction, world
-    RVec3 rAxd, rBxd;          // lever arms crossed with d, m
-    RVec3 iA, iB;              // inverse inertia times the lever arms, 1/(kg m)
-    RScalar k;                 // inverse effective mass along d, 1/kg
-  };
-  // One contact point's normal constraint, built once per step (solver scratch). Friction
-  // acts per manifold (RBlock).
-  struct RContactRow {
-    std::uint32_t a, b;        // body indices
-    std::uint32_t contact;     // index into m_contacts
-    std::uint32_t block;       // index into m_blocks
-    int point;                 // index into its manifold
-    RDirection n;              // the normal, A to B
-    RVec3 rA, rB;              // contact point from each centre of mass, world, m
-    RScalar lever;             // distance from the manifold's centroid, m
-    RScalar gap;               // separation at the start of the step, m
-    RScalar deferN;            // normal velocity the impacts deferred to the step's end, m/s
-    RScalar target;            // normal relative velocity to reach, m/s
-    RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
-    RScalar endTarget;         // at the end of the step: 0, or -inf when not in contact
-    // Accumulated normal impulses, N s: at the start of the step, of position correction,
-    // at the end of the step.
-    RScalar lambdaN, lambdaP, lambdaE;
-  };
-  // What a solve works on: the velocities with the impulses at the start of the step, the
-  // pseudo-velocities of position correction, or the velocities at the end of the step.
-  enum class RPhase : std::uint8_t { kVelocity, kPosition, kEnd };
-  static RScalar& Lambda(RContactRow& r, RPhase phase) {
-    return phase == RPhase::kVelocity ? r.lambdaN : phase == RPhase::kPosition ? r.lambdaP : r.lambdaE;
-  }
-  static RScalar Target(const RContactRow& r, RPhase phase) {
-    return phase == RPhase::kVelocity ? r.target : phase == RPhase::kPosition ? r.pseudoTarget : r.endTarget;
-  }
-  // A manifold's impact constraint: one point at the centre of its leading points, where
-  // restitution acts (solver scratch, built once per step for every resolved contact).
-  struct RImpactRow {
-    std::uint32_t a, b;        // body indices
-    std::uint32_t contact;     // index into m_contacts
-    int point;                 // the manifold's deepest point, where the impulse is reported
-    RDirection dir[3];         // normal (A to B) and two tangents
-    RVec3 rA, rB;              // the point from each centre of mass, world, m
-    RScalar gap;               // the leading points' separation, m (negative: overlap)
-    RScalar restitution;       // combined coefficient
-    RScalar friction;          // combined Coulomb coefficient
-    RScalar lambdaN, lambdaT1, lambdaT2;  // accumulated impulses, N s
-    // The impulse on B (world, N s) and its moments about each centre of mass, N m s: the
-    // lever arms depend on when within the step each application happened.
-    RVec3 impulse, angularA, angularB;
-    bool miss;                 // found, along the motion, not to meet within the step
-  };
-  // Working state of a body during the solve: velocities that include every pending change.
-  struct RSolverBody {
-    RVec3 v, w;                // linear and angular velocity, world
-    RVec3 vp, wp;              // pseudo-velocities (position correction), world
-    RVec3 vMid;                // the velocity it moves with, kept for the end of the step
-    // Impacts within the step (SolveImpacts): displacement travelled up to time tau of the
-    // step, and the velocity change deferred to the step's end.
-    RVec3 moved;
-    RScalar tau;
-    RVec3 deferV;
-    RVec3 vImpacts;            // its velocity after the impact phase
-    RVec3 contactDeltaV;      // the contact phase's velocity change after that, m/s
-    RMat3 invI;                // inverse inertia, world, 1/(kg m^2)
-    RScalar invM;              // 1/kg
-  };
-  // Warm-start memory: last step's impulses by (body a, body b, feature id).
-  struct RWarmStart {
-    std::uint64_t pair;        // (body a, body b)
-    std::uint32_t feature;
-    RVec3 point_A;             // contact point in body a's frame, m
-    RScalar lambdaN, lambdaE;  // at the start and at the end of the step, N s
-    // Its manifold's friction impulse (world, N s) and twist (N m s), start and end.
-    RVec3 tangentImpulse[2];
-    RScalar twistImpulse[2];
-  };
-
-  RWorldSettings m_settings;
-  RStepProfile m_profile;
-  std::uint64_t m_stepCount = 0;
-  std::uint64_t m_cacheStamp = 0;
-  std::optional<RNonFiniteBody> m_nonFinite;
-  std::vector<RNonFiniteBody> m_nonFiniteLast;
-  std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
-  std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
-  std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
-  std::vector<RScalar> m_near;  // pair sweep: one body's candidates, lim^2 - d^2 (m^2)
-  std::vector<std::uint32_t> m_candidates;  // pair sweep: those with lim^2 - d^2 >= 0
-  std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
-  std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
-  std::vector<RContactRow> m_rows;
-  std::vector<RImpactRow> m_impacts;
-  std::vector<RSolverBody> m_solverBodies;
-  // A manifold: its rows, the minimum-norm inverse of their normal block (up to 4 x 4), and
-  // its friction patch at the centroid of its points.
-  struct RBlock {
-    std::uint32_t first;
-    int count;
-    bool useBlock;
-    Eigen::Matrix<RScalar, 4, 4> pinv;
-    RDirection t[2];           // tangents at the centroid
-    RVec3 rA, rB;              // the centroid from each centre of mass, world, m
-    RVec3 normal;              // world, A to B
-    RVec3 twistIA, twistIB;    // inverse inertias times the normal, 1/(kg m^2)
-    RScalar kTwist;            // inverse effective inertia about the normal, 1/(kg m^2)
-    RScalar friction;          // combined Coulomb coefficient
-    // Tangential impulses (N s) and twist about the normal (N m s), at the start [0] and
-    // at the end [1] of the step.
-    RScalar lambdaT1[2], lambdaT2[2];
-    RScalar lambdaTwist[2];
-  };
-  std::vector<RBlock> m_blocks;
-  void SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
-  void SolveImpacts(const std::vector<RRigidBody>& bodies, RScalar dt);
-  template <class Advance>
-  bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
-                      const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
-                      RDirection* dir) const;
-  void SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
-  void WarmStart(RPhase phase);
-  void SolveEndOfStep(const std::vector<RRigidBody>& bodies, RScalar dt);
-  void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
-  void BuildIslands(const std::vector<RRigidBody>& bodies);
-  void SolveIslands(RPhase phase);
-  bool SolveIslandDirect(RPhase phase);
-  void AssembleIslandMatrix();
-  // Islands up to this many rows get their normal impulses solved directly (see
-  // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
-  static constexpr int kDirectRows = 128;
-  std::vector<std::uint32_t> m_islandParent;                        // union-find over bodies
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_islandRows;  // (island, row)
-  std::vector<std::uint32_t> m_islandIndex;                         // rows of one island
-  std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
-  std::vector<RScalar> m_islandK, m_islandL, m_islandB, m_islandX, m_islandInvDiag, m_islandR;  // scratch
-  std::vector<int> m_islandMap, m_islandFirst, m_islandLo, m_islandHi;
-  std::vector<std::pair<int, int>> m_islandRuns;  // one island's manifolds: [first, last)
-  bool m_islandKReady = false;
-  std::vector<char> m_islandActive;
-  std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
-  std::size_t m_warmBodyCount = 0;
-  // Keeps the warm starts of pairs that sleep (both bodies asleep, or one asleep and one
-  // static): they are not solved while asleep, and start warm when woken.
-  void KeepSleepingWarmStarts(const std::vector<RRigidBody>& bodies);
-  // Sleeping: islands to wake (by island id), union-find and per-island state (scratch).
-  std::vector<char> m_wakeMark;
-  std::vector<std::uint32_t> m_sleepParent;
-  std::vector<RScalar> m_sleepRest;
-  std::vector<char> m_sleepSupported, m_sleepStill;
-  std::size_t m_sleepBodyCount = 0;
-  bool m_wakeAll = false;  // ForgetContacts, SetPairFilter
-  // This integrator, as the bodies it stepped remember it (a process-wide count). A copy of
-  // an integrator is another world: it draws its own id.
-  struct RWorldId {
-    std::uint64_t value = NextCacheStamp();
-    RWorldId() = default;
-    RWorldId(const RWorldId&) : value(NextCacheStamp()) {}
-    RWorldId& operator=(const RWorldId&) {
-      value = NextCacheStamp();
-      return *this;
-    }
-  } m_worldId;
-  RVec3 m_sleepGravity_W = RVec3::Zero();
-  RPairStats m_pairStats;
-  RPairFilter m_filter = nullptr;
-  void* m_filterUser = nullptr;
+  std::unique_ptr<RWorldStep> m_w;
 };
 
 // Process-wide stamp source: every Update of every integrator draws a new value, so a cache

@@ -175,6 +175,8 @@ class RRigidBody {
 
  private:
   friend class RIntegrator;
+  friend class RWorldStep;
+  friend class RBodies;
 
   std::string m_name;
   std::uint32_t m_id = 0;

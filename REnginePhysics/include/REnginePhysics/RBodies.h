@@ -1,0 +1,124 @@
+// RBodies: the container of rigid bodies a game passes to RIntegrator::Update. A body is
+// added from its definition and named by a handle (slot index + generation, as in Box2D and
+// Jolt) that stays valid until the body is removed, whatever else is added or removed.
+//
+//   RBodies bodies;
+//   RBodyHandle ship = bodies.Add(shipDef);
+//   integrator.Update(bodies, dt);
+//   bodies[ship].AddForce_W(thrust);
+//   bodies.Remove(ship);            // O(1); `ship` is stale from now on
+//
+// Storage is dense: the enabled bodies sit contiguously, in an order that depends only on
+// the sequence of Add, Remove, Disable and Enable calls (a removed body's place is taken by
+// the last one), and the integrator steps exactly that range. Disabled bodies (a pool of
+// parked missiles) sit after it and cost nothing per step.
+//
+// Contact memory (warm starts) and sleeping islands are keyed by handle: adding a body
+// wakes nothing, removing or disabling one wakes only the sleeping island it belonged to
+// (everything, for a static body), and every other pair keeps its warm start.
+#pragma once
+
+#include <REnginePhysics/RRigidBody.h>
+
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace REngine {
+
+// A body's name in an RBodies: slot index and generation. Default-constructed: invalid.
+struct RBodyHandle {
+  static constexpr std::uint32_t kInvalidIndex = std::numeric_limits<std::uint32_t>::max();
+  std::uint32_t index = kInvalidIndex;
+  std::uint32_t generation = 0;
+  bool IsValid() const { return index != kInvalidIndex; }
+  friend bool operator==(RBodyHandle a, RBodyHandle b) {
+    return a.index == b.index && a.generation == b.generation;
+  }
+  friend bool operator!=(RBodyHandle a, RBodyHandle b) { return !(a == b); }
+  friend bool operator<(RBodyHandle a, RBodyHandle b) {
+    return a.index < b.index || (a.index == b.index && a.generation < b.generation);
+  }
+};
+
+// A handle that names no body (never issued, or its body was removed).
+class RHandleError : public std::out_of_range {
+ public:
+  explicit RHandleError(const std::string& what) : std::out_of_range(what) {}
+};
+
+class RBodies {
+ public:
+  // Most bodies one container holds (handles are 32-bit; RSceneLimits keeps scenes far
+  // below).
+  static constexpr std::size_t kMaxBodies = std::size_t(1) << 31;
+
+  // Makes a body from its definition (RRigidBody's checks: throws RBodyError and adds
+  // nothing) and returns its handle. A body made from a shared prepared shape
+  // (RBodyDef::prepared) builds no hull. The body is enabled and awake.
+  RBodyHandle Add(const RBodyDef& def);
+  RBodyHandle Add(RRigidBody body);
+  // Removes the body, O(1): the last enabled body takes its place. Its sleeping island wakes
+  // (a removed body may have held a stack up); a removed static body wakes every sleeper.
+  // Throws RHandleError for a stale or invalid handle.
+  void Remove(RBodyHandle h);
+  // A disabled body stays in the container with its state, is not stepped, and touches
+  // nothing: pooling. Disabling wakes what removing would; enabling is like adding. Both are
+  // O(1) and do nothing when the body already is so. Throw RHandleError for a stale handle.
+  void Disable(RBodyHandle h);
+  void Enable(RBodyHandle h);
+  bool IsEnabled(RBodyHandle h) const { return DenseIndex(h) < m_enabled; }
+
+  bool Contains(RBodyHandle h) const {
+    return h.index < m_generation.size() && m_generation[h.index] == h.generation &&
+           m_denseOfSlot[h.index] != kFree;
+  }
+  // The body a handle names; throws RHandleError when stale. Find: nullptr instead.
+  RRigidBody& operator[](RBodyHandle h) { return m_bodies[DenseIndex(h)]; }
+  const RRigidBody& operator[](RBodyHandle h) const { return m_bodies[DenseIndex(h)]; }
+  RRigidBody* Find(RBodyHandle h) { return Contains(h) ? &m_bodies[m_denseOfSlot[h.index]] : nullptr; }
+  const RRigidBody* Find(RBodyHandle h) const {
+    return Contains(h) ? &m_bodies[m_denseOfSlot[h.index]] : nullptr;
+  }
+
+  // Every body, enabled first: Size() of them, dense positions 0 .. Size() - 1.
+  std::size_t Size() const { return m_bodies.size(); }
+  bool Empty() const { return m_bodies.empty(); }
+  std::size_t EnabledCount() const { return m_enabled; }
+  RRigidBody& At(std::size_t dense) { return m_bodies.at(dense); }
+  const RRigidBody& At(std::size_t dense) const { return m_bodies.at(dense); }
+  RBodyHandle HandleAt(std::size_t dense) const { return m_handles.at(dense); }
+  // The enabled bodies, as contiguous storage (what the integrator steps).
+  RRigidBody* begin() { return m_bodies.data(); }
+  RRigidBody* end() { return m_bodies.data() + m_enabled; }
+  const RRigidBody* begin() const { return m_bodies.data(); }
+  const RRigidBody* end() const { return m_bodies.data() + m_enabled; }
+  const std::vector<RBodyHandle>& Handles() const { return m_handles; }
+
+  // Room for n bodies without reallocating (spawning then allocates only the body's own
+  // name, ignore list and world-form arrays).
+  void Reserve(std::size_t n);
+  void Clear();
+
+ private:
+  friend class RIntegrator;
+  static constexpr std::uint32_t kFree = std::numeric_limits<std::uint32_t>::max();
+  std::uint32_t DenseIndex(RBodyHandle h) const;
+  void SwapDense(std::uint32_t i, std::uint32_t j);
+  // What leaving the step does to sleepers: a sleeping body's island wakes, a static body
+  // wakes everything.
+  void WakeForDeparture(RRigidBody& b);
+
+  std::vector<RRigidBody> m_bodies;   // dense: enabled [0, m_enabled), then disabled
+  std::vector<RBodyHandle> m_handles; // dense position -> handle
+  std::vector<std::uint32_t> m_generation;   // per slot: bumped when its body is removed
+  std::vector<std::uint32_t> m_denseOfSlot;  // per slot: dense position (kFree: free)
+  std::vector<std::uint32_t> m_free;  // free slots, reused last-freed first
+  std::size_t m_enabled = 0;
+  // Read and cleared by the next Update: islands to wake (by island id), or all of them.
+  std::vector<std::uint32_t> m_wakeIslands;
+  bool m_wakeAll = false;
+};
+
+}  // namespace REngine

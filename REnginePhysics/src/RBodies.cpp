@@ -1,0 +1,116 @@
+// The body container: a slot map over dense storage (see RBodies.h).
+#include <REnginePhysics/RBodies.h>
+
+#include <string>
+#include <utility>
+
+namespace REngine {
+
+std::uint32_t RBodies::DenseIndex(RBodyHandle h) const {
+  if (!Contains(h)) {
+    throw RHandleError("RBodies: handle (index " + std::to_string(h.index) + ", generation " +
+                       std::to_string(h.generation) + ") names no body: " +
+                       (h.IsValid() ? "it was removed" : "it was never issued"));
+  }
+  return m_denseOfSlot[h.index];
+}
+
+RBodyHandle RBodies::Add(const RBodyDef& def) { return Add(RRigidBody(def)); }
+
+RBodyHandle RBodies::Add(RRigidBody body) {
+  if (m_bodies.size() >= kMaxBodies) {
+    throw std::length_error("RBodies::Add: the container holds its maximum of 2^31 bodies");
+  }
+  RBodyHandle h;
+  if (!m_free.empty()) {
+    h.index = m_free.back();
+    m_free.pop_back();
+    h.generation = m_generation[h.index];
+  } else {
+    h.index = static_cast<std::uint32_t>(m_generation.size());
+    m_generation.push_back(0);
+    m_denseOfSlot.push_back(kFree);
+  }
+  // A new body sleeps with no island and has not been stepped yet; a static one appearing
+  // beside a sleeper must wake it (a sleeping body is not paired with static geometry),
+  // which is what a moved static body does.
+  body.m_sleeping = false, body.m_restTime = 0;
+  body.m_sleepIsland = RRigidBody::kNoIsland;
+  body.m_slot = RRigidBody::kNoIsland, body.m_slotWorld = 0;
+  if (body.m_isStatic) body.m_staticMoved = true;
+  const std::uint32_t dense = static_cast<std::uint32_t>(m_bodies.size());
+  m_bodies.push_back(std::move(body));
+  m_handles.push_back(h);
+  m_denseOfSlot[h.index] = dense;
+  // Enabled: swap it from the end of the disabled range to the end of the enabled one.
+  SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
+  ++m_enabled;
+  return h;
+}
+
+void RBodies::SwapDense(std::uint32_t i, std::uint32_t j) {
+  if (i == j) return;
+  std::swap(m_bodies[i], m_bodies[j]);
+  std::swap(m_handles[i], m_handles[j]);
+  m_denseOfSlot[m_handles[i].index] = i;
+  m_denseOfSlot[m_handles[j].index] = j;
+}
+
+void RBodies::WakeForDeparture(RRigidBody& b) {
+  if (b.m_isStatic) {
+    m_wakeAll = true;
+  } else if (b.m_sleepIsland != RRigidBody::kNoIsland) {
+    // Asleep, or woken by the game since the last step: its island still has the id.
+    m_wakeIslands.push_back(b.m_sleepIsland);
+  }
+  b.m_sleeping = false, b.m_restTime = 0;
+  b.m_sleepIsland = RRigidBody::kNoIsland;
+  b.m_slot = RRigidBody::kNoIsland, b.m_slotWorld = 0;
+}
+
+void RBodies::Remove(RBodyHandle h) {
+  std::uint32_t dense = DenseIndex(h);
+  if (dense < m_enabled) {
+    WakeForDeparture(m_bodies[dense]);
+    // To the end of the enabled range (its last body takes the removed one's place), then
+    // to the end of the storage (the last disabled body takes that place).
+    SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
+    dense = static_cast<std::uint32_t>(--m_enabled);
+  }
+  SwapDense(dense, static_cast<std::uint32_t>(m_bodies.size() - 1));
+  m_bodies.pop_back();
+  m_handles.pop_back();
+  m_denseOfSlot[h.index] = kFree;
+  // A slot whose generation would wrap is retired: its old handles must stay stale.
+  if (++m_generation[h.index] != 0) m_free.push_back(h.index);
+}
+
+void RBodies::Disable(RBodyHandle h) {
+  const std::uint32_t dense = DenseIndex(h);
+  if (dense >= m_enabled) return;
+  WakeForDeparture(m_bodies[dense]);
+  SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
+  --m_enabled;
+}
+
+void RBodies::Enable(RBodyHandle h) {
+  const std::uint32_t dense = DenseIndex(h);
+  if (dense < m_enabled) return;
+  RRigidBody& b = m_bodies[dense];
+  if (b.m_isStatic) b.m_staticMoved = true;
+  SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
+  ++m_enabled;
+}
+
+void RBodies::Reserve(std::size_t n) {
+  m_bodies.reserve(n);
+  m_handles.reserve(n);
+  m_generation.reserve(n);
+  m_denseOfSlot.reserve(n);
+}
+
+void RBodies::Clear() {
+  while (!m_bodies.empty()) Remove(m_handles.back());
+}
+
+}  // namespace REngine

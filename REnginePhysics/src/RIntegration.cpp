@@ -1,0 +1,108 @@
+// The motion (UpdateObjects): every accumulated impulse applied, then the step's one
+// definition of the bodies' velocities; see RIntegrator.h for the scheme.
+#include "RWorldStep.h"
+
+#include <REngineMath/RQuaternion.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace REngine {
+
+void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
+  const RScalar halfDt = RScalar(0.5) * dt;
+  m_nonFiniteLast.clear();
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    RRigidBody& b = bodies[i];
+    // A sleeping body has no velocity, and nothing touched it: it stays where it is.
+    if (b.m_isStatic || b.m_sleeping) {
+      b.m_force_W.setZero(), b.m_torque_W.setZero();
+      b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+      b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
+      b.m_deferredImpulse_W.setZero();
+      continue;
+    }
+    const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
+    const RQuat q0 = b.m_q_WB;
+
+    // Linear: impulse, then kick-drift-kick with constant acceleration.
+    const RVec3 accel = b.m_force_W * b.m_invMass + m_settings.gravity_W;
+    const RVec3 vHalf = b.m_v_W + b.m_linearImpulse_W * b.m_invMass + accel * halfDt;
+    b.m_x_W += vHalf * dt;
+    b.m_v_W = vHalf + accel * halfDt;
+
+    // Angular: impulse and half the torque's impulse, exact free flow, other half. A kick
+    // is applied only when non-zero so that a free body's omega passes through bit for bit
+    // (which is what lets RFreeRotation reuse its cached elliptic constants).
+    const bool torque = !b.m_torque_W.isZero(0);
+    const RVec3 kick0_W = b.m_angularImpulse_W + b.m_torque_W * halfDt;
+    if (!kick0_W.isZero(0)) {
+      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
+    }
+    b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
+    if (torque) {
+      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * (b.m_torque_W * halfDt));
+    }
+
+    // Position correction: displacement without velocity (split impulses). A body it moves
+    // faster than the sleep speed is not at rest.
+    RScalar pseudoSpeed = 0;
+    if (!b.m_pseudoVelocity_W.isZero(0) || !b.m_pseudoAngular_W.isZero(0)) {
+      pseudoSpeed = b.m_pseudoVelocity_W.norm() + b.m_pseudoAngular_W.norm() * b.m_boundingRadius;
+      b.m_x_W += b.m_pseudoVelocity_W * dt;
+      b.m_q_WB = QuatExp(b.m_pseudoAngular_W * dt) * b.m_q_WB;
+      b.m_q_WB.normalize();
+      b.m_pseudoVelocity_W.setZero(), b.m_pseudoAngular_W.setZero();
+    }
+
+    // Impacts within the step: the velocity change deferred to its end.
+    if (!b.m_deferredImpulse_W.isZero(0)) {
+      b.m_v_W += b.m_deferredImpulse_W * b.m_invMass;
+      b.m_deferredImpulse_W.setZero();
+    }
+    // Contact impulses at the end of the step, in the body frame the step ends with. Their
+    // angular part was summed about the centre of mass at the start of the step; about the
+    // centre it ends at, each impulse J acting at a point p has the lever arm
+    // (p - x0) - (x - x0).
+    if (!b.m_endLinearImpulse_W.isZero(0) || !b.m_endAngularImpulse_W.isZero(0)) {
+      const RVec3 h_W = b.m_endAngularImpulse_W - (b.m_x_W - x0).cross(b.m_endLinearImpulse_W);
+      b.m_v_W += b.m_endLinearImpulse_W * b.m_invMass;
+      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
+      b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
+    }
+
+    b.m_force_W.setZero(), b.m_torque_W.setZero();
+    b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+
+    // How long it has been at rest: its centre and the farthest point of its bounding
+    // sphere slower than the sleep speed (SleepIslands).
+    const RScalar speed = std::max(b.m_v_W.norm() + b.m_w_B.norm() * b.m_boundingRadius, pseudoSpeed);
+    b.m_restTime = speed < m_settings.sleepSpeed ? b.m_restTime + dt : 0;
+
+    if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
+          AllFinite(b.m_q_WB))) {
+      b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0;
+      b.m_restTime = 0;
+      m_nonFiniteLast.push_back(RNonFiniteBody{i, bodies.handles[i], b.m_name, m_stepCount});
+      if (!m_nonFinite) m_nonFinite = m_nonFiniteLast.back();
+    }
+  }
+  // A body put back lost this step's impulses, and the contact memory of its pairs holds
+  // what made it overflow: started warm from that, it would overflow again every step.
+  if (!m_nonFiniteLast.empty()) {
+    auto reverted = [this](std::uint32_t slot) {
+      for (const RNonFiniteBody& nf : m_nonFiniteLast) {
+        if (nf.handle.index == slot) return true;
+      }
+      return false;
+    };
+    m_warm.erase(std::remove_if(m_warm.begin(), m_warm.end(),
+                                [&](const RWarmStart& w) {
+                                  return reverted(static_cast<std::uint32_t>(w.pair >> 32)) ||
+                                         reverted(static_cast<std::uint32_t>(w.pair));
+                                }),
+                 m_warm.end());
+  }
+}
+
+}  // namespace REngine

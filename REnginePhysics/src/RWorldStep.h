@@ -1,0 +1,242 @@
+// Private to REnginePhysics: the integrator's working state, the subsystems' scratch and
+// the step's outputs, behind RIntegrator (which holds one through a pointer, so none of this
+// is in an installed header). Each subsystem's functions are defined in its own file:
+//   RPairSweep.cpp      DetectPairs, TimeOfImpact
+//   RContactSolver.cpp  FindImpulses, WarmStart, SolvePatch, SolveNormalBlock, SolveEndOfStep
+//   RImpactPhase.cpp    SolveImpacts, ImpactGeometry
+//   RIslandSolver.cpp   BuildIslands, SolveIslands, SolveIslandDirect
+//   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
+//   RIntegration.cpp    Integrate (the motion)
+#pragma once
+
+#include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RIntegrator.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace REngine {
+
+// The bodies one step works on: contiguous storage and each body's stable identity. From
+// an RBodies, its enabled range and handles; from a plain vector, identity by position
+// (a body's handle is its index, generation 0).
+struct RStepBodies {
+  RRigidBody* data = nullptr;
+  std::size_t count = 0;
+  const RBodyHandle* handles = nullptr;       // per dense index
+  const std::uint32_t* denseOfSlot = nullptr; // per slot: dense index (>= count: not stepped)
+  std::size_t slotCount = 0;
+  // A plain vector: identity is position, so a change of count forgets contact memory and
+  // wakes everything, and a body found at another index wakes everything.
+  bool byIndex = true;
+  // An RBodies' departures since the last step: islands to wake, or all (read and cleared).
+  std::vector<std::uint32_t>* wakeIslands = nullptr;
+  bool* wakeAll = nullptr;
+
+  RRigidBody& operator[](std::size_t i) const { return data[i]; }
+  std::size_t size() const { return count; }
+  RRigidBody* begin() const { return data; }
+  RRigidBody* end() const { return data + count; }
+  std::uint32_t Slot(std::size_t i) const { return handles[i].index; }
+};
+
+class RWorldStep {
+ public:
+  // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
+  // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
+  bool DetectPairs(const RStepBodies& bodies, RScalar dt);
+  // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
+  // one of whose bodies the game woke (or all, when the body count or gravity changed);
+  // after it, puts to sleep the islands that have rested long enough.
+  void WakeIslands(const RStepBodies& bodies);
+  void WakeMarked(const RStepBodies& bodies);
+  void SleepIslands(const RStepBodies& bodies);
+  // Solves the contacts found this step for impulses and accumulates them on the bodies;
+  // called from CollisionDetection. Sequential impulses, warm-started, with each manifold's
+  // normal rows solved as one block and an impacting manifold bouncing through one row.
+  void FindImpulses(const RStepBodies& bodies, RScalar dt);
+  // UpdateObjects' motion: applies the accumulated impulses, then kick-drift-kick for the
+  // centre of mass and the exact free flow between half torque kicks for the rotation.
+  void Integrate(const RStepBodies& bodies, RScalar dt);
+
+  // One direction of a contact point's constraint, with everything the solver's inner
+  // loop needs precomputed (Catto's formulation): relative velocity along d is
+  // d.(vB - vA) + rBxd.wB - rAxd.wA, and an impulse lambda d changes wA by -lambda iA and
+  // wB by lambda iB.
+  struct RDirection {
+    RVec3 d;                   // unit direction, world
+    RVec3 rAxd, rBxd;          // lever arms crossed with d, m
+    RVec3 iA, iB;              // inverse inertia times the lever arms, 1/(kg m)
+    RScalar k;                 // inverse effective mass along d, 1/kg
+  };
+  // One contact point's normal constraint, built once per step (solver scratch). Friction
+  // acts per manifold (RBlock).
+  struct RContactRow {
+    std::uint32_t a, b;        // body indices
+    std::uint32_t contact;     // index into m_contacts
+    std::uint32_t block;       // index into m_blocks
+    int point;                 // index into its manifold
+    RDirection n;              // the normal, A to B
+    RVec3 rA, rB;              // contact point from each centre of mass, world, m
+    RScalar lever;             // distance from the manifold's centroid, m
+    RScalar gap;               // separation at the start of the step, m
+    RScalar deferN;            // normal velocity the impacts deferred to the step's end, m/s
+    RScalar target;            // normal relative velocity to reach, m/s
+    RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
+    RScalar endTarget;         // at the end of the step: 0, or -inf when not in contact
+    // Accumulated normal impulses, N s: at the start of the step, of position correction,
+    // at the end of the step.
+    RScalar lambdaN, lambdaP, lambdaE;
+  };
+  // What a solve works on: the velocities with the impulses at the start of the step, the
+  // pseudo-velocities of position correction, or the velocities at the end of the step.
+  enum class RPhase : std::uint8_t { kVelocity, kPosition, kEnd };
+  static RScalar& Lambda(RContactRow& r, RPhase phase) {
+    return phase == RPhase::kVelocity ? r.lambdaN : phase == RPhase::kPosition ? r.lambdaP : r.lambdaE;
+  }
+  static RScalar Target(const RContactRow& r, RPhase phase) {
+    return phase == RPhase::kVelocity ? r.target : phase == RPhase::kPosition ? r.pseudoTarget : r.endTarget;
+  }
+  // A manifold's impact constraint: one point at the centre of its leading points, where
+  // restitution acts (solver scratch, built once per step for every resolved contact).
+  struct RImpactRow {
+    std::uint32_t a, b;        // body indices
+    std::uint32_t contact;     // index into m_contacts
+    int point;                 // the manifold's deepest point, where the impulse is reported
+    RDirection dir[3];         // normal (A to B) and two tangents
+    RVec3 rA, rB;              // the point from each centre of mass, world, m
+    RScalar gap;               // the leading points' separation, m (negative: overlap)
+    RScalar restitution;       // combined coefficient
+    RScalar friction;          // combined Coulomb coefficient
+    RScalar lambdaN, lambdaT1, lambdaT2;  // accumulated impulses, N s
+    // The impulse on B (world, N s) and its moments about each centre of mass, N m s: the
+    // lever arms depend on when within the step each application happened.
+    RVec3 impulse, angularA, angularB;
+    bool miss;                 // found, along the motion, not to meet within the step
+  };
+  // Working state of a body during the solve: velocities that include every pending change.
+  struct RSolverBody {
+    RVec3 v, w;                // linear and angular velocity, world
+    RVec3 vp, wp;              // pseudo-velocities (position correction), world
+    RVec3 vMid;                // the velocity it moves with, kept for the end of the step
+    // Impacts within the step (SolveImpacts): displacement travelled up to time tau of the
+    // step, and the velocity change deferred to the step's end.
+    RVec3 moved;
+    RScalar tau;
+    RVec3 deferV;
+    RVec3 vImpacts;            // its velocity after the impact phase
+    RVec3 contactDeltaV;      // the contact phase's velocity change after that, m/s
+    RMat3 invI;                // inverse inertia, world, 1/(kg m^2)
+    RScalar invM;              // 1/kg
+  };
+  // Warm-start memory: last step's impulses by (slot a, slot b, feature id), a the lower
+  // slot; the generations tell a body that took over a freed slot from its former holder.
+  struct RWarmStart {
+    std::uint64_t pair;        // (slot a, slot b)
+    std::uint32_t genA, genB;  // the bodies' handle generations
+    std::uint32_t feature;
+    RVec3 point_A;             // contact point in body a's frame, m
+    RScalar lambdaN, lambdaE;  // at the start and at the end of the step, N s
+    // Its manifold's friction impulse (world, N s) and twist (N m s), start and end.
+    RVec3 tangentImpulse[2];
+    RScalar twistImpulse[2];
+  };
+
+  RWorldSettings m_settings;
+  RStepProfile m_profile;
+  std::uint64_t m_stepCount = 0;
+  std::uint64_t m_cacheStamp = 0;
+  std::optional<RNonFiniteBody> m_nonFinite;
+  std::vector<RNonFiniteBody> m_nonFiniteLast;
+  std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
+  std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
+  std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
+  std::vector<RScalar> m_near;  // pair sweep: one body's candidates, lim^2 - d^2 (m^2)
+  std::vector<std::uint32_t> m_candidates;  // pair sweep: those with lim^2 - d^2 >= 0
+  std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
+  std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
+  std::vector<RContactRow> m_rows;
+  std::vector<RImpactRow> m_impacts;
+  std::vector<RSolverBody> m_solverBodies;
+  // A manifold: its rows, the minimum-norm inverse of their normal block (up to 4 x 4), and
+  // its friction patch at the centroid of its points.
+  struct RBlock {
+    std::uint32_t first;
+    int count;
+    bool useBlock;
+    Eigen::Matrix<RScalar, 4, 4> pinv;
+    RDirection t[2];           // tangents at the centroid
+    RVec3 rA, rB;              // the centroid from each centre of mass, world, m
+    RVec3 normal;              // world, A to B
+    RVec3 twistIA, twistIB;    // inverse inertias times the normal, 1/(kg m^2)
+    RScalar kTwist;            // inverse effective inertia about the normal, 1/(kg m^2)
+    RScalar friction;          // combined Coulomb coefficient
+    // Tangential impulses (N s) and twist about the normal (N m s), at the start [0] and
+    // at the end [1] of the step.
+    RScalar lambdaT1[2], lambdaT2[2];
+    RScalar lambdaTwist[2];
+  };
+  std::vector<RBlock> m_blocks;
+  void SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
+  void SolveImpacts(const RStepBodies& bodies, RScalar dt);
+  template <class Advance>
+  bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
+                      const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
+                      RDirection* dir) const;
+  void SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
+  void WarmStart(RPhase phase);
+  void SolveEndOfStep(const RStepBodies& bodies, RScalar dt);
+  void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
+  void BuildIslands(const RStepBodies& bodies);
+  void SolveIslands(RPhase phase);
+  bool SolveIslandDirect(RPhase phase);
+  void AssembleIslandMatrix();
+  // Islands up to this many rows get their normal impulses solved directly (see
+  // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
+  static constexpr int kDirectRows = 128;
+  std::vector<std::uint32_t> m_islandParent;                        // union-find over bodies
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_islandRows;  // (island, row)
+  std::vector<std::uint32_t> m_islandIndex;                         // rows of one island
+  std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
+  std::vector<RScalar> m_islandK, m_islandL, m_islandB, m_islandX, m_islandInvDiag, m_islandR;  // scratch
+  std::vector<int> m_islandMap, m_islandFirst, m_islandLo, m_islandHi;
+  std::vector<std::pair<int, int>> m_islandRuns;  // one island's manifolds: [first, last)
+  bool m_islandKReady = false;
+  std::vector<char> m_islandActive;
+  std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
+  std::size_t m_warmBodyCount = 0;
+  // Keeps the warm starts of pairs that sleep (both bodies asleep, or one asleep and one
+  // static): they are not solved while asleep, and start warm when woken.
+  void KeepSleepingWarmStarts(const RStepBodies& bodies);
+  // Sleeping: islands to wake (by island id), union-find and per-island state (scratch).
+  std::vector<char> m_wakeMark;
+  std::vector<std::uint32_t> m_sleepParent;
+  std::vector<RScalar> m_sleepRest;
+  std::vector<char> m_sleepSupported, m_sleepStill;
+  std::size_t m_sleepBodyCount = 0;
+  bool m_wakeAll = false;  // ForgetContacts, SetPairFilter
+  // This integrator, as the bodies it stepped remember it (a process-wide count). A copy of
+  // an integrator is another world: it draws its own id.
+  struct RWorldId {
+    std::uint64_t value = NextCacheStamp();
+    RWorldId() = default;
+    RWorldId(const RWorldId&) : value(NextCacheStamp()) {}
+    RWorldId& operator=(const RWorldId&) {
+      value = NextCacheStamp();
+      return *this;
+    }
+  } m_worldId;
+  RVec3 m_sleepGravity_W = RVec3::Zero();
+  RPairStats m_pairStats;
+  RPairFilter m_filter = nullptr;
+  void* m_filterUser = nullptr;
+  // Identity handles for the plain-vector path (RStepBodies::byIndex).
+  std::vector<RBodyHandle> m_indexHandles;
+  std::vector<std::uint32_t> m_indexSlots;
+};
+
+}  // namespace REngine
