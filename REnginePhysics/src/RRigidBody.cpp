@@ -24,11 +24,59 @@ constexpr const char* kPositionRange = "must be finite and within 1e15 m of the 
 bool InRange(const RVec3& p) { return AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition; }
 }  // namespace
 
+std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
+  auto prepared = std::make_shared<RPreparedShape>();
+  RPreparedShape& p = *prepared;
+  p.shape = shape;
+  switch (shape.type) {
+    // Sizes within 1e12 m, as hull points are (RConvexPolyhedron::Hull), and a box no
+    // thinner than 1e-4 of its size, as a hull: a box 1e134 m wide and 1e-237 m thick had a
+    // finite mass and a sane inertia ratio, and overflowed the narrow phase's squares (found
+    // by fuzz_narrowphase).
+    case RShapeType::kSphere:
+      Require(PositiveFinite(shape.radius) && shape.radius <= kMaxSize, "shape.radius",
+              "must be finite, > 0 and at most 1e12 m");
+      break;
+    case RShapeType::kBox: {
+      const RVec3& e = shape.halfExtents;
+      Require(AllFinite(e) && (e.array() > 0).all() && e.maxCoeff() <= kMaxSize,
+              "shape.half_extents", "must be finite, > 0 and at most 1e12 m");
+      Require(e.minCoeff() >= kMinThickness * e.maxCoeff(), "shape.half_extents",
+              "is too thin: its smallest half extent is below 1e-4 of its largest");
+      break;
+    }
+    case RShapeType::kHull:
+      break;
+  }
+  if (shape.type == RShapeType::kHull) {
+    RConvexPolyhedron hull_S;
+    try {
+      hull_S = RConvexPolyhedron::Hull(shape.points);
+    } catch (const RHullError& e) {
+      throw RBodyError("shape.points", e.what());
+    }
+    p.unitMass = ComputeMassProperties(hull_S);
+    p.q_BS = p.unitMass.q_SB.conjugate();
+    p.p_BS = -(p.q_BS * p.unitMass.com_S);
+    p.polyhedron_B = std::make_shared<const RConvexPolyhedron>(
+        hull_S.Transformed(p.q_BS.toRotationMatrix(), p.p_BS));
+  } else {
+    p.unitMass = ComputeMassProperties(shape);
+    p.q_BS = p.unitMass.q_SB.conjugate();
+    p.p_BS = -(p.q_BS * p.unitMass.com_S);
+    if (shape.type == RShapeType::kBox) {
+      p.polyhedron_B = std::make_shared<const RConvexPolyhedron>(
+          RConvexPolyhedron::Box(shape.halfExtents));
+    }
+  }
+  p.boundingRadius = p.polyhedron_B ? p.polyhedron_B->MaxRadius() : shape.radius;
+  return prepared;
+}
+
 RRigidBody::RRigidBody(const RBodyDef& def)
     : m_name(def.name),
       m_id(def.id),
       m_ignore(def.ignore),
-      m_shape(def.shape),
       m_isStatic(def.isStatic),
       m_responds(def.responds),
       m_restitution(def.restitution),
@@ -39,55 +87,24 @@ RRigidBody::RRigidBody(const RBodyDef& def)
           "must be a finite number >= 0");
   Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
           "must be a finite number >= 0");
-  switch (def.shape.type) {
-    // Sizes within 1e12 m, as hull points are (RConvexPolyhedron::Hull), and a box no
-    // thinner than 1e-4 of its size, as a hull: a box 1e134 m wide and 1e-237 m thick had a
-    // finite mass and a sane inertia ratio, and overflowed the narrow phase's squares (found
-    // by fuzz_narrowphase).
-    case RShapeType::kSphere:
-      Require(PositiveFinite(def.shape.radius) && def.shape.radius <= kMaxSize, "shape.radius",
-              "must be finite, > 0 and at most 1e12 m");
-      break;
-    case RShapeType::kBox: {
-      const RVec3& e = def.shape.halfExtents;
-      Require(AllFinite(e) && (e.array() > 0).all() && e.maxCoeff() <= kMaxSize,
-              "shape.half_extents", "must be finite, > 0 and at most 1e12 m");
-      Require(e.minCoeff() >= kMinThickness * e.maxCoeff(), "shape.half_extents",
-              "is too thin: its smallest half extent is below 1e-4 of its largest");
-      break;
-    }
-    case RShapeType::kHull:
-      break;
-  }
+  // Shape checks first, as a scene lists them (a hull is built after the pose checks).
+  if (!def.prepared && def.shape.type != RShapeType::kHull) m_prepared = PrepareShape(def.shape);
   Require(InRange(def.position_W), "position", kPositionRange);
   Require(AllFinite(def.velocity_W), "velocity", "must be finite");
   Require(AllFinite(def.angularVelocity_W), "angular_velocity", "must be finite");
   const std::optional<RQuat> q_WS = QuatNormalized(def.q_WS);
   Require(q_WS.has_value(), "orientation", "must be a finite quaternion of non-zero length");
-
-  RMassProperties mp;
-  if (def.shape.type == RShapeType::kHull) {
-    RConvexPolyhedron hull_S;
-    try {
-      hull_S = RConvexPolyhedron::Hull(def.shape.points);
-    } catch (const RHullError& e) {
-      throw RBodyError("shape.points", e.what());
-    }
-    mp = ComputeMassProperties(hull_S);
-    m_q_BS = mp.q_SB.conjugate();
-    m_p_BS = -(m_q_BS * mp.com_S);
-    m_polyhedron_B = std::make_shared<const RConvexPolyhedron>(
-        hull_S.Transformed(m_q_BS.toRotationMatrix(), m_p_BS));
-  } else {
-    mp = ComputeMassProperties(def.shape);
-    m_q_BS = mp.q_SB.conjugate();
-    m_p_BS = -(m_q_BS * mp.com_S);
-    if (def.shape.type == RShapeType::kBox) {
-      m_polyhedron_B = std::make_shared<const RConvexPolyhedron>(
-          RConvexPolyhedron::Box(def.shape.halfExtents));
-    }
+  if (def.prepared) {
+    m_prepared = def.prepared;
+  } else if (!m_prepared) {
+    m_prepared = PrepareShape(def.shape);
   }
-  m_boundingRadius = m_polyhedron_B ? m_polyhedron_B->MaxRadius() : def.shape.radius;
+  const RPreparedShape& shape = *m_prepared;
+  const RMassProperties& mp = shape.unitMass;
+  m_q_BS = shape.q_BS;
+  m_p_BS = shape.p_BS;
+  m_polyhedron_B = shape.polyhedron_B.get();
+  m_boundingRadius = shape.boundingRadius;
   if (m_polyhedron_B) {
     m_worldForm.vertices_W.resize(m_polyhedron_B->Vertices().size());
     m_worldForm.planes_W.resize(m_polyhedron_B->Faces().size());
@@ -116,8 +133,8 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     // touch spins it up without limit (a box 1e-9 m thick and 10 m long). 1e9 is the
     // largest ratio of effective masses the contact solver holds (README, stability
     // envelope); a hull at the thinnest RConvexPolyhedron::Hull accepts stays below it.
-    const char* shapeField = def.shape.type == RShapeType::kHull ? "shape.points"
-                             : def.shape.type == RShapeType::kBox ? "shape.half_extents"
+    const char* shapeField = shape.shape.type == RShapeType::kHull ? "shape.points"
+                             : shape.shape.type == RShapeType::kBox ? "shape.half_extents"
                                                                    : "shape.radius";
     Require(m_I_B.maxCoeff() <= kMaxInertiaRatio * m_I_B.minCoeff(), shapeField,
             "is too thin: its largest principal moment exceeds 1e9 times its smallest");

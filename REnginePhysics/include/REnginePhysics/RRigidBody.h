@@ -48,10 +48,29 @@ class RBodyError : public std::invalid_argument {
   std::string m_field, m_problem;
 };
 
+// A collision shape prepared once and shared, immutable, by every body made from it: the
+// hull built (Qhull), its mass properties at unit density, the body frame. Spawning a
+// missile or a fragment from one (RBodyDef::prepared) copies a pointer, not a hull.
+struct RPreparedShape {
+  RShape shape;                 // as given, shape frame S
+  RMassProperties unitMass;     // at 1 kg/m^3, S frame
+  RVec3 p_BS = RVec3::Zero();   // origin of S in the body frame B, m
+  RQuat q_BS = RQuat::Identity();  // rotation S -> B
+  std::shared_ptr<const RConvexPolyhedron> polyhedron_B;  // body frame; null for a sphere
+  RScalar boundingRadius = 0;   // largest distance of the surface from the centre of mass, m
+};
+
+// Checks a shape as RRigidBody does (sizes finite, > 0 and at most 1e12 m, a box no thinner
+// than 1e-4 of its size, hull points that span a solid) and prepares it. Throws RBodyError
+// naming the field ("shape.radius", "shape.half_extents", "shape.points").
+std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape);
+
 // What a game or a scene file says about a body; RRigidBody copies it.
 struct RBodyDef {
   std::string name;
   RShape shape;
+  // When set, the body is made from this shape and `shape` is not read: no hull is built.
+  std::shared_ptr<const RPreparedShape> prepared;
   bool isStatic = false;
   std::optional<RScalar> mass;  // kg; when unset, density * volume
   RScalar density = 1;          // kg/m^3, used when mass is unset
@@ -78,7 +97,9 @@ class RRigidBody {
   explicit RRigidBody(const RBodyDef& def);
 
   const std::string& Name() const { return m_name; }
-  const RShape& Shape() const { return m_shape; }
+  const RShape& Shape() const { return m_prepared->shape; }
+  // The prepared shape, shared: a body made from it (RBodyDef::prepared) builds no hull.
+  const std::shared_ptr<const RPreparedShape>& PreparedShape() const { return m_prepared; }
   bool IsStatic() const { return m_isStatic; }
   bool Responds() const { return m_responds; }
   RScalar Restitution() const { return m_restitution; }
@@ -125,7 +146,9 @@ class RRigidBody {
   const RQuat& ShapeRotation_BS() const { return m_q_BS; }
 
   // The collision polyhedron in the body frame B (null for a sphere). Shared, immutable.
-  const std::shared_ptr<const RConvexPolyhedron>& Polyhedron_B() const { return m_polyhedron_B; }
+  const std::shared_ptr<const RConvexPolyhedron>& Polyhedron_B() const {
+    return m_prepared->polyhedron_B;
+  }
   // Sphere radius (m) for a sphere; for a polyhedron its largest vertex distance from the
   // centre of mass, i.e. the bounding sphere's radius.
   RScalar BoundingRadius() const { return m_boundingRadius; }
@@ -181,7 +204,7 @@ class RRigidBody {
   std::string m_name;
   std::uint32_t m_id = 0;
   std::vector<std::uint32_t> m_ignore;  // sorted
-  RShape m_shape;
+  std::shared_ptr<const RPreparedShape> m_prepared;  // never null
   bool m_isStatic = false;
   bool m_responds = true;
   RScalar m_restitution = 0;
@@ -232,7 +255,7 @@ class RRigidBody {
     if (!x.isZero(0)) Wake();
   }
 
-  std::shared_ptr<const RConvexPolyhedron> m_polyhedron_B;
+  const RConvexPolyhedron* m_polyhedron_B = nullptr;  // m_prepared's, null for a sphere
   RScalar m_boundingRadius = 0;
   void ComputeWorldForm(std::uint64_t stamp) const;
   mutable RWorldForm m_worldForm;
