@@ -1,0 +1,142 @@
+// Private to REngine::Scene: reading a scene's JSON, value by value, each reader given the
+// value and its JSON path and failing with both (Invalid, turned into an RSceneError with
+// the file name at the API boundary). Used by RScene.cpp (the world and its bodies) and
+// RSceneActions.cpp (what the game does between steps).
+#pragma once
+
+#include <REngineMath/RMath.h>
+#include <REnginePhysics/RScene.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace REngine::scenejson {
+
+using json = nlohmann::json;
+
+// A problem at a JSON path. Thrown by the readers below and turned into an RSceneError,
+// with the file name, at the API boundary, so that no reader needs to know the file.
+struct Invalid {
+  std::string path;
+  std::string problem;
+};
+
+[[noreturn]] void Fail(std::string path, std::string problem);
+std::string Field(const std::string& path, const std::string& key);
+std::string Element(const std::string& path, std::size_t i);
+// " (got <value>)", bounded in length and work whatever the value.
+std::string Got(const json& j);
+// JSON text -> document; duplicate keys and nesting deeper than 64 levels refused.
+json ParseJson(const std::string& text);
+
+// The numbers a field accepts, and how an error message states it.
+struct Interval {
+  RScalar lo, hi;
+  bool loOpen;
+  const char* text;
+};
+constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
+constexpr Interval kFinite{-kInf, kInf, false, "a finite number"};
+constexpr Interval kPositive{0, kInf, true, "a finite number > 0"};
+constexpr Interval kNonNegative{0, kInf, false, "a finite number >= 0"};
+constexpr Interval kUnit{0, 1, false, "a number in [0, 1]"};
+
+RScalar ReadNumber(const json& j, const std::string& path, const Interval& in);
+RScalar ReadPositive(const json& j, const std::string& path);
+RScalar ReadUnitInterval(const json& j, const std::string& path);
+RScalar ReadNonNegative(const json& j, const std::string& path);
+template <int N>
+Eigen::Matrix<RScalar, N, 1> ReadVector(const json& j, const std::string& path,
+                                        const Interval& in = kFinite) {
+  if (!j.is_array() || j.size() != N) {
+    Fail(path, "must be an array of " + std::to_string(N) + " numbers" + Got(j));
+  }
+  Eigen::Matrix<RScalar, N, 1> v;
+  for (int i = 0; i < N; ++i) v[i] = ReadNumber(j[i], Element(path, i), in);
+  return v;
+}
+RVec3 ReadVec3(const json& j, const std::string& path);
+std::uint64_t ReadInteger(const json& j, const std::string& path, std::uint64_t min,
+                          std::uint64_t max);
+std::uint64_t ReadSteps(const json& j, const std::string& path);
+int ReadIterations(const json& j, const std::string& path);
+bool ReadBool(const json& j, const std::string& path);
+// A non-empty name without control characters.
+std::string ReadName(const json& j, const std::string& path);
+// One of a fixed set of strings, mapped to its value.
+template <class T>
+T ReadChoice(const json& j, const std::string& path,
+             std::initializer_list<std::pair<const char*, T>> choices) {
+  if (j.is_string()) {
+    for (const auto& [name, value] : choices) {
+      if (j.get_ref<const std::string&>() == name) return value;
+    }
+  }
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + std::string(c.first) + '"';
+  Fail(path, "must be one of " + list + Got(j));
+}
+RCombineMode ReadRestitutionCombine(const json& j, const std::string& path);
+RCombineMode ReadFrictionCombine(const json& j, const std::string& path);
+RQuat ReadOrientation(const json& j, const std::string& path);
+
+// A JSON object at a path, whose fields are all known (the format refuses unknown fields
+// so that a misspelt one never passes as a default), with typed reads of its fields.
+class Object {
+ public:
+  Object(const json& j, std::string path, std::initializer_list<const char*> fields)
+      : m_j(j), m_path(std::move(path)) {
+    if (!j.is_object()) {
+      Fail(m_path, (m_path.empty() ? "the scene must be a JSON object" : "must be an object") +
+                       Got(j));
+    }
+    AllowOnly(fields);
+  }
+
+  // Narrows the known fields once more is known (a shape's fields depend on its type).
+  void AllowOnly(std::initializer_list<const char*> fields) const {
+    for (const auto& item : m_j.items()) {
+      const bool known = std::any_of(fields.begin(), fields.end(),
+                                     [&](const char* f) { return item.key() == f; });
+      if (!known) {
+        std::string list;
+        for (const char* f : fields) list += (list.empty() ? "" : ", ") + std::string(f);
+        Fail(PathOf(item.key()), "unknown field (the fields here are: " + list + ")");
+      }
+    }
+  }
+
+  std::string PathOf(const std::string& key) const { return Field(m_path, key); }
+  bool Has(const char* key) const { return m_j.contains(key); }
+
+  const json& Required(const char* key) const {
+    const auto it = m_j.find(key);
+    if (it == m_j.end()) Fail(PathOf(key), "required field is missing");
+    return *it;
+  }
+
+  // read(value, path) of the field, or `fallback` when it is absent.
+  template <class T, class Read>
+  T Get(const char* key, T fallback, Read read) const {
+    const auto it = m_j.find(key);
+    return it == m_j.end() ? fallback : T(read(*it, PathOf(key)));
+  }
+
+ private:
+  const json& m_j;
+  std::string m_path;
+};
+
+RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& limits);
+// A body, and the names in its "ignore" list (resolved by the caller, once the names it may
+// refer to are known).
+RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::string>& ignore,
+                  const RSceneLimits& limits);
+
+}  // namespace REngine::scenejson
