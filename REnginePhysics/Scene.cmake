@@ -2,7 +2,8 @@
 # its own so that a game linking REngine::Physics does not pull in a JSON parser.
 find_package(nlohmann_json 3 REQUIRED)
 
-add_library(REngineScene src/RScene.cpp src/RSceneJson.cpp)
+add_library(REngineScene src/RScene.cpp src/RSceneJson.cpp src/RSceneActions.cpp
+  src/RSceneWorld.cpp)
 add_library(REngine::Scene ALIAS REngineScene)
 set_target_properties(REngineScene PROPERTIES EXPORT_NAME Scene OUTPUT_NAME rengine_scene)
 target_include_directories(REngineScene PUBLIC

@@ -571,3 +571,34 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
     }
   }
 }
+
+// Actions in a scene: a body's rows run from the step it is added at (the actions of step k
+// come before row k) to the step before it is removed; the summary's body count is the
+// bodies live at the end. A scene whose action names a body that does not exist at its step
+// is bad input.
+TEST_F(Cli, ActionsAddAndRemoveBodiesRowByRow) {
+  const std::string scene = R"({"dt": 0.01, "steps": 10, "bodies": [
+      {"name": "a", "shape": {"type": "sphere", "radius": 0.5}}],
+    "actions": [
+      {"step": 3, "add": {"name": "b", "shape": {"type": "sphere", "radius": 0.5},
+                          "position": [5, 0, 0], "velocity": [1, 0, 0]}},
+      {"step": 7, "remove": "a"}]})";
+  const Result r = Run(Quote(Write("s.json", scene)) + " --out " + Quote(Path("t.csv")));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.LastErrLine().find("bodies=1 "), std::string::npos) << r.LastErrLine();
+  std::vector<std::uint64_t> stepsA, stepsB;
+  for (const Row& row : ParseCsv(ReadFile(Path("t.csv")))) {
+    (row.body == "a" ? stepsA : stepsB).push_back(row.step);
+    if (row.body == "b") {
+      EXPECT_NEAR(row.state[0], 5 + 0.01 * (static_cast<double>(row.step) - 3), 1e-12);
+    }
+  }
+  EXPECT_EQ(stepsA, (std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(stepsB, (std::vector<std::uint64_t>{3, 4, 5, 6, 7, 8, 9, 10}));
+
+  const Result bad = Run(Quote(Write("bad.json", R"({"bodies": [], "actions": [
+      {"step": 2, "remove": "ghost"}]})")));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("actions[0].remove: no body is named \"ghost\" at step 2"), std::string::npos)
+      << bad.err;
+}

@@ -29,7 +29,7 @@ namespace {
 RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   const Object root(doc, "",
                     {"format", "gravity", "dt", "steps", "restitution_combine",
-                     "friction_combine", "solver", "bodies"});
+                     "friction_combine", "solver", "bodies", "actions"});
   RScene scene;
   if (root.Has("format")) {
     const json& format = root.Required("format");
@@ -84,6 +84,7 @@ RScene ReadScene(const json& doc, const RSceneLimits& limits) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
+  if (root.Has("actions")) ReadActions(root.Required("actions"), scene, limits);
   return scene;
 }
 
@@ -96,9 +97,14 @@ RSceneError::RSceneError(std::string file, std::string jsonPath, std::string pro
       m_problem(std::move(problem)) {}
 
 void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits) {
-  if (scene.bodies.size() > limits.maxBodies) {
-    throw RSceneError(scene.fileName, "bodies",
-                      "has " + std::to_string(scene.bodies.size()) + " bodies; at most " +
+  // Every body the run may hold: the scene's and those its actions add.
+  std::size_t adds = 0;
+  for (const RSceneAction& a : scene.actions) adds += a.verb == RSceneAction::Verb::kAdd;
+  const std::size_t bodies = scene.bodies.size() + adds;
+  if (bodies > limits.maxBodies) {
+    throw RSceneError(scene.fileName, adds ? "actions" : "bodies",
+                      "has " + std::to_string(bodies) + " bodies" +
+                          (adds ? " with those the actions add" : "") + "; at most " +
                           std::to_string(limits.maxBodies) + " are allowed");
   }
   if (scene.steps > limits.maxSteps) {
@@ -106,13 +112,12 @@ void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits) {
                       "must be at most " + std::to_string(limits.maxSteps) + " (got " +
                           std::to_string(scene.steps) + ")");
   }
-  if (static_cast<double>(scene.steps) * static_cast<double>(scene.bodies.size()) >
-      limits.maxBodySteps) {
+  if (static_cast<double>(scene.steps) * static_cast<double>(bodies) > limits.maxBodySteps) {
     char limit[32];
     std::snprintf(limit, sizeof limit, "%.3g", limits.maxBodySteps);
     throw RSceneError(scene.fileName, "steps",
                       std::to_string(scene.steps) + " steps of " +
-                          std::to_string(scene.bodies.size()) + " bodies exceed " + limit +
+                          std::to_string(bodies) + " bodies exceed " + limit +
                           " body-steps");
   }
 }

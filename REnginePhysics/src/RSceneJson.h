@@ -9,7 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <initializer_list>
 #include <limits>
 #include <string>
@@ -138,5 +140,9 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
 // refer to are known).
 RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::string>& ignore,
                   const RSceneLimits& limits);
+
+// The scene's "actions" (RSceneActions.cpp): read, checked against the bodies that exist at
+// each step (scene.bodies must be read already), sorted by step.
+void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits);
 
 }  // namespace REngine::scenejson

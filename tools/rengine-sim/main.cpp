@@ -96,27 +96,28 @@ std::string CsvField(const std::string& s) {
   return quoted + '"';
 }
 
-// The trajectory CSV, formatted into one large buffer written in large chunks.
+// The trajectory CSV, formatted into one large buffer written in large chunks. Rows are the
+// live bodies in order of creation (RSceneWorld::Live).
 class TrajectoryWriter {
  public:
-  TrajectoryWriter(std::FILE* out, const std::vector<RRigidBody>& bodies) : m_out(out) {
-    for (const RRigidBody& b : bodies) m_names.push_back(CsvField(b.Name()));
+  explicit TrajectoryWriter(std::FILE* out) : m_out(out) {
     m_buffer = "step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
     m_buffer.reserve(kChunk + 4096);
   }
 
-  void Rows(std::uint64_t step, RScalar dt, const std::vector<RRigidBody>& bodies) {
+  void Rows(std::uint64_t step, RScalar dt, const RSceneWorld& world) {
     char stepText[24];
     const auto stepLength = static_cast<std::size_t>(
         std::to_chars(stepText, stepText + sizeof stepText, step).ptr - stepText);
     // A product, not a running sum, so that time carries no accumulated rounding.
     const RScalar time = static_cast<RScalar>(step) * dt;
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
+    for (RBodyHandle h : world.Live()) {
+      const RRigidBody& b = world.Bodies()[h];
       m_buffer.append(stepText, stepLength);
       Number(time);
       m_buffer += ',';
-      m_buffer += m_names[i];
-      for (RScalar value : State(bodies[i])) Number(value);
+      m_buffer += CsvName(h, b);
+      for (RScalar value : State(b)) Number(value);
       m_buffer += '\n';
       if (m_buffer.size() >= kChunk) Flush();
     }
@@ -144,8 +145,21 @@ class TrajectoryWriter {
     m_buffer.append(text, static_cast<std::size_t>(end - text));
   }
 
+  // The body's name as a CSV field, kept per slot (and generation) once made.
+  const std::string& CsvName(RBodyHandle h, const RRigidBody& b) {
+    if (h.index >= m_names.size()) m_names.resize(h.index + 1);
+    Name& n = m_names[h.index];
+    if (!n.valid || n.generation != h.generation) n = {true, h.generation, CsvField(b.Name())};
+    return n.text;
+  }
+
+  struct Name {
+    bool valid = false;
+    std::uint32_t generation = 0;
+    std::string text;
+  };
   std::FILE* m_out;
-  std::vector<std::string> m_names;
+  std::vector<Name> m_names;
   std::string m_buffer;
   bool m_failed = false;
 };
@@ -175,12 +189,12 @@ class Progress {
   Clock::time_point m_next = Clock::now() + std::chrono::milliseconds(100);
 };
 
-// FNV-1a, 64 bit, over the raw bytes (native byte order) of each body's State in scene
-// order: equal for bit-identical states, and cheap enough to print on every run.
-std::uint64_t StateHash(const std::vector<RRigidBody>& bodies) {
+// FNV-1a, 64 bit, over the raw bytes (native byte order) of each live body's State in
+// order of creation: equal for bit-identical states, and cheap enough to print on every run.
+std::uint64_t StateHash(const RSceneWorld& world) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const RRigidBody& b : bodies) {
-    const std::array<RScalar, 13> state = State(b);
+  for (RBodyHandle handle : world.Live()) {
+    const std::array<RScalar, 13> state = State(world.Bodies()[handle]);
     unsigned char bytes[sizeof state];
     std::memcpy(bytes, state.data(), sizeof state);
     for (unsigned char byte : bytes) h = (h ^ byte) * 0x100000001b3ULL;
@@ -190,11 +204,12 @@ std::uint64_t StateHash(const std::vector<RRigidBody>& bodies) {
 
 // Mass properties in world terms. Moments ascend, and the axes are permuted to match: the
 // body frame's own order is an implementation choice, the sorted order is not.
-void Describe(const std::vector<RRigidBody>& bodies) {
+void Describe(const RSceneWorld& world) {
   using ojson = nlohmann::ordered_json;
   const auto vec = [](const RVec3& v) { return ojson::array({v.x(), v.y(), v.z()}); };
   ojson list = ojson::array();
-  for (const RRigidBody& b : bodies) {
+  for (RBodyHandle h : world.Live()) {
+    const RRigidBody& b = world.Bodies()[h];
     const RMat3 R_WB = b.Orientation_WB().toRotationMatrix();
     const RVec3& I = b.Inertia_B();
     std::array<int, 3> order{0, 1, 2};
@@ -239,7 +254,7 @@ int Run(int argc, char** argv) {
   }
 
   RScene scene;
-  std::vector<RRigidBody> bodies;
+  std::optional<RSceneWorld> world;
   std::uint64_t everyK = 1;
   double budget = std::numeric_limits<double>::infinity();  // s of stepping
   try {
@@ -255,7 +270,9 @@ int Run(int argc, char** argv) {
     if (stepsOverride) scene.steps = *stepsOverride;
     if (dtOverride) scene.dt = *dtOverride;
     CheckSceneLimits(scene, RSceneLimits{});  // --steps may have raised the work
-    bodies = CreateBodies(scene);
+    world.emplace(scene);
+    // The actions of step 0 come before the first row: the state the first step starts from.
+    world->ApplyActions(0);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "error: %s\n", e.message.c_str());
     return kExitBadInput;
@@ -265,7 +282,7 @@ int Run(int argc, char** argv) {
   }
 
   if (describe) {
-    Describe(bodies);
+    Describe(*world);
     return kExitOk;
   }
 
@@ -279,7 +296,7 @@ int Run(int argc, char** argv) {
       return kExitBadInput;
     }
   }
-  TrajectoryWriter writer(file, bodies);
+  TrajectoryWriter writer(file);
   const auto finishOutput = [&] {
     bool ok = writer.Flush();
     if (file != stdout) ok = std::fclose(file) == 0 && ok;
@@ -290,15 +307,25 @@ int Run(int argc, char** argv) {
     return ok;
   };
 
-  writer.Rows(0, scene.dt, bodies);
+  writer.Rows(0, scene.dt, *world);
   RIntegrator integrator(scene.settings);
   Progress progress(!quiet && StderrIsTerminal(), scene.steps);
   Clock::duration stepping{};
   for (std::uint64_t step = 1; step <= scene.steps; ++step) {
     const Clock::time_point t0 = Clock::now();
-    integrator.Update(bodies, scene.dt);
+    integrator.Update(world->Bodies(), scene.dt);
     const Clock::time_point t1 = Clock::now();
     stepping += t1 - t0;
+    // What the game does after step k, before step k + 1; the rows of step k show it (a body
+    // added has its first row, a body removed had its last in step k - 1).
+    try {
+      world->ApplyActions(step);
+    } catch (const RSceneError& e) {
+      progress.Clear();
+      finishOutput();
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return kExitBadInput;
+    }
     if (const auto& bad = integrator.NonFinite()) {
       progress.Clear();
       finishOutput();  // the rows up to the failure help find its cause
@@ -306,11 +333,11 @@ int Run(int argc, char** argv) {
                    bad->bodyName.c_str(), bad->step);
       return kExitRunFailed;
     }
-    if (step % everyK == 0 || step == scene.steps) writer.Rows(step, scene.dt, bodies);
+    if (step % everyK == 0 || step == scene.steps) writer.Rows(step, scene.dt, *world);
     progress.Show(step, t1);
     if (std::chrono::duration<double>(stepping).count() > budget && step < scene.steps) {
       progress.Clear();
-      if (step % everyK != 0) writer.Rows(step, scene.dt, bodies);
+      if (step % everyK != 0) writer.Rows(step, scene.dt, *world);
       finishOutput();
       std::fprintf(stderr, "error: stopped after step %" PRIu64 " of %" PRIu64
                            ": --max-seconds %s reached\n", step, scene.steps, maxSecondsText.c_str());
@@ -325,7 +352,7 @@ int Run(int argc, char** argv) {
                        : std::chrono::duration<double, std::milli>(stepping).count() /
                              static_cast<double>(scene.steps);
   std::fprintf(stderr, "steps=%" PRIu64 " bodies=%zu ms_per_step=%.6g hash=%016" PRIx64 "\n",
-               scene.steps, bodies.size(), msPerStep, StateHash(bodies));
+               scene.steps, world->Live().size(), msPerStep, StateHash(*world));
   return kExitOk;
 }
 

@@ -7,13 +7,16 @@
 #pragma once
 
 #include <REngineMath/RMath.h>
+#include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace REngine {
@@ -33,6 +36,26 @@ class RSceneError : public std::runtime_error {
   std::string m_file, m_jsonPath, m_problem;
 };
 
+// What the game does between steps (SCENE_FORMAT.md, "Actions"), so that its spawning and
+// despawning can be replayed from a file: applied when `step` steps have run, before the
+// next one, in list order among actions of the same step.
+struct RSceneAction {
+  enum class Verb : std::uint8_t { kAdd, kRemove, kImpulse, kSetVelocity };
+  std::uint64_t step = 0;
+  Verb verb = Verb::kAdd;
+  std::string path;              // "actions[3]", for messages
+  std::string body;              // the body acted on (kAdd: the new body's name)
+  // kAdd: the new body (its shape prepared at load, shared by every add of an equal shape,
+  // so spawning builds no hull), and the names of bodies it never collides with.
+  RBodyDef def;
+  std::vector<std::string> ignore;
+  // kImpulse: N s at a world point (the centre of mass when absent).
+  RVec3 impulse_W = RVec3::Zero();
+  std::optional<RVec3> point_W;
+  // kSetVelocity: either may be absent (left as it is).
+  std::optional<RVec3> velocity_W, angularVelocity_W;
+};
+
 struct RScene {
   RWorldSettings settings;
   RScalar dt = RScalar(1) / 60;  // s
@@ -40,6 +63,9 @@ struct RScene {
   std::vector<RBodyDef> bodies;  // in file order, which is also the CSV's row order
   // Per body: indices of the bodies it never collides with; symmetric, sorted, unique.
   std::vector<std::vector<std::size_t>> ignore;
+  // Sorted by step (stably: list order within a step). Every name they use is checked at
+  // load against the bodies that exist at that step.
+  std::vector<RSceneAction> actions;
   // The name the scene was loaded under, for CreateBodies' messages.
   std::string fileName;
 };
@@ -51,13 +77,16 @@ struct RScene {
 // a game that really wants more passes its own limits.
 struct RSceneLimits {
   std::uint64_t maxFileBytes = std::uint64_t(256) << 20;  // the scene file: 256 MiB
-  std::uint64_t maxBodies = 100000;         // the pair loop visits n^2 / 2 pairs a step
+  // Bodies in the scene plus those its actions add: the pair loop visits n^2 / 2 pairs a
+  // step.
+  std::uint64_t maxBodies = 100000;
   // Per hull: building grows about as n^2 (measured: 20 ms at 1000 points, 1.3 s at 10000,
   // about 2 min at 100000).
   std::uint64_t maxHullPoints = 10000;
   std::uint64_t maxSteps = 100000000;       // 1e8: 19 days of game time at 60 Hz
   // bodies x steps: 1e10 is a 30000-body scene for 3e5 steps, or hours of stepping.
   double maxBodySteps = 1e10;
+  std::uint64_t maxActions = 1000000;       // entries of "actions"
 };
 
 // Reads and validates a scene file. Throws RSceneError (also when the file cannot be read).
@@ -75,5 +104,34 @@ void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits);
 // properties (a box so large that its mass overflows) throws RSceneError with the path of
 // the body's offending field.
 std::vector<RRigidBody> CreateBodies(const RScene& scene);
+
+// A scene's world as it runs: its bodies in an RBodies, the live ones in order of creation
+// (the scene's order, then the order they were added: the trajectory's row order), and its
+// actions applied at their steps. Scene body i has id i; the k-th body added has id
+// (bodies in the scene) + k.
+class RSceneWorld {
+ public:
+  // Makes the scene's bodies; throws RSceneError as CreateBodies does. The scene must
+  // outlive the world.
+  explicit RSceneWorld(const RScene& scene);
+  // Applies the actions of step `stepsRun` (0 before the first step, then k after the k-th):
+  // each must come at or after the last step applied. Throws RSceneError naming the action
+  // when game code could not do what it says (an impulse that overflows the body's sum).
+  void ApplyActions(std::uint64_t stepsRun);
+  RBodies& Bodies() { return m_bodies; }
+  const RBodies& Bodies() const { return m_bodies; }
+  const std::vector<RBodyHandle>& Live() const { return m_live; }
+  // The live body of that name, or an invalid handle.
+  RBodyHandle Find(const std::string& name) const;
+
+ private:
+  const RScene* m_scene;
+  RBodies m_bodies;
+  std::vector<RBodyHandle> m_live;
+  std::unordered_map<std::string, RBodyHandle> m_byName;
+  std::unordered_map<std::string, std::uint32_t> m_idByName;
+  std::size_t m_nextAction = 0;
+  std::uint32_t m_nextId = 0;
+};
 
 }  // namespace REngine

@@ -1,0 +1,81 @@
+// A scene's world as it runs: bodies in an RBodies, actions applied at their steps.
+#include <REnginePhysics/RScene.h>
+
+#include <algorithm>
+
+namespace REngine {
+
+RSceneWorld::RSceneWorld(const RScene& scene) : m_scene(&scene) {
+  std::vector<RRigidBody> bodies = CreateBodies(scene);
+  m_bodies.Reserve(bodies.size());
+  m_live.reserve(bodies.size());
+  for (RRigidBody& b : bodies) {
+    m_idByName.emplace(b.Name(), m_nextId++);
+    const RBodyHandle h = m_bodies.Add(std::move(b));
+    m_byName.emplace(m_bodies[h].Name(), h);
+    m_live.push_back(h);
+  }
+}
+
+RBodyHandle RSceneWorld::Find(const std::string& name) const {
+  const auto it = m_byName.find(name);
+  return it == m_byName.end() ? RBodyHandle{} : it->second;
+}
+
+void RSceneWorld::ApplyActions(std::uint64_t stepsRun) {
+  const std::vector<RSceneAction>& actions = m_scene->actions;
+  for (; m_nextAction < actions.size() && actions[m_nextAction].step <= stepsRun; ++m_nextAction) {
+    const RSceneAction& a = actions[m_nextAction];
+    // The loader checked every name against the bodies that exist at its step.
+    std::string field;
+    try {
+      switch (a.verb) {
+        case RSceneAction::Verb::kAdd: {
+          field = "add";
+          RBodyDef def = a.def;
+          def.id = m_nextId++;
+          for (const std::string& other : a.ignore) def.ignore.push_back(m_idByName.at(other));
+          const RBodyHandle h = m_bodies.Add(def);
+          // Ignoring is symmetric: the bodies it names learn to ignore it too.
+          for (const std::string& other : a.ignore) {
+            m_bodies[m_byName.at(other)].IgnoreCollisionsWith(def.id);
+          }
+          m_idByName[a.body] = def.id;
+          m_byName.emplace(a.body, h);
+          m_live.push_back(h);
+          break;
+        }
+        case RSceneAction::Verb::kRemove: {
+          field = "remove";
+          const RBodyHandle h = m_byName.at(a.body);
+          m_bodies.Remove(h);
+          m_byName.erase(a.body);
+          m_live.erase(std::find(m_live.begin(), m_live.end(), h));
+          break;
+        }
+        case RSceneAction::Verb::kImpulse: {
+          field = "impulse";
+          RRigidBody& b = m_bodies[m_byName.at(a.body)];
+          if (a.point_W) {
+            b.AddImpulseAtPoint_W(a.impulse_W, *a.point_W);
+          } else {
+            b.AddImpulse_W(a.impulse_W);
+          }
+          break;
+        }
+        case RSceneAction::Verb::kSetVelocity: {
+          field = "set_velocity";
+          RRigidBody& b = m_bodies[m_byName.at(a.body)];
+          if (a.velocity_W) b.SetVelocity_W(*a.velocity_W);
+          if (a.angularVelocity_W) b.SetAngularVelocity_W(*a.angularVelocity_W);
+          break;
+        }
+      }
+    } catch (const RBodyError& e) {
+      throw RSceneError(m_scene->fileName, a.path + "." + field + "." + e.Field(),
+                        e.Problem() + " (at step " + std::to_string(a.step) + ")");
+    }
+  }
+}
+
+}  // namespace REngine
