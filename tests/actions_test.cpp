@@ -188,3 +188,44 @@ TEST(Actions, EqualShapesArePreparedOnce) {
     EXPECT_EQ(a.def.prepared.get(), scene.actions[0].def.prepared.get());
   }
 }
+
+// The churn scene: a pile of boxes resting exactly under gravity falls asleep; a small body
+// is added far away and the previous one removed every 10 steps from then on. The pile stays
+// asleep and does not move by a single bit (bench_churn measures what the churn costs).
+TEST(Actions, ChurnSceneLeavesTheSleepingPileUntouched) {
+  std::string bodies = R"({"name": "ground", "static": true, "position": [0, -0.5, 0],
+      "shape": {"type": "box", "half_extents": [50, 0.5, 50]}})";
+  for (int c = 0; c < 4; ++c) {
+    for (int k = 0; k < 3; ++k) {
+      bodies += R"(, {"name": "box)" + std::to_string(3 * c + k) + R"(", "mass": 1,
+          "shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+          "position": [)" + std::to_string(1.5 * c) + ", " + std::to_string(0.5 + k) + ", 0]}";
+    }
+  }
+  std::string actions;
+  for (int s = 60, i = 0; s < 300; s += 10, ++i) {
+    if (i > 0) actions += R"(, {"step": )" + std::to_string(s) + R"(, "remove": "d)" + std::to_string(i - 1) + "\"}";
+    actions += std::string(i > 0 ? ", " : "") + R"({"step": )" + std::to_string(s) +
+               R"(, "add": {"name": "d)" + std::to_string(i) +
+               R"(", "shape": {"type": "sphere", "radius": 0.1}, "position": [40, 5, 40]}})";
+  }
+  const RScene scene = ParseScene(R"({"gravity": [0, -9.81, 0], "dt": 0.0166666666666666667,
+      "steps": 300, "bodies": [)" + bodies + R"(], "actions": [)" + actions + "]}", "churn.json");
+  RSceneWorld world(scene);
+  RIntegrator integrator(scene.settings);
+  world.ApplyActions(0);
+  std::vector<RVec3> settled;
+  for (std::uint64_t k = 1; k <= scene.steps; ++k) {
+    integrator.Update(world.Bodies(), scene.dt);
+    world.ApplyActions(k);
+    if (k == 60) {
+      for (std::size_t i = 1; i <= 12; ++i) settled.push_back(world.Bodies()[world.Live()[i]].Position_W());
+    }
+    if (k >= 60) {
+      EXPECT_EQ(integrator.PairStats().sleepingBodies, 12u) << "step " << k;
+    }
+  }
+  for (std::size_t i = 1; i <= 12; ++i) {
+    EXPECT_EQ(world.Bodies()[world.Live()[i]].Position_W(), settled[i - 1]) << i;
+  }
+}
