@@ -46,6 +46,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     anyRow = anyRow || (a.m_responds && b.m_responds && (!a.m_isStatic || !b.m_isStatic) &&
                         c.manifold.pointCount > 0);
   }
+  m_solved = anyRow;
   if (!anyRow) {
     std::swap(m_warm, m_warmNext);
     return;
@@ -54,6 +55,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     const RRigidBody& b = bodies[i];
     RSolverBody& s = m_solverBodies[i];
     s.invM = b.m_invMass;
+    s.endLinear.setZero(), s.endAngular.setZero(), s.deferredImpulse.setZero();
     s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();
     if (b.m_isStatic) {
       s.v.setZero(), s.w.setZero(), s.invI.setZero();
@@ -313,20 +315,18 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // UpdateObjects moves them to where the centres end.
   auto accumulateEnd = [&bodies, this, dt](std::uint32_t a, std::uint32_t b, const RVec3& rA,
                                            const RVec3& rB, const RVec3& J) {
-    RRigidBody& A = bodies[a];
-    RRigidBody& B = bodies[b];
     if (J.isZero(0)) return;
-    const RSolverBody& sa = m_solverBodies[a];
-    const RSolverBody& sb = m_solverBodies[b];
+    RSolverBody& sa = m_solverBodies[a];
+    RSolverBody& sb = m_solverBodies[b];
     const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
-    if (!A.m_isStatic) {
-      A.m_endLinearImpulse_W -= J;
-      A.m_endAngularImpulse_W -= (rA + shift).cross(J);
+    if (!bodies[a].m_isStatic) {
+      sa.endLinear -= J;
+      sa.endAngular -= (rA + shift).cross(J);
     }
-    if (!B.m_isStatic) {
-      B.m_endLinearImpulse_W += J;
-      B.m_endAngularImpulse_W += (rB + shift).cross(J);
+    if (!bodies[b].m_isStatic) {
+      sb.endLinear += J;
+      sb.endAngular += (rB + shift).cross(J);
     }
   };
   for (const RContactRow& r : m_rows) {
@@ -359,11 +359,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     // The twist: a pure torque about the normal.
     if (!bodies[r.a].m_isStatic) {
       bodies[r.a].m_angularImpulse_W -= blk.lambdaTwist[0] * blk.normal;
-      bodies[r.a].m_endAngularImpulse_W -= blk.lambdaTwist[1] * blk.normal;
+      m_solverBodies[r.a].endAngular -= blk.lambdaTwist[1] * blk.normal;
     }
     if (!bodies[r.b].m_isStatic) {
       bodies[r.b].m_angularImpulse_W += blk.lambdaTwist[0] * blk.normal;
-      bodies[r.b].m_endAngularImpulse_W += blk.lambdaTwist[1] * blk.normal;
+      m_solverBodies[r.b].endAngular += blk.lambdaTwist[1] * blk.normal;
     }
   }
   // An impact's impulse is a one-off, not remembered: carried into the next step it would
@@ -380,21 +380,16 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // Impacts within the step: the bodies move with their piecewise path's velocity and get
   // the rest at the end (SolveImpacts).
   for (std::size_t i = 0; i < n; ++i) {
-    const RSolverBody& s = m_solverBodies[i];
+    RSolverBody& s = m_solverBodies[i];
     RRigidBody& b = bodies[i];
     if (b.m_isStatic || s.deferV.isZero(0)) continue;
     const RVec3 J = s.deferV / b.m_invMass;
     b.m_linearImpulse_W -= J;
-    b.m_deferredImpulse_W = J;
+    s.deferredImpulse = J;
     // The contact phase's impulses act on the body at its start-of-step pose, but it then
     // moves deferV dt less than its final velocity would take it: the spin that keeps
     // angular momentum exact (the orbital term x x m v misses dt deferV x J_contact).
     b.m_angularImpulse_W += dt * s.deferV.cross(s.contactDeltaV / b.m_invMass);
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (bodies[i].m_isStatic) continue;
-    bodies[i].m_pseudoVelocity_W = m_solverBodies[i].vp;
-    bodies[i].m_pseudoAngular_W = m_solverBodies[i].wp;
   }
   std::sort(m_warmNext.begin(), m_warmNext.end(), [](const RWarmStart& x, const RWarmStart& y) {
     return x.pair < y.pair || (x.pair == y.pair && x.feature < y.feature);

@@ -18,8 +18,6 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
     if (b.m_isStatic || b.m_sleeping) {
       b.m_force_W.setZero(), b.m_torque_W.setZero();
       b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
-      b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
-      b.m_deferredImpulse_W.setZero();
       continue;
     }
     const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
@@ -47,28 +45,24 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
     // Position correction: displacement without velocity (split impulses). A body it moves
     // faster than the sleep speed is not at rest.
     RScalar pseudoSpeed = 0;
-    if (!b.m_pseudoVelocity_W.isZero(0) || !b.m_pseudoAngular_W.isZero(0)) {
-      pseudoSpeed = b.m_pseudoVelocity_W.norm() + b.m_pseudoAngular_W.norm() * b.m_boundingRadius;
-      b.m_x_W += b.m_pseudoVelocity_W * dt;
-      b.m_q_WB = QuatExp(b.m_pseudoAngular_W * dt) * b.m_q_WB;
+    const RSolverBody* out = m_solved ? &m_solverBodies[i] : nullptr;
+    if (out && (!out->vp.isZero(0) || !out->wp.isZero(0))) {
+      pseudoSpeed = out->vp.norm() + out->wp.norm() * b.m_boundingRadius;
+      b.m_x_W += out->vp * dt;
+      b.m_q_WB = QuatExp(out->wp * dt) * b.m_q_WB;
       b.m_q_WB.normalize();
-      b.m_pseudoVelocity_W.setZero(), b.m_pseudoAngular_W.setZero();
     }
 
     // Impacts within the step: the velocity change deferred to its end.
-    if (!b.m_deferredImpulse_W.isZero(0)) {
-      b.m_v_W += b.m_deferredImpulse_W * b.m_invMass;
-      b.m_deferredImpulse_W.setZero();
-    }
+    if (out && !out->deferredImpulse.isZero(0)) b.m_v_W += out->deferredImpulse * b.m_invMass;
     // Contact impulses at the end of the step, in the body frame the step ends with. Their
     // angular part was summed about the centre of mass at the start of the step; about the
     // centre it ends at, each impulse J acting at a point p has the lever arm
     // (p - x0) - (x - x0).
-    if (!b.m_endLinearImpulse_W.isZero(0) || !b.m_endAngularImpulse_W.isZero(0)) {
-      const RVec3 h_W = b.m_endAngularImpulse_W - (b.m_x_W - x0).cross(b.m_endLinearImpulse_W);
-      b.m_v_W += b.m_endLinearImpulse_W * b.m_invMass;
+    if (out && (!out->endLinear.isZero(0) || !out->endAngular.isZero(0))) {
+      const RVec3 h_W = out->endAngular - (b.m_x_W - x0).cross(out->endLinear);
+      b.m_v_W += out->endLinear * b.m_invMass;
       b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
-      b.m_endLinearImpulse_W.setZero(), b.m_endAngularImpulse_W.setZero();
     }
 
     b.m_force_W.setZero(), b.m_torque_W.setZero();

@@ -132,7 +132,15 @@ class RWorldStep {
     RVec3 contactDeltaV;      // the contact phase's velocity change after that, m/s
     RMat3 invI;                // inverse inertia, world, 1/(kg m^2)
     RScalar invM;              // 1/kg
+    // The solver's outputs for the motion (Integrate), besides the impulses it accumulates
+    // on the body: contact impulses at the end of the step (world, N s and N m s about the
+    // centre of mass at the start of the step), and the impacts' velocity change deferred
+    // to the step's end (N s). Valid when m_solved.
+    RVec3 endLinear, endAngular;
+    RVec3 deferredImpulse;
   };
+  // Whether FindImpulses solved this step (else no body has solver outputs).
+  bool m_solved = false;
   // Warm-start memory: last step's impulses by (slot a, slot b, feature id), a the lower
   // slot; the generations tell a body that took over a freed slot from its former holder.
   struct RWarmStart {

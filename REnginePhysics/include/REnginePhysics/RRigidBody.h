@@ -224,18 +224,6 @@ class RRigidBody {
   RVec3 m_torque_W = RVec3::Zero();
   RVec3 m_linearImpulse_W = RVec3::Zero();
   RVec3 m_angularImpulse_W = RVec3::Zero();
-  // Position correction from the contact solver (split impulses): displacement rates that
-  // move the body this step without touching its velocities, m/s and rad/s, world.
-  RVec3 m_pseudoVelocity_W = RVec3::Zero();
-  RVec3 m_pseudoAngular_W = RVec3::Zero();
-  // Contact impulses at the end of the step (RIntegrator::SolveEndOfStep), world, N s and
-  // N m s: applied after the motion, so they change the velocities the step ends with.
-  RVec3 m_endLinearImpulse_W = RVec3::Zero();
-  RVec3 m_endAngularImpulse_W = RVec3::Zero();
-  // An impact within the step: the part of its velocity change that waits for the step's
-  // end (the body moves with its piecewise path's velocity), N s.
-  RVec3 m_deferredImpulse_W = RVec3::Zero();
-
   RFreeRotation m_rotation;
 
   // Sleeping: whether the body sleeps, how long (s) it has been slower than the sleep
