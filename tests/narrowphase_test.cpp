@@ -1,5 +1,6 @@
-// Narrow phase and pair loop on cases with closed-form answers. The randomized
-// cross-checks against FCL and libccd live in collision_crosscheck_test.cpp.
+// Narrow phase and pair loop on cases with closed-form answers. The cross-checks against
+// exact references, FCL and libccd live in narrowphase_random_pairs_test.cpp and
+// narrowphase_adversarial_test.cpp (narrowphase_oracle_tests).
 #include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RIntegrator.h>
