@@ -129,13 +129,3 @@ TEST(FreeMotion, NonFiniteBodyIsReportedAndKeptFinite) {
   EXPECT_TRUE(AllFinite(bodies[1].Position_W()));
 }
 
-TEST(FreeMotion, CacheStampAdvancesEveryStep) {
-  std::vector<RRigidBody> bodies;
-  RIntegrator a, b;
-  a.Update(bodies, 0.1);
-  const auto s1 = a.CacheStamp();
-  b.Update(bodies, 0.1);
-  a.Update(bodies, 0.1);
-  EXPECT_GT(a.CacheStamp(), s1);
-  EXPECT_NE(a.CacheStamp(), b.CacheStamp());
-}

@@ -211,53 +211,6 @@ TEST(Collision, SpeculativeContactWithinTheStep) {
   EXPECT_FALSE(RCollisionSolver::CheckCollision(RRigidBody(plate), RRigidBody(bullet), 1.0 / 60, m));
 }
 
-// The pair loop: static pairs and ignore lists never reach the narrow phase, far pairs
-// are rejected by bounding spheres, and each body's world form is computed once per step.
-TEST(Collision, PairLoopFiltersAndCaches) {
-  std::vector<RRigidBody> bodies;
-  RBodyDef ground = BoxDef(RVec3(10, 0.5, 10)).At(RVec3(0, -0.5, 0)).Named("ground");
-  ground.isStatic = true;
-  ground.id = 0;
-  RBodyDef wall = BoxDef(RVec3(0.5, 5, 10)).At(RVec3(10, 5, 0)).Named("wall");
-  wall.isStatic = true;
-  wall.id = 1;
-  RBodyDef crate = BoxDef(RVec3(0.5, 0.5, 0.5)).At(RVec3(0, 0.45, 0)).Named("crate");
-  crate.id = 2;
-  // Inside its launcher's reach.
-  RBodyDef missile = SphereDef(0.2).At(RVec3(0, 0.45, 0.6)).Named("missile");
-  missile.id = 3;
-  missile.ignore = {2};
-  RBodyDef far = SphereDef(0.2).At(RVec3(100, 100, 100)).Named("far");
-  far.id = 4;
-  for (const RBodyDef& d : {ground, wall, crate, missile, far}) bodies.emplace_back(d);
-  RIntegrator integrator;
-  integrator.Update(bodies, 1.0 / 60);
-  const RPairStats& s = integrator.PairStats();
-  EXPECT_EQ(s.pairs, 10u);
-  EXPECT_EQ(s.rejectedFilter, 2u);  // ground-wall (static), crate-missile (ignored)
-  EXPECT_GE(s.rejectedBounds, 4u);  // the far ball against all four others
-  // crate on ground penetrates by 0.05; the missile touches the ground? (0.45 - 0.2 > 0)
-  bool crateGround = false;
-  for (const RContact& c : integrator.Contacts()) {
-    EXPECT_LT(c.a, c.b);
-    EXPECT_FALSE(c.a == 2 && c.b == 3) << "ignored pair reported";
-    if (c.a == 0 && c.b == 2) {
-      crateGround = true;
-      EXPECT_NEAR(c.manifold.query.separation, -0.05, 1e-12);
-      EXPECT_LT((c.manifold.query.normal - RVec3(0, 1, 0)).norm(), 1e-12);
-    }
-  }
-  EXPECT_TRUE(crateGround);
-  for (const RRigidBody& b : bodies) EXPECT_LE(b.WorldFormComputations(), 1u) << b.Name();
-  // The game's filter vetoes a pair.
-  integrator.SetPairFilter([](const RRigidBody& a, const RRigidBody& b, void*) {
-    return !(a.Id() == 0 && b.Id() == 2);
-  }, nullptr);
-  integrator.Update(bodies, 1.0 / 60);
-  for (const RContact& c : integrator.Contacts()) EXPECT_FALSE(c.a == 0 && c.b == 2);
-  for (const RRigidBody& b : bodies) EXPECT_LE(b.WorldFormComputations(), 2u) << b.Name();
-}
-
 // Faces that barely touch: the closest points are a rounding error apart, so their
 // direction is noise (4e-5 rad seen for a box on a tilted slab 1e6 m from the origin); the
 // manifold's normal, the one impulses act along, is the reference face's, exact.

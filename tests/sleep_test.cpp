@@ -1,7 +1,7 @@
-// The shortcuts of RWorldSettings::RShortcuts: sleeping islands, bounds rejection, static
-// world forms. Each is checked against physics (a resting stack does not move, free fall,
-// uniform drift) or against the same run with the shortcut off where the shortcut claims to
-// be exact (bit-identical trajectories).
+// Sleeping islands (RWorldSettings::RShortcuts::sleeping), checked against physics: a
+// resting stack does not move, free fall, uniform drift, and the same run with sleeping off
+// where it changes only the residual velocity it zeroes. The shortcuts that claim to be
+// exact (bounds rejection, static world forms) are checked in pair_sweep_test.cpp.
 #include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RIntegrator.h>
 
@@ -22,6 +22,7 @@ using namespace REngine::test;
 namespace {
 
 constexpr RScalar kDt = 1.0 / 60;
+
 }  // namespace
 
 // A stack at rest falls asleep once it has rested for the sleep time, and from then on no
@@ -360,74 +361,4 @@ TEST(Sleep, OffMeansNeverAsleep) {
   Step(integrator, bodies, 120);
   EXPECT_EQ(Sleeping(bodies), 0);
   EXPECT_EQ(integrator.PairStats().sleepingBodies, 0u);
-}
-
-namespace {
-
-// Boxes and spheres at random in a 12 m cube, moving at up to 8 m/s and spinning, with a
-// static floor: some collide, most pairs are far apart.
-std::vector<RRigidBody> Jumble(int n) {
-  std::mt19937_64 rng(12345);
-  auto uniform = [&rng](RScalar lo, RScalar hi) { return UniformIn(rng, lo, hi); };
-  std::vector<RRigidBody> bodies{RRigidBody(GroundDef(RVec3(0, -7, 0)))};
-  for (int i = 0; i < n; ++i) {
-    // The position is drawn before the size: the jumble as it was first drawn.
-    const RVec3 x(uniform(-6, 6), uniform(-6, 6), uniform(-6, 6));
-    const RVec3 halfExtents(uniform(0.2, 0.6), uniform(0.2, 0.6), uniform(0.2, 0.6));
-    RBodyDef d = BoxDef(halfExtents).At(x).Mass(1).Named("b" + std::to_string(i));
-    if (i % 3 == 0) d.shape.type = RShapeType::kSphere, d.shape.radius = uniform(0.2, 0.6);
-    d.velocity_W = RVec3(uniform(-8, 8), uniform(-8, 8), uniform(-8, 8));
-    d.angularVelocity_W = RVec3(uniform(-3, 3), uniform(-3, 3), uniform(-3, 3));
-    d.restitution = 0.5;
-    bodies.emplace_back(d);
-  }
-  return bodies;
-}
-
-}  // namespace
-
-// Bounds rejection and static world forms are exact: turning either off changes the work,
-// not one bit of the trajectory.
-TEST(Shortcuts, BoundsAndStaticFormsAreExact) {
-  RWorldSettings on = EarthGravity();
-  on.shortcuts.sleeping = false;
-  for (int variant = 0; variant < 2; ++variant) {
-    RWorldSettings off = on;
-    (variant == 0 ? off.shortcuts.boundsRejection : off.shortcuts.staticForms) = false;
-    std::vector<RRigidBody> a = Jumble(60), b = Jumble(60);
-    RIntegrator ia(on), ib(off);
-    std::uint64_t narrowOn = 0, narrowOff = 0, contacts = 0;
-    for (int i = 0; i < 120; ++i) {
-      ia.Update(a, kDt);
-      ib.Update(b, kDt);
-      narrowOn += ia.PairStats().narrowPhase, narrowOff += ib.PairStats().narrowPhase;
-      contacts += ia.PairStats().contacts;
-    }
-    EXPECT_GT(contacts, 0u) << "the scene has collisions";
-    if (variant == 0) {
-      EXPECT_GT(narrowOff, 10 * narrowOn) << "off: every pair is tested";
-    }
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      EXPECT_EQ(a[k].Position_W(), b[k].Position_W()) << variant << " " << k;
-      EXPECT_EQ(a[k].Orientation_WB().coeffs(), b[k].Orientation_WB().coeffs()) << variant << " " << k;
-      EXPECT_EQ(a[k].Velocity_W(), b[k].Velocity_W()) << variant << " " << k;
-    }
-    if (variant == 1) {
-      EXPECT_EQ(a[0].WorldFormComputations(), 1u) << "the floor's form, once";
-      EXPECT_GT(b[0].WorldFormComputations(), 100u) << "off: once per step";
-    }
-  }
-}
-
-// A static body's form is recomputed after the game moves it.
-TEST(Shortcuts, MovedStaticBodyGetsANewForm) {
-  RRigidBody ground(GroundDef());
-  const RWorldForm& f1 = ground.WorldForm(NextCacheStamp());
-  EXPECT_NEAR(f1.aabbMax_W.y(), 0, 1e-15);
-  ground.WorldForm(NextCacheStamp());
-  EXPECT_EQ(ground.WorldFormComputations(), 1u);
-  ground.SetShapePose(RVec3(0, 2, 0), RQuat::Identity());
-  const RWorldForm& f2 = ground.WorldForm(NextCacheStamp());
-  EXPECT_EQ(ground.WorldFormComputations(), 2u);
-  EXPECT_NEAR(f2.aabbMax_W.y(), 2.5, 1e-15);
 }

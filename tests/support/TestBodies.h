@@ -207,4 +207,18 @@ inline RQuat RandomRotation(std::mt19937_64& rng) {
   return q;
 }
 
+// n points in a ball of radius `scale` (uniform in its volume), or on its sphere.
+inline std::vector<RVec3> RandomCloud(std::mt19937_64& rng, int n, RScalar scale, bool onSphere) {
+  std::normal_distribution<RScalar> g;
+  std::uniform_real_distribution<RScalar> u(0, 1);
+  std::vector<RVec3> p;
+  for (int i = 0; i < n; ++i) {
+    RVec3 v(g(rng), g(rng), g(rng));
+    v.normalize();
+    if (!onSphere) v *= std::cbrt(u(rng));
+    p.push_back(scale * v);
+  }
+  return p;
+}
+
 }  // namespace REngine::test
