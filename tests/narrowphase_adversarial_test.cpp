@@ -461,7 +461,8 @@ TEST(CollisionAdversarial, NeedleHullAndSmallBoxApart) {
                    {-0x1.378372959f036p+3, -0x1.378372959f036p+3, -0x1.378372959f036p+3}};
   const BodySpec a{needle, RVec3::Zero(),
                    RQuat(-0.5, -0.5, -0.5, -0.5)};
-  const BodySpec b{BoxShape(RVec3::Constant(0.01)), RVec3(-4, -4, -4), RQuat(-0.5, -0.5, -0.5, -0.5)};
+  const BodySpec b{BoxShape(RVec3::Constant(0.01)), RVec3(-4, -4, -4),
+                   RQuat(-0.5, -0.5, -0.5, -0.5)};
   const Reference ref = ReferenceFor(a, b);
   ASSERT_GT(ref.separation, 0.006);
   for (const OffsetAnswer& ans : CheckAtOffsets("needle hull and small box", a, b, ref)) {

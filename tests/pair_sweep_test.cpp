@@ -113,7 +113,8 @@ TEST(Shortcuts, BoundsAndStaticFormsAreExact) {
     }
     for (std::size_t k = 0; k < a.size(); ++k) {
       EXPECT_EQ(a[k].Position_W(), b[k].Position_W()) << variant << " " << k;
-      EXPECT_EQ(a[k].Orientation_WB().coeffs(), b[k].Orientation_WB().coeffs()) << variant << " " << k;
+      EXPECT_EQ(a[k].Orientation_WB().coeffs(), b[k].Orientation_WB().coeffs())
+          << variant << " " << k;
       EXPECT_EQ(a[k].Velocity_W(), b[k].Velocity_W()) << variant << " " << k;
     }
     if (variant == 1) {

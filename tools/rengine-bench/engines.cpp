@@ -26,7 +26,9 @@ class REngineEngine final : public Engine {
 
  public:
   explicit REngineEngine(World world)
-      : Engine(world.dt, world.steps), m_world(Unslept(std::move(world))), m_integrator(m_world.settings) {}
+      : Engine(world.dt, world.steps),
+        m_world(Unslept(std::move(world))),
+        m_integrator(m_world.settings) {}
   void Step(std::uint64_t n) override {
     for (std::uint64_t i = 0; i < n; ++i) m_integrator.Update(m_world.bodies, m_world.dt);
   }

@@ -13,34 +13,23 @@
 #include <string>
 #include <vector>
 
+#include "support/SharedScenes.h"
+#include "support/TestBodies.h"
+
 using namespace REngine;
+using test::BoxDef;
+using test::GroundDef;
+using test::HeadOnSpheres;
+using test::LoadSharedScene;
+using test::SphereDef;
+using test::UniformIn;
+using test::UnitBoxDef;
 
 namespace rbench {
 
 namespace {
 
 constexpr RScalar kG = RScalar(9.81);  // m/s^2
-
-// ---- bodies -----------------------------------------------------------------------------
-
-RBodyDef Sphere(const std::string& name, RScalar radius, RScalar mass) {
-  RBodyDef def;
-  def.name = name;
-  def.shape.type = RShapeType::kSphere;
-  def.shape.radius = radius;
-  def.mass = mass;
-  return def;
-}
-
-RBodyDef Box(const std::string& name, const RVec3& halfExtents, std::optional<RScalar> mass) {
-  RBodyDef def;
-  def.name = name;
-  def.shape.type = RShapeType::kBox;
-  def.shape.halfExtents = halfExtents;
-  def.isStatic = !mass;
-  def.mass = mass;
-  return def;
-}
 
 // ---- tumbling ---------------------------------------------------------------------------
 // Torque-free, so energy and world angular momentum are conserved exactly; near the
@@ -49,9 +38,8 @@ RBodyDef Box(const std::string& name, const RVec3& halfExtents, std::optional<RS
 
 World TumblingWorld(const GridPoint& p) {
   World w;
-  RBodyDef box = Box("box", RVec3(0.5, 0.3, 0.1), RScalar(1));
-  box.angularVelocity_W = RVec3(0.01, 5.0, 0.01);
-  w.bodies.emplace_back(box);
+  w.bodies.emplace_back(
+      BoxDef(RVec3(0.5, 0.3, 0.1)).Mass(1).Named("box").Spinning(RVec3(0.01, 5.0, 0.01)));
   w.dt = p.dt;
   w.steps = StepsFor(10, p.dt);
   return w;
@@ -82,9 +70,7 @@ RVec3 LaunchVelocity_W() {
 World ProjectileWorld(const GridPoint& p) {
   World w;
   w.settings.gravity_W = kGravity_W;
-  RBodyDef ball = Sphere("ball", 0.1, 1);
-  ball.velocity_W = LaunchVelocity_W();
-  w.bodies.emplace_back(ball);
+  w.bodies.emplace_back(SphereDef(0.1).Mass(1).Named("ball").Moving(LaunchVelocity_W()));
   w.dt = p.dt;
   w.steps = StepsFor(3, p.dt);
   return w;
@@ -122,15 +108,9 @@ constexpr RScalar kInelasticE = 0.5;
 World PairWorld(const GridPoint& p, RScalar restitution) {
   World w;
   w.settings.solverIterations = p.iterations;
-  RBodyDef a = Sphere("a", 0.5, kPairM1), b = Sphere("b", 0.5, kPairM2);
-  a.position_W = RVec3(-2, 0, 0);
-  b.position_W = RVec3(2, 0, 0);
-  a.velocity_W = RVec3(kPairV1, 0, 0);
-  b.velocity_W = RVec3(kPairV2, 0, 0);
-  for (RBodyDef* def : {&a, &b}) {
-    def->restitution = restitution;  // the same on both: min combine = the value
-    def->friction = 0;
-    w.bodies.emplace_back(*def);
+  // The same restitution on both: min combine = the value.
+  for (const RBodyDef& def : HeadOnSpheres(kPairM1, kPairV1, kPairM2, kPairV2, restitution)) {
+    w.bodies.emplace_back(def);
   }
   w.dt = p.dt;
   w.steps = StepsFor(2, p.dt);
@@ -182,11 +162,8 @@ World SlidingBoxWorld(const GridPoint& p) {
   World w;
   w.settings.gravity_W = kGravity_W;
   w.settings.solverIterations = p.iterations;
-  RBodyDef floor = Box("floor", RVec3(50, 0.5, 50), std::nullopt);
-  floor.position_W = RVec3(0, -0.5, 0);
-  RBodyDef box = Box("box", RVec3(0.5, 0.5, 0.5), RScalar(1));
-  box.position_W = RVec3(0, 0.5, 0);
-  box.velocity_W = RVec3(kSlideV0, 0, 0);
+  RBodyDef floor = GroundDef().Named("floor");
+  RBodyDef box = UnitBoxDef(RVec3(0, 0.5, 0)).Moving(RVec3(kSlideV0, 0, 0));
   // The default combine (geometric mean) of two equal coefficients is that coefficient.
   for (RBodyDef* def : {&floor, &box}) {
     def->friction = kSlideMu;
@@ -222,11 +199,9 @@ World InclineWorld(const GridPoint& p) {
   w.settings.gravity_W = kGravity_W;
   w.settings.solverIterations = p.iterations;
   const RQuat q = InclineRotation();
-  RBodyDef incline = Box("incline", RVec3(10, 0.5, 3), std::nullopt);
-  incline.q_WS = q;
-  RBodyDef box = Box("box", RVec3(0.5, 0.5, 0.5), RScalar(1));
-  box.q_WS = q;
-  box.position_W = q * RVec3(7, 1, 0);  // face on face: the incline's top is at local y 0.5
+  RBodyDef incline = BoxDef(RVec3(10, 0.5, 3)).Static().Oriented(q).Named("incline");
+  // Face on face: the incline's top is at local y 0.5.
+  RBodyDef box = UnitBoxDef(q * RVec3(7, 1, 0)).Oriented(q);
   // Geometric combine (the default) of 0.2 and 0.2 is 0.2.
   for (RBodyDef* def : {&incline, &box}) {
     def->friction = kInclineMu;
@@ -252,7 +227,7 @@ Errors InclineErrors(Engine& engine) {
 // ---- stack10 ----------------------------------------------------------------------------
 
 const RScene& StackScene() {
-  static const RScene scene = LoadScene(RENGINE_SHARED_SCENES "/box_stack_10.json");
+  static const RScene scene = LoadSharedScene("box_stack_10");
   return scene;
 }
 
@@ -315,7 +290,7 @@ Conservation MeasureConservation(Engine& engine) {
 }
 
 const RScene& DebrisScene() {
-  static const RScene scene = LoadScene(RENGINE_SHARED_SCENES "/debris_cloud_1000.json");
+  static const RScene scene = LoadSharedScene("debris_cloud_1000");
   return scene;
 }
 
@@ -326,17 +301,12 @@ Errors DebrisErrors(Engine& engine) {
   return {c.finalEnergyChange, c.maxEnergyGain, c.momentumDrift};
 }
 
-// A uniform double in [0, 1) from the top 53 bits: std::mt19937_64's output is specified
-// by the standard, this mapping too (std::uniform_real_distribution's is not).
-RScalar Uniform(std::mt19937_64& rng, RScalar lo, RScalar hi) {
-  const RScalar u = static_cast<RScalar>(rng() >> 11) * RScalar(0x1.0p-53);
-  return lo + (hi - lo) * u;
-}
-// Components drawn in x, y, z order (a constructor's arguments have no evaluation order).
+// Components drawn in x, y, z order (a constructor's arguments have no evaluation order),
+// each by UniformIn: the same field on every platform.
 RVec3 UniformVec(std::mt19937_64& rng, RScalar lo, RScalar hi) {
-  const RScalar x = Uniform(rng, lo, hi);
-  const RScalar y = Uniform(rng, lo, hi);
-  const RScalar z = Uniform(rng, lo, hi);
+  const RScalar x = UniformIn(rng, lo, hi);
+  const RScalar y = UniformIn(rng, lo, hi);
+  const RScalar z = UniformIn(rng, lo, hi);
   return RVec3(x, y, z);
 }
 
@@ -350,7 +320,7 @@ std::vector<RVec3> RockPoints(std::mt19937_64& rng) {
     do {
       d = UniformVec(rng, -1, 1);
     } while (d.squaredNorm() > 1 || d.squaredNorm() < 0.01);  // uniform directions
-    const RScalar r = Uniform(rng, 0.8, 1.0);
+    const RScalar r = UniformIn(rng, 0.8, 1.0);
     points.push_back((r / d.norm()) * d.cwiseProduct(semiAxes));
   }
   return points;
@@ -362,7 +332,7 @@ RQuat UniformRotation(std::mt19937_64& rng) {
   RScalar n2 = 0;
   do {
     v = UniformVec(rng, -1, 1);
-    w = Uniform(rng, -1, 1);
+    w = UniformIn(rng, -1, 1);
     n2 = v.squaredNorm() + w * w;
   } while (n2 > 1 || n2 < 0.01);
   return RQuat(w, v.x(), v.y(), v.z()).normalized();
