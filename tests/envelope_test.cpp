@@ -12,18 +12,12 @@
 #include <cstdio>
 #include <string>
 
+#include "support/TestBodies.h"
+
 using namespace REngine;
+using namespace REngine::test;
 
 namespace {
-
-RBodyDef Box(const std::string& name, const RVec3& halfExtents, const RVec3& x) {
-  RBodyDef d;
-  d.name = name;
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = halfExtents;
-  d.position_W = x;
-  return d;
-}
 
 struct StackResult {
   RScalar sideways = 0, sink = 0, overlap = 0;  // relative to the box size
@@ -34,20 +28,11 @@ struct StackResult {
 // `seconds`; the overlap is the worst of the second half (after the cold start).
 StackResult Stack(int n, RScalar size, RScalar dt, RScalar seconds, const RVec3& origin,
                   RScalar bottomMass = 0, RScalar topMass = 0) {
-  std::vector<RRigidBody> bodies;
-  RBodyDef ground = Box("ground", RVec3(50, 0.5, 50) * size, origin + RVec3(0, -0.5, 0) * size);
-  ground.isStatic = true;
-  bodies.emplace_back(ground);
-  for (int i = 0; i < n; ++i) {
-    RBodyDef d = Box("box" + std::to_string(i), RVec3::Constant(0.5 * size),
-                     origin + RVec3(0, 0.5 + i, 0) * size);
-    d.mass = 1;
-    if (i == 0 && bottomMass > 0) d.mass = bottomMass;
-    if (i == n - 1 && topMass > 0) d.mass = topMass;
-    bodies.emplace_back(d);
-  }
-  RWorldSettings settings;
-  settings.gravity_W = RVec3(0, -9.81, 0);
+  std::vector<BodyDef> defs = BoxStackDefs(n, origin, size);
+  if (bottomMass > 0) defs[1].mass = bottomMass;
+  if (topMass > 0) defs[n].mass = topMass;
+  std::vector<RRigidBody> bodies = MakeBodies(defs);
+  RWorldSettings settings = EarthGravity();
   settings.shortcuts.sleeping = false;  // the solver's own envelope: every step simulated
   RIntegrator integrator(settings);
   const RVec3 top0 = bodies.back().Position_W();
@@ -134,10 +119,9 @@ TEST(Envelope, MassRatios) {
 // angular momentum to 1e-9 over 10 s at 60 Hz (the rotation is the closed form).
 TEST(Envelope, SpinRates) {
   for (RScalar w : {1.0, 10.0, 100.0, 1000.0}) {
-    RBodyDef d = Box("spinner", RVec3(0.5, 0.3, 0.1), RVec3::Zero());
-    d.mass = 1;
-    d.angularVelocity_W = w * RVec3(0.01, 1, 0.02).normalized();
-    std::vector<RRigidBody> bodies{RRigidBody(d)};
+    const RBodyDef spinner = BoxDef(RVec3(0.5, 0.3, 0.1)).Mass(1).Named("spinner").Spinning(
+        w * RVec3(0.01, 1, 0.02).normalized());
+    std::vector<RRigidBody> bodies{RRigidBody(spinner)};
     RIntegrator integrator;
     const RScalar e0 = bodies[0].RotationalKineticEnergy();
     const RVec3 l0 = bodies[0].AngularMomentum_W();
@@ -156,16 +140,10 @@ TEST(Envelope, SpinRates) {
 // Speeds up to 10 km/s (167 m per step at 60 Hz): a 0.2 m box stops at a 0.1 m plate.
 TEST(Envelope, Speeds) {
   for (RScalar v : {100.0, 1000.0, 3000.0, 10000.0}) {
-    RBodyDef plate = Box("plate", RVec3(0.05, 100, 100), RVec3(500, 0, 0));
-    plate.isStatic = true;
-    plate.restitution = 0;
-    RBodyDef shot = Box("shot", RVec3::Constant(0.1), RVec3(0.37, 0, 0));
-    shot.mass = 1;
-    shot.restitution = 0;
-    shot.velocity_W = RVec3(v, 0, 0);
-    std::vector<RRigidBody> bodies{RRigidBody(plate), RRigidBody(shot)};
+    std::vector<RRigidBody> bodies{RRigidBody(ThinPlateDef(RVec3(500, 0, 0))),
+                                   RRigidBody(ShotDef(RVec3::Zero(), RVec3(v, 0, 0)))};
     RIntegrator integrator;
-    for (int k = 0; k < 600; ++k) integrator.Update(bodies, 1.0 / 60);
+    Step(integrator, bodies, 600);
     EXPECT_FALSE(integrator.NonFinite().has_value()) << v;
     EXPECT_NEAR(bodies[1].Position_W().x(), 499.85, 1e-3) << v << ": stopped at the face";
   }

@@ -1,5 +1,6 @@
 // Convex polyhedra: hull correctness, degenerate inputs, exact mass properties against
-// closed forms, support functions, and the stamped world-form cache.
+// closed forms, support functions, and hull bodies' poses. (The stamped world-form cache:
+// pair_sweep_test.cpp; a spinning hull's invariants: rotation_test.cpp.)
 #include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
 #include <REnginePhysics/RIntegrator.h>
@@ -11,7 +12,10 @@
 #include <cmath>
 #include <random>
 
+#include "support/TestBodies.h"
+
 using namespace REngine;
+using namespace REngine::test;
 
 namespace {
 
@@ -19,19 +23,6 @@ std::vector<RVec3> BoxCorners(const RVec3& e) {
   std::vector<RVec3> p;
   for (int i = 0; i < 8; ++i)
     p.emplace_back((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(), (i & 4) ? e.z() : -e.z());
-  return p;
-}
-
-std::vector<RVec3> RandomCloud(std::mt19937_64& rng, int n, RScalar scale, bool onSphere) {
-  std::normal_distribution<RScalar> g;
-  std::uniform_real_distribution<RScalar> u(0, 1);
-  std::vector<RVec3> p;
-  for (int i = 0; i < n; ++i) {
-    RVec3 v(g(rng), g(rng), g(rng));
-    v.normalize();
-    if (!onSphere) v *= std::cbrt(u(rng));
-    p.push_back(scale * v);
-  }
   return p;
 }
 
@@ -306,99 +297,17 @@ TEST(Polyhedron, HillClimbingSupportMatchesLinear) {
   }
 }
 
-// The world form is computed at most once per body per step, however often it is asked for.
-TEST(Polyhedron, WorldFormIsCachedAgainstTheStamp) {
-  RBodyDef def;
-  def.shape.type = RShapeType::kBox;
-  def.shape.halfExtents = RVec3(0.5, 1, 1.5);
-  def.angularVelocity_W = RVec3(0.3, 0.2, 0.1);
-  def.velocity_W = RVec3(1, 0, 0);
-  std::vector<RRigidBody> bodies{RRigidBody(def)};
-  RIntegrator integrator;
-  integrator.Update(bodies, 0.01);
-  const RRigidBody& b = bodies[0];
-  EXPECT_EQ(b.WorldFormComputations(), 0u);  // nothing asked yet: nothing computed
-  for (int i = 0; i < 5; ++i) b.WorldForm(integrator.CacheStamp());
-  EXPECT_EQ(b.WorldFormComputations(), 1u);
-  // Its contents: the body's vertices, rotated and translated.
-  const RWorldForm& wf = b.WorldForm(integrator.CacheStamp());
-  const RMat3 R = b.Orientation_WB().toRotationMatrix();
-  for (std::size_t i = 0; i < wf.vertices_W.size(); ++i) {
-    const RVec3 expect = R * b.Polyhedron_B()->Vertices()[i] + b.Position_W();
-    EXPECT_LT((wf.vertices_W[i] - expect).norm(), 1e-15);
-    EXPECT_TRUE((wf.vertices_W[i].array() >= wf.aabbMin_W.array()).all());
-    EXPECT_TRUE((wf.vertices_W[i].array() <= wf.aabbMax_W.array()).all());
-    EXPECT_LE((wf.vertices_W[i] - wf.sphereCenter_W).norm(), wf.sphereRadius * (1 + 1e-15));
-    for (const RPlane& p : wf.planes_W) EXPECT_LE(p.SignedDistance(wf.vertices_W[i]), 1e-14);
-  }
-  integrator.Update(bodies, 0.01);
-  b.WorldForm(integrator.CacheStamp());
-  b.WorldForm(integrator.CacheStamp());
-  EXPECT_EQ(b.WorldFormComputations(), 2u);
-  bodies[0].SetShapePose(RVec3(5, 0, 0), RQuat::Identity());  // moved by game code
-  b.WorldForm(integrator.CacheStamp());
-  EXPECT_EQ(b.WorldFormComputations(), 3u);
-  EXPECT_NEAR(b.WorldForm(integrator.CacheStamp()).aabbMin_W.x(), 4.5, 1e-15);
-}
-
 // A scene pose round-trips through the body frame for a hull whose centre of mass is off its
 // origin and whose principal axes are not its frame's.
 TEST(Polyhedron, HullBodyRoundTripsTheScenePose) {
-  RBodyDef def;
-  def.shape.type = RShapeType::kHull;
-  def.shape.points = {RVec3(1, 0, 0), RVec3(0, 2, 0), RVec3(0, 0, 3), RVec3(-1, -1, -1),
-                      RVec3(0.5, 0.5, 2)};
-  def.position_W = RVec3(10, -3, 2);
-  def.q_WS = QuatExp(RVec3(0.3, 0.1, -0.7));
+  const RBodyDef def = HullDef({RVec3(1, 0, 0), RVec3(0, 2, 0), RVec3(0, 0, 3), RVec3(-1, -1, -1),
+                                RVec3(0.5, 0.5, 2)})
+                           .At(RVec3(10, -3, 2))
+                           .Oriented(QuatExp(RVec3(0.3, 0.1, -0.7)));
   const RRigidBody b(def);
   EXPECT_LT((b.ShapePosition_W() - def.position_W).norm(), 1e-14);
   EXPECT_LT(QuatAngleBetween(b.ShapeOrientation_WS(), def.q_WS), 1e-15);
   EXPECT_GT(b.ShapeOffset_B().norm(), 0.1);
-}
-
-// A spinning irregular hull in zero gravity conserves energy and angular momentum (the
-// exact torque-free flow: to rounding, as for the box in the Dzhanibekov test).
-TEST(Polyhedron, SpinningIrregularHullConservesInvariants) {
-  std::mt19937_64 rng(23);
-  RBodyDef def;
-  def.shape.type = RShapeType::kHull;
-  def.shape.points = RandomCloud(rng, 30, 1.0, false);
-  for (RVec3& p : def.shape.points) p = p.cwiseProduct(RVec3(1.0, 0.6, 0.3)) + RVec3(0.2, 0, 0);
-  def.density = 2500;
-  def.angularVelocity_W = RVec3(0.4, 3.0, -0.2);
-  std::vector<RRigidBody> bodies{RRigidBody(def)};
-  ASSERT_EQ(bodies[0].Symmetry(), RInertiaSymmetry::kGeneral);
-  const RScalar E0 = bodies[0].RotationalKineticEnergy();
-  const RVec3 L0 = bodies[0].AngularMomentum_W();
-  RIntegrator integrator;
-  RScalar worstE = 0, worstL = 0;
-  for (int i = 0; i < 36000; ++i) {
-    integrator.Update(bodies, 1.0 / 60);
-    worstE = std::max(worstE, std::abs(bodies[0].RotationalKineticEnergy() / E0 - 1));
-    worstL = std::max(worstL, (bodies[0].AngularMomentum_W() - L0).norm() / L0.norm());
-  }
-  EXPECT_LT(worstE, 1e-12);
-  EXPECT_LT(worstL, 1e-12);
-}
-
-// Between steps the stamp describes the bodies' present poses: a world form asked for after
-// Update shows where the body is now, even if collision detection cached it during the step.
-TEST(Polyhedron, WorldFormAfterUpdateIsThePostStepPose) {
-  std::vector<RRigidBody> bodies;
-  for (RScalar x : {0.0, 1.1}) {  // 0.1 m apart, moving together: near, never touching
-    RBodyDef d;
-    d.shape.type = RShapeType::kBox;
-    d.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
-    d.position_W = RVec3(x, 0, 0);
-    d.velocity_W = RVec3(10, 0, 0);
-    bodies.emplace_back(d);
-  }
-  RIntegrator integrator;
-  integrator.Update(bodies, 0.1);
-  EXPECT_GE(bodies[0].WorldFormComputations(), 1u) << "detection asked for it";
-  const RWorldForm& wf = bodies[0].WorldForm(integrator.CacheStamp());
-  EXPECT_NEAR(wf.aabbMin_W.x(), bodies[0].Position_W().x() - 0.5, 1e-14);
-  EXPECT_NEAR(bodies[0].Position_W().x(), 1.0, 1e-14);
 }
 
 // Review findings, kept as regressions: near-coplanar points (a box sampled on its faces
@@ -490,9 +399,7 @@ TEST(Polyhedron, NeedlesAndSliversAreRefused) {
   }
   EXPECT_EQ(accepted, 0);
   // Boxes as needles: refused by the body, naming the field.
-  RBodyDef needle;
-  needle.shape.type = RShapeType::kBox;
-  needle.shape.halfExtents = RVec3(1e-9, 1e-9, 10);
+  RBodyDef needle = BoxDef(RVec3(1e-9, 1e-9, 10));
   try {
     RRigidBody body(needle);
     ADD_FAILURE() << "a 1e-9 m thick needle was accepted";

@@ -7,87 +7,22 @@
 
 #include <cmath>
 
+#include "support/SharedScenes.h"
+#include "support/TestBodies.h"
+
 using namespace REngine;
+using namespace REngine::test;
 
 namespace {
 
+// A frictionless sphere: the closed forms below have no tangential impulse.
 RBodyDef Ball(const char* name, RScalar r, RScalar m, const RVec3& x, const RVec3& v, RScalar e) {
-  RBodyDef d;
-  d.name = name;
-  d.shape.type = RShapeType::kSphere;
-  d.shape.radius = r;
-  d.mass = m;
-  d.position_W = x;
-  d.velocity_W = v;
-  d.restitution = e;
-  d.friction = 0;
-  return d;
+  return SphereDef(r).Named(name).Mass(m).At(x).Moving(v).Restitution(e).Friction(0);
 }
 
-// A static floor whose top face is y = 0, and a unit box (1 kg, half size 0.5) at height y.
-RBodyDef Floor() {
-  RBodyDef d;
-  d.name = "ground";
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = RVec3(50, 0.5, 50);
-  d.isStatic = true;
-  d.position_W = RVec3(0, -0.5, 0);
-  return d;
-}
-RBodyDef Crate(RScalar y) {
-  RBodyDef d;
-  d.name = "box";
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
-  d.mass = 1;
-  d.position_W = RVec3(0, y, 0);
-  return d;
-}
-
-// A static 0.1 m plate, 200 m square, normal along x, restitution 0; a 0.2 m, 1 kg box
-// shot from x = 0.37 (not a whole number of steps from the plate), restitution and friction
-// 0 (with friction an oblique hit spins it up to 1.7e4 rad/s and it tumbles off: chaotic).
-RBodyDef Plate(const RVec3& x) {
-  RBodyDef d;
-  d.name = "plate";
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = RVec3(0.05, 100, 100);
-  d.isStatic = true;
-  d.restitution = 0;
-  d.position_W = x;
-  return d;
-}
-RBodyDef Shot(const RVec3& origin, const RVec3& v) {
-  RBodyDef d;
-  d.name = "shot";
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = RVec3(0.1, 0.1, 0.1);
-  d.mass = 1;
-  d.restitution = 0;
-  d.friction = 0;
-  d.velocity_W = v;
-  d.position_W = origin + RVec3(0.37, 0, 0);
-  return d;
-}
-
-RVec3 Momentum(const std::vector<RRigidBody>& bodies) {
-  RVec3 p = RVec3::Zero();
-  for (const RRigidBody& b : bodies) p += b.Mass() * b.Velocity_W();
-  return p;
-}
-RScalar KineticEnergy(const std::vector<RRigidBody>& bodies) {
-  RScalar e = 0;
-  for (const RRigidBody& b : bodies) e += b.LinearKineticEnergy() + b.RotationalKineticEnergy();
-  return e;
-}
-// About the world origin: orbital plus spin.
-RVec3 AngularMomentum(const std::vector<RRigidBody>& bodies) {
-  RVec3 l = RVec3::Zero();
-  for (const RRigidBody& b : bodies) {
-    l += b.Position_W().cross(b.Mass() * b.Velocity_W()) + b.AngularMomentum_W();
-  }
-  return l;
-}
+// The tunnelling shot, frictionless: with friction an oblique hit spins it up to
+// 1.7e4 rad/s and it tumbles off (chaotic).
+RBodyDef Shot(const RVec3& origin, const RVec3& v) { return ShotDef(origin, v).Friction(0); }
 
 }  // namespace
 
@@ -97,10 +32,9 @@ TEST(Response, HeadOnCollisionsMatchTheClosedForm) {
   for (RScalar e : {0.0, 0.3, 0.7, 1.0}) {
     for (RScalar m2 : {1.0, 3.0, 1000.0}) {
       const RScalar m1 = 1, v1 = 3, v2 = -1;
-      std::vector<RRigidBody> bodies{RRigidBody(Ball("a", 0.5, m1, RVec3(-2, 0, 0), RVec3(v1, 0, 0), e)),
-                                     RRigidBody(Ball("b", 0.5, m2, RVec3(2, 0, 0), RVec3(v2, 0, 0), e))};
+      std::vector<RRigidBody> bodies = MakeBodies(HeadOnSpheres(m1, v1, m2, v2, e));
       RIntegrator integrator;
-      for (int i = 0; i < 240; ++i) integrator.Update(bodies, 1.0 / 120);
+      Step(integrator, bodies, 240, 1.0 / 120);
       const RScalar u1 = (m1 * v1 + m2 * v2 - m2 * e * (v1 - v2)) / (m1 + m2);
       const RScalar u2 = (m1 * v1 + m2 * v2 + m1 * e * (v1 - v2)) / (m1 + m2);
       EXPECT_NEAR(bodies[0].Velocity_W().x(), u1, 1e-9 * std::abs(v1)) << e << " " << m2;
@@ -133,7 +67,7 @@ TEST(Response, ObliqueCollisionsMatchTheClosedForm) {
         const RScalar u2p = (m1 * u1 + m2 * u2 + m1 * e * (u1 - u2)) / (m1 + m2);
         const RVec3 expect1 = v1 + (u1p - u1) * n, expect2 = v2 + (u2p - u2) * n;
         RIntegrator integrator;
-        for (int i = 0; i < 120; ++i) integrator.Update(bodies, 1.0 / 60);
+        Step(integrator, bodies, 120);
         SCOPED_TRACE(::testing::Message() << "e " << e << " m2 " << m2 << " offset " << offset);
         EXPECT_LT((bodies[0].Velocity_W() - expect1).norm(), 1e-9 * v1.norm());
         EXPECT_LT((bodies[1].Velocity_W() - expect2).norm(), 1e-9 * v1.norm());
@@ -146,18 +80,18 @@ TEST(Response, ObliqueCollisionsMatchTheClosedForm) {
 // Boxes meeting face to face, head-on: the closed form of the 1D collision, no spin.
 TEST(Response, BoxesHeadOnMatchTheClosedForm) {
   for (RScalar e : {0.0, 0.4, 1.0}) {
-    RBodyDef a = Crate(0);
+    RBodyDef a = UnitBoxDef(RVec3::Zero());
     a.position_W = RVec3(-3, 0, 0);
     a.velocity_W = RVec3(5, 0, 0);
     a.restitution = e;
-    RBodyDef b = Crate(0);
+    RBodyDef b = UnitBoxDef(RVec3::Zero());
     b.mass = 3;
     b.position_W = RVec3(1.27, 0, 0);
     b.velocity_W = RVec3(-1, 0, 0);
     b.restitution = e;
     std::vector<RRigidBody> bodies{RRigidBody(a), RRigidBody(b)};
     RIntegrator integrator;
-    for (int i = 0; i < 120; ++i) integrator.Update(bodies, 1.0 / 60);
+    Step(integrator, bodies, 120);
     const RScalar u1 = (5 + 3 * -1 - 3 * e * 6) / 4, u2 = (5 + 3 * -1 + e * 6) / 4;
     EXPECT_NEAR(bodies[0].Velocity_W().x(), u1, 1e-9 * 5) << e;
     EXPECT_NEAR(bodies[1].Velocity_W().x(), u2, 1e-9 * 5) << e;
@@ -167,10 +101,10 @@ TEST(Response, BoxesHeadOnMatchTheClosedForm) {
 
 // The shared reference scene, through the scene loader.
 TEST(Response, SharedHeadOnElasticScene) {
-  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/head_on_elastic.json");
+  const RScene scene = LoadSharedScene("head_on_elastic");
   std::vector<RRigidBody> bodies = CreateBodies(scene);
   RIntegrator integrator(scene.settings);
-  for (std::uint64_t i = 0; i < scene.steps; ++i) integrator.Update(bodies, scene.dt);
+  Step(integrator, bodies, scene.steps, scene.dt);
   // m = 1 at 3 m/s against m = 3 at -1 m/s, e = 1: -3 and +1 m/s.
   EXPECT_NEAR(bodies[0].Velocity_W().x(), -3, 1e-12);
   EXPECT_NEAR(bodies[1].Velocity_W().x(), 1, 1e-12);
@@ -180,12 +114,11 @@ TEST(Response, SharedHeadOnElasticScene) {
 // applied equal and opposite, so momentum is conserved to rounding (1e-12 relative to the
 // sum of |m v|), and no step may gain kinetic energy beyond rounding.
 TEST(Response, DebrisCloudConservesMomentumAndNeverGainsEnergy) {
-  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/debris_cloud_1000.json");
+  const RScene scene = LoadSharedScene("debris_cloud_1000");
   std::vector<RRigidBody> bodies = CreateBodies(scene);
   RIntegrator integrator(scene.settings);
   const RVec3 p0 = Momentum(bodies);
-  RScalar scale = 0;
-  for (const RRigidBody& b : bodies) scale += b.Mass() * b.Velocity_W().norm();
+  const RScalar scale = MomentumScale(bodies);
   RScalar ePrev = KineticEnergy(bodies), worstP = 0, worstGain = 0;
   std::uint64_t contacts = 0;
   for (std::uint64_t i = 0; i < scene.steps; ++i) {
@@ -207,7 +140,7 @@ TEST(Response, DebrisCloudConservesMomentumAndNeverGainsEnergy) {
 // impulses also conserve angular momentum about any point: equal and opposite at the same
 // contact point.
 TEST(Response, ImpulsesConserveAngularMomentum) {
-  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/debris_cloud_1000.json");
+  const RScene scene = LoadSharedScene("debris_cloud_1000");
   std::vector<RRigidBody> bodies = CreateBodies(scene);
   RWorldSettings settings = scene.settings;
   settings.positionCorrection = 0;
@@ -293,23 +226,14 @@ static void ExpectStackStands(const char* label, std::vector<RRigidBody> bodies,
 }
 
 TEST(Response, TenBoxStackStands) {
-  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/box_stack_10.json");
+  const RScene scene = LoadSharedScene("box_stack_10");
   ExpectStackStands("box_stack_10", CreateBodies(scene), scene.settings, scene.dt, scene.steps);
 }
 
 // Twenty unit boxes, each resting exactly on the one below at the start.
 TEST(Response, TwentyBoxStackStands) {
-  RBodyDef ground = Floor();
-  ground.friction = 0.5;
-  std::vector<RRigidBody> bodies{RRigidBody(ground)};
-  for (int i = 0; i < 20; ++i) {
-    RBodyDef box = Crate(0.5 + i);
-    box.friction = 0.5;
-    bodies.emplace_back(box);
-  }
-  RWorldSettings settings;
-  settings.gravity_W = RVec3(0, -9.81, 0);
-  ExpectStackStands("box_stack_20", bodies, settings, 1.0 / 60, 600);
+  // Friction 0.5 on every body (the default).
+  ExpectStackStands("box_stack_20", MakeBodies(BoxStackDefs(20)), EarthGravity(), 1.0 / 60, 600);
 }
 
 // Newton's cradle: a striker hits a row of four touching equal spheres, restitution 1. The
@@ -325,7 +249,7 @@ TEST(Response, NewtonsCradle) {
       bodies.emplace_back(Ball("ball", 0.5, 1, RVec3(i * (1 + spacing), 0, 0), RVec3::Zero(), 1));
     }
     RIntegrator integrator;
-    for (int i = 0; i < 120; ++i) integrator.Update(bodies, 1.0 / 60);
+    Step(integrator, bodies, 120);
     EXPECT_NEAR(bodies.back().Velocity_W().x(), v0, 1e-9 * v0) << spacing;
     for (std::size_t i = 0; i + 1 < bodies.size(); ++i) {
       EXPECT_LT(bodies[i].Velocity_W().norm(), 1e-9 * v0) << spacing << " ball " << i;
@@ -339,17 +263,16 @@ TEST(Response, NewtonsCradle) {
 // through; the island's direct solve holds it. Asked: at most 2 mm of overlap per contact.
 TEST(Response, HeavyBoxOnLightBoxHolds) {
   for (RScalar heavyMass : {1000.0, 1e4}) {
-    RBodyDef ground = Floor();
+    RBodyDef ground = GroundDef();
     ground.friction = 0.5;
-    RBodyDef light = Crate(0.5);
+    RBodyDef light = UnitBoxDef(RVec3(0, 0.5, 0));
     light.friction = 0.5;
-    RBodyDef heavy = Crate(1.5);
+    RBodyDef heavy = UnitBoxDef(RVec3(0, 1.5, 0));
     heavy.name = "heavy";
     heavy.mass = heavyMass;
     heavy.friction = 0.5;
     std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(light), RRigidBody(heavy)};
-    RWorldSettings settings;
-    settings.gravity_W = RVec3(0, -9.81, 0);
+    RWorldSettings settings = EarthGravity();
     settings.shortcuts.sleeping = false;  // the solver's own resting contact
     RIntegrator integrator(settings);
     RScalar worstOverlap = 0;
@@ -370,6 +293,31 @@ TEST(Response, HeavyBoxOnLightBoxHolds) {
   }
 }
 
+// A box spawned 1 m deep in the ground, in zero g: position correction takes it out at most
+// maxPositionCorrection (0.2 m) a step, without velocity (split impulses), instead of half
+// the depth at once (a box touching a broken hull was once thrown 5e6 m in one step).
+TEST(ApiInput, PositionCorrectionIsCappedPerStep) {
+  std::vector<RRigidBody> bodies{
+      RRigidBody(BoxDef(RVec3(5, 0.5, 5)).Static().At(RVec3(0, -0.5, 0))),
+      RRigidBody(UnitBoxDef(RVec3(0, -0.5, 0)))};
+  RWorldSettings settings;
+  settings.shortcuts.sleeping = false;
+  RIntegrator integrator(settings);
+  RScalar y = bodies[1].Position_W().y();
+  int steps = 0;
+  while (bodies[1].Position_W().y() < 0.5 - settings.penetrationSlop - 1e-3 && steps < 100) {
+    integrator.Update(bodies, 1.0 / 60);
+    const RScalar rise = bodies[1].Position_W().y() - y;
+    EXPECT_LE(rise, settings.maxPositionCorrection + 1e-12) << "step " << steps;
+    EXPECT_GE(rise, 0) << "step " << steps;
+    EXPECT_LE(bodies[1].Velocity_W().norm(), 1e-9) << "correction must not add velocity";
+    y = bodies[1].Position_W().y();
+    ++steps;
+  }
+  EXPECT_GE(steps, 5) << "1 m at 0.2 m a step";
+  EXPECT_LT(steps, 100) << "it must come out";
+}
+
 // Coulomb friction on a 20 degree incline (the floor tilted about z): with mu = 0.5 >
 // tan 20 deg = 0.364 the box sticks; with mu = 0.2 it slides down with
 // a = g (sin 20 deg - mu cos 20 deg), asked within 1%.
@@ -378,11 +326,11 @@ TEST(Response, BoxOnInclineSticksOrSlides) {
   const RQuat tilt(Eigen::AngleAxis<RScalar>(theta, RVec3::UnitZ()));
   const RVec3 down = tilt * RVec3(-1, 0, 0);  // down the slope
   for (RScalar mu : {0.5, 0.2}) {
-    RBodyDef ground = Floor();
+    RBodyDef ground = GroundDef();
     ground.q_WS = tilt;
     ground.position_W = tilt * RVec3(0, -0.5, 0);
     ground.friction = mu;
-    RBodyDef box = Crate(0);
+    RBodyDef box = UnitBoxDef(RVec3(0, 0, 0));
     box.q_WS = tilt;
     box.position_W = tilt * RVec3(0, 0.5, 0);
     box.friction = mu;
@@ -421,16 +369,15 @@ TEST(Response, BoxOnInclineSticksOrSlides) {
 
 // Coulomb friction: a box sliding at v0 on a floor stops after v0^2 / (2 mu g).
 TEST(Response, SlidingBoxStopsAtTheCoulombDistance) {
-  RBodyDef ground = Floor();
+  RBodyDef ground = GroundDef();
   ground.friction = 0.5;
-  RBodyDef box = Crate(0.5);
+  RBodyDef box = UnitBoxDef(RVec3(0, 0.5, 0));
   box.friction = 0.5;
   box.velocity_W = RVec3(5, 0, 0);
   std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(box)};
-  RWorldSettings settings;
-  settings.gravity_W = RVec3(0, -9.81, 0);
+  RWorldSettings settings = EarthGravity();
   RIntegrator integrator(settings);
-  for (int i = 0; i < 180; ++i) integrator.Update(bodies, 1.0 / 60);
+  Step(integrator, bodies, 180);
   const RScalar expected = 25 / (2 * 0.5 * 9.81);
   EXPECT_NEAR(bodies[1].Position_W().x(), expected, 0.01 * expected);
   EXPECT_LT(std::abs(bodies[1].Velocity_W().x()), 1e-9) << "stopped";
@@ -440,14 +387,14 @@ TEST(Response, SlidingBoxStopsAtTheCoulombDistance) {
 // A box falling flat onto the ground bounces straight up at e times its speed: the bounce
 // acts at the centre of the face's leading points, so it adds no spin.
 TEST(Response, FlatImpactBouncesWithoutSpin) {
-  RBodyDef ground = Floor();
+  RBodyDef ground = GroundDef();
   ground.restitution = 0.5;
-  RBodyDef box = Crate(0.55);
+  RBodyDef box = UnitBoxDef(RVec3(0, 0.55, 0));
   box.restitution = 0.5;
   box.velocity_W = RVec3(0, -5, 0);
   std::vector<RRigidBody> bodies{RRigidBody(ground), RRigidBody(box)};
   RIntegrator integrator;  // zero gravity: the outcome is the closed form -e v
-  for (int i = 0; i < 10; ++i) integrator.Update(bodies, 1.0 / 60);
+  Step(integrator, bodies, 10);
   EXPECT_NEAR(bodies[1].Velocity_W().y(), 2.5, 1e-9);
   EXPECT_LT(bodies[1].AngularVelocity_W().norm(), 1e-9);
 }
@@ -488,7 +435,7 @@ TEST(Response, ProjectileAtTwoKilometresPerSecondStopsAtAThinPlate) {
     for (RScalar angle : {0.0, 30.0}) {
       for (bool responds : {true, false}) {
         const RVec3 o(offset, offset, -offset);
-        const RBodyDef plate = Plate(o + RVec3(50, 0, 0));
+        const RBodyDef plate = ThinPlateDef(o + RVec3(50, 0, 0));
         const RScalar a = angle * kPi / 180;
         RBodyDef shot = Shot(o, 2000 * RVec3(std::cos(a), std::sin(a), 0));
         shot.responds = responds;
@@ -546,20 +493,19 @@ static RScalar WorstOffsetDifference(std::vector<RBodyDef> defs, RWorldSettings 
 
 TEST(Response, FarFromTheOriginTheMotionIsTheSame) {
   {
-    const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/box_stack_10.json");
+    const RScene scene = LoadSharedScene("box_stack_10");
     const RScalar worst = WorstOffsetDifference(scene.bodies, scene.settings, scene.dt, 600);
     std::printf("box_stack_10 at 1e6 m: positions within %.3g m of the stack at the origin\n", worst);
     EXPECT_LT(worst, 1e-6);
   }
   {
     // Friction: the box sliding to a stop, and sliding down the incline.
-    RBodyDef ground = Floor();
+    RBodyDef ground = GroundDef();
     ground.friction = 0.5;
-    RBodyDef box = Crate(0.5);
+    RBodyDef box = UnitBoxDef(RVec3(0, 0.5, 0));
     box.friction = 0.5;
     box.velocity_W = RVec3(5, 0, 0);
-    RWorldSettings settings;
-    settings.gravity_W = RVec3(0, -9.81, 0);
+    RWorldSettings settings = EarthGravity();
     const RScalar slide = WorstOffsetDifference({ground, box}, settings, 1.0 / 60, 180);
     const RQuat tilt(Eigen::AngleAxis<RScalar>(20 * kPi / 180, RVec3::UnitZ()));
     ground.q_WS = box.q_WS = tilt;
@@ -575,7 +521,7 @@ TEST(Response, FarFromTheOriginTheMotionIsTheSame) {
   }
   {
     // Tunnelling: the 2 km/s projectile and the plate.
-    const RBodyDef plate = Plate(RVec3(50, 0, 0));
+    const RBodyDef plate = ThinPlateDef(RVec3(50, 0, 0));
     const RBodyDef shot = Shot(RVec3::Zero(), RVec3(1732.05, 1000, 0));
     const RScalar worst = WorstOffsetDifference({plate, shot}, RWorldSettings{}, 1.0 / 60, 30);
     std::printf("projectile at 1e6 m: within %.3g m\n", worst);
@@ -590,14 +536,14 @@ TEST(Response, FarFromTheOriginTheMotionIsTheSame) {
 // the overlap is resolved inelastically, 1.3% here. Asserted: no gain.)
 TEST(Response, SpinningBoxesCollideWithoutGainingEnergy) {
   for (RScalar mu : {0.0, 0.5}) {
-    RBodyDef a = Crate(0);
+    RBodyDef a = UnitBoxDef(RVec3(0, 0, 0));
     a.shape.halfExtents = RVec3(0.5, 0.3, 0.4);
     a.mass = 2;
     a.position_W = RVec3(-2, 0.1, 0.05);
     a.velocity_W = RVec3(30, 0.5, 0.2);
     a.angularVelocity_W = RVec3(1, 7, 3);
     a.restitution = 1, a.friction = mu;
-    RBodyDef b = Crate(0);
+    RBodyDef b = UnitBoxDef(RVec3(0, 0, 0));
     b.shape.halfExtents = RVec3(0.4, 0.5, 0.6);
     b.position_W = RVec3(0.1, 0, 0);
     b.velocity_W = RVec3(-3, 0, 0.1);

@@ -31,6 +31,7 @@
 #include <REnginePhysics/RConvexPolyhedron.h>
 #include <ccd/ccd.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -64,6 +65,15 @@ class OracleHull {
   RConvexPolyhedron m_polyhedron;
   std::shared_ptr<const fcl::Convex<double>> m_fcl;
 };
+
+// How far the hull, turned by q (q_WS), reaches along the world direction d: max over its
+// vertices of d . (q v), m from the frame origin (to place a pair at a chosen gap).
+inline RScalar SupportExtent(const OracleHull& h, const RQuat& q, const RVec3& d) {
+  const RVec3 d_S = q.conjugate() * d;
+  RScalar m = -1e300;
+  for (const RVec3& v : h.Polyhedron().Vertices()) m = std::max(m, v.dot(d_S));
+  return m;
+}
 
 // libccd's view of a posed hull: world-space vertices (so libccd's support is a plain loop
 // over them, the cheapest support it could have) and an interior point for MPR.

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "support/CollisionOracles.h"
+#include "support/TestBodies.h"
 
 using namespace REngine;
 using namespace REngine::test;
@@ -50,13 +51,6 @@ struct BenchPair {
   bool overlap = false;   // by the exact SAT reference
 };
 
-RQuat RandomRotation(std::mt19937_64& rng) {
-  std::normal_distribution<RScalar> g;
-  RQuat q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  return q;
-}
-
 // 32 points on a sphere of radius 0.5 to 2 m: all of them are hull vertices.
 std::vector<RVec3> SpherePoints(std::mt19937_64& rng) {
   std::normal_distribution<RScalar> g;
@@ -65,13 +59,6 @@ std::vector<RVec3> SpherePoints(std::mt19937_64& rng) {
   std::vector<RVec3> p;
   for (int i = 0; i < 32; ++i) p.push_back(r * RVec3(g(rng), g(rng), g(rng)).normalized());
   return p;
-}
-
-RScalar Extent(const OracleHull& h, const RQuat& q, const RVec3& d) {
-  const RVec3 d_S = q.conjugate() * d;
-  RScalar m = -1e300;
-  for (const RVec3& v : h.Polyhedron().Vertices()) m = std::max(m, v.dot(d_S));
-  return m;
 }
 
 const std::vector<BenchPair>& AllPairs() {
@@ -90,7 +77,8 @@ const std::vector<BenchPair>& AllPairs() {
       // B along a random direction at g times the reach beyond which the two are surely
       // apart; g in [0.7, 1.3] makes about half of these round hulls overlap.
       const RVec3 dir = RandomRotation(rng) * RVec3::UnitX();
-      const RScalar reach = Extent(*p.a, p.X_WA.q_WS, dir) + Extent(*p.b, p.X_WB.q_WS, -dir);
+      const RScalar reach =
+          SupportExtent(*p.a, p.X_WA.q_WS, dir) + SupportExtent(*p.b, p.X_WB.q_WS, -dir);
       p.X_WB.position_W = p.X_WA.position_W + (0.7 + 0.6 * u(rng)) * reach * dir;
 
       p.sa = {&p.a->Polyhedron(), 0, p.a->Radius()};

@@ -26,6 +26,8 @@
 //                   off. Error: as static_terrain (exact: 0).
 #include "shortcuts.h"
 
+#include "report.h"
+
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RScene.h>
 
@@ -43,7 +45,15 @@
 #include <random>
 #include <string>
 
+#include "support/SharedScenes.h"
+#include "support/TestBodies.h"
+
 using namespace REngine;
+using test::BodyDef;
+using test::BoxDef;
+using test::HullDef;
+using test::LoadSharedScene;
+using test::UniformIn;
 
 namespace rbench {
 
@@ -58,34 +68,22 @@ struct Setup {
 };
 using Make = std::function<Setup(bool shortcutOn)>;
 
-// Deterministic uniform numbers: the top 53 bits of mt19937_64 (whose sequence the standard
-// fixes), not std::uniform_real_distribution (whose mapping it does not).
+// Deterministic uniform numbers from a seed (UniformIn: the same on every platform).
 class Uniform {
  public:
   explicit Uniform(std::uint64_t seed) : m_rng(seed) {}
-  RScalar operator()(RScalar lo, RScalar hi) {
-    return lo + (hi - lo) * RScalar(m_rng() >> 11) * RScalar(1.0 / 9007199254740992.0);
-  }
+  RScalar operator()(RScalar lo, RScalar hi) { return UniformIn(m_rng, lo, hi); }
 
  private:
   std::mt19937_64 m_rng;
 };
 
+// A box, 1 kg unless static. (One call with every value as an argument: the scenes below
+// draw their random sizes and positions inside the call, in the order the compiler evaluates
+// arguments, which a chain of setters would change.)
 RBodyDef Box(const std::string& name, const RVec3& halfExtents, const RVec3& x, bool isStatic) {
-  RBodyDef d;
-  d.name = name;
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = halfExtents;
-  d.position_W = x;
-  d.isStatic = isStatic;
-  if (!isStatic) d.mass = 1;
-  return d;
-}
-
-double Median(std::vector<double> xs) {
-  std::sort(xs.begin(), xs.end());
-  const std::size_t n = xs.size();
-  return n % 2 ? xs[n / 2] : 0.5 * (xs[n / 2 - 1] + xs[n / 2]);
+  BodyDef d = BoxDef(halfExtents).At(x).Named(name);
+  return isStatic ? d.Static() : d.Mass(1);
 }
 
 double TimeOneRun(const Make& make, bool on, int steps) {
@@ -239,7 +237,7 @@ ShortcutRow RestingStacks(bool quick, int repeats) {
 
 // ---- box_pile_1000 --------------------------------------------------------------------
 ShortcutRow BoxPile(bool quick, int repeats) {
-  const RScene scene = LoadScene(std::string(RENGINE_SHARED_SCENES) + "/box_pile_1000.json");
+  const RScene scene = LoadSharedScene("box_pile_1000");
   const int steps = quick ? 30 : static_cast<int>(scene.steps);
   auto make = [&scene](bool on) {
     Setup s{CreateBodies(scene), scene.settings};
@@ -370,13 +368,10 @@ ShortcutRow StaticHulls(bool quick, int repeats) {
     s.settings.shortcuts.sleeping = false;
     s.settings.shortcuts.staticForms = on;
     for (int h = 0; h < hulls; ++h) {
-      RBodyDef d;
-      d.name = "rock" + std::to_string(h);
-      d.shape.type = RShapeType::kHull;
-      d.shape.points = clouds[h];
-      d.isStatic = true;
-      d.position_W = RVec3(14 * (h % 2), 0, 12 * (h / 2));
-      s.bodies.emplace_back(d);
+      s.bodies.emplace_back(HullDef(clouds[h])
+                                .Static()
+                                .At(RVec3(14 * (h % 2), 0, 12 * (h / 2)))
+                                .Named("rock" + std::to_string(h)));
     }
     Uniform v(17);
     for (int i = 0; i < falling; ++i) {

@@ -1,0 +1,196 @@
+// The pair sweep and the caches it reads: which pairs reach the narrow phase (static pairs,
+// ignore lists, the game's pair filter, bounding volumes), the shortcuts that claim to be
+// exact (bounds rejection and static world forms: turning either off gives the same
+// trajectory to the bit), and each body's world form, cached against the integrator's stamp.
+#include <REngineMath/RQuaternion.h>
+#include <REnginePhysics/RIntegrator.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "support/TestBodies.h"
+
+using namespace REngine;
+using namespace REngine::test;
+
+namespace {
+
+constexpr RScalar kDt = 1.0 / 60;
+
+// Boxes and spheres at random in a 12 m cube, moving at up to 8 m/s and spinning, with a
+// static floor: some collide, most pairs are far apart.
+std::vector<RRigidBody> Jumble(int n) {
+  std::mt19937_64 rng(12345);
+  auto uniform = [&rng](RScalar lo, RScalar hi) { return UniformIn(rng, lo, hi); };
+  std::vector<RRigidBody> bodies{RRigidBody(GroundDef(RVec3(0, -7, 0)))};
+  for (int i = 0; i < n; ++i) {
+    // The position is drawn before the size: the jumble as it was first drawn.
+    const RVec3 x(uniform(-6, 6), uniform(-6, 6), uniform(-6, 6));
+    const RVec3 halfExtents(uniform(0.2, 0.6), uniform(0.2, 0.6), uniform(0.2, 0.6));
+    RBodyDef d = BoxDef(halfExtents).At(x).Mass(1).Named("b" + std::to_string(i));
+    if (i % 3 == 0) d.shape.type = RShapeType::kSphere, d.shape.radius = uniform(0.2, 0.6);
+    d.velocity_W = RVec3(uniform(-8, 8), uniform(-8, 8), uniform(-8, 8));
+    d.angularVelocity_W = RVec3(uniform(-3, 3), uniform(-3, 3), uniform(-3, 3));
+    d.restitution = 0.5;
+    bodies.emplace_back(d);
+  }
+  return bodies;
+}
+
+}  // namespace
+
+// The pair loop: static pairs and ignore lists never reach the narrow phase, far pairs
+// are rejected by bounding spheres, and each body's world form is computed once per step.
+TEST(Collision, PairLoopFiltersAndCaches) {
+  std::vector<RRigidBody> bodies;
+  RBodyDef ground = BoxDef(RVec3(10, 0.5, 10)).At(RVec3(0, -0.5, 0)).Named("ground");
+  ground.isStatic = true;
+  ground.id = 0;
+  RBodyDef wall = BoxDef(RVec3(0.5, 5, 10)).At(RVec3(10, 5, 0)).Named("wall");
+  wall.isStatic = true;
+  wall.id = 1;
+  RBodyDef crate = BoxDef(RVec3(0.5, 0.5, 0.5)).At(RVec3(0, 0.45, 0)).Named("crate");
+  crate.id = 2;
+  // Inside its launcher's reach.
+  RBodyDef missile = SphereDef(0.2).At(RVec3(0, 0.45, 0.6)).Named("missile");
+  missile.id = 3;
+  missile.ignore = {2};
+  RBodyDef far = SphereDef(0.2).At(RVec3(100, 100, 100)).Named("far");
+  far.id = 4;
+  for (const RBodyDef& d : {ground, wall, crate, missile, far}) bodies.emplace_back(d);
+  RIntegrator integrator;
+  integrator.Update(bodies, 1.0 / 60);
+  const RPairStats& s = integrator.PairStats();
+  EXPECT_EQ(s.pairs, 10u);
+  EXPECT_EQ(s.rejectedFilter, 2u);  // ground-wall (static), crate-missile (ignored)
+  EXPECT_GE(s.rejectedBounds, 4u);  // the far ball against all four others
+  // crate on ground penetrates by 0.05; the missile touches the ground? (0.45 - 0.2 > 0)
+  bool crateGround = false;
+  for (const RContact& c : integrator.Contacts()) {
+    EXPECT_LT(c.a, c.b);
+    EXPECT_FALSE(c.a == 2 && c.b == 3) << "ignored pair reported";
+    if (c.a == 0 && c.b == 2) {
+      crateGround = true;
+      EXPECT_NEAR(c.manifold.query.separation, -0.05, 1e-12);
+      EXPECT_LT((c.manifold.query.normal - RVec3(0, 1, 0)).norm(), 1e-12);
+    }
+  }
+  EXPECT_TRUE(crateGround);
+  for (const RRigidBody& b : bodies) EXPECT_LE(b.WorldFormComputations(), 1u) << b.Name();
+  // The game's filter vetoes a pair.
+  integrator.SetPairFilter([](const RRigidBody& a, const RRigidBody& b, void*) {
+    return !(a.Id() == 0 && b.Id() == 2);
+  }, nullptr);
+  integrator.Update(bodies, 1.0 / 60);
+  for (const RContact& c : integrator.Contacts()) EXPECT_FALSE(c.a == 0 && c.b == 2);
+  for (const RRigidBody& b : bodies) EXPECT_LE(b.WorldFormComputations(), 2u) << b.Name();
+}
+
+// Bounds rejection and static world forms are exact: turning either off changes the work,
+// not one bit of the trajectory.
+TEST(Shortcuts, BoundsAndStaticFormsAreExact) {
+  RWorldSettings on = EarthGravity();
+  on.shortcuts.sleeping = false;
+  for (int variant = 0; variant < 2; ++variant) {
+    RWorldSettings off = on;
+    (variant == 0 ? off.shortcuts.boundsRejection : off.shortcuts.staticForms) = false;
+    std::vector<RRigidBody> a = Jumble(60), b = Jumble(60);
+    RIntegrator ia(on), ib(off);
+    std::uint64_t narrowOn = 0, narrowOff = 0, contacts = 0;
+    for (int i = 0; i < 120; ++i) {
+      ia.Update(a, kDt);
+      ib.Update(b, kDt);
+      narrowOn += ia.PairStats().narrowPhase, narrowOff += ib.PairStats().narrowPhase;
+      contacts += ia.PairStats().contacts;
+    }
+    EXPECT_GT(contacts, 0u) << "the scene has collisions";
+    if (variant == 0) {
+      EXPECT_GT(narrowOff, 10 * narrowOn) << "off: every pair is tested";
+    }
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      EXPECT_EQ(a[k].Position_W(), b[k].Position_W()) << variant << " " << k;
+      EXPECT_EQ(a[k].Orientation_WB().coeffs(), b[k].Orientation_WB().coeffs())
+          << variant << " " << k;
+      EXPECT_EQ(a[k].Velocity_W(), b[k].Velocity_W()) << variant << " " << k;
+    }
+    if (variant == 1) {
+      EXPECT_EQ(a[0].WorldFormComputations(), 1u) << "the floor's form, once";
+      EXPECT_GT(b[0].WorldFormComputations(), 100u) << "off: once per step";
+    }
+  }
+}
+
+// A static body's form is recomputed after the game moves it.
+TEST(Shortcuts, MovedStaticBodyGetsANewForm) {
+  RRigidBody ground(GroundDef());
+  const RWorldForm& f1 = ground.WorldForm(NextCacheStamp());
+  EXPECT_NEAR(f1.aabbMax_W.y(), 0, 1e-15);
+  ground.WorldForm(NextCacheStamp());
+  EXPECT_EQ(ground.WorldFormComputations(), 1u);
+  ground.SetShapePose(RVec3(0, 2, 0), RQuat::Identity());
+  const RWorldForm& f2 = ground.WorldForm(NextCacheStamp());
+  EXPECT_EQ(ground.WorldFormComputations(), 2u);
+  EXPECT_NEAR(f2.aabbMax_W.y(), 2.5, 1e-15);
+}
+
+// The world form is computed at most once per body per step, however often it is asked for.
+TEST(Polyhedron, WorldFormIsCachedAgainstTheStamp) {
+  std::vector<RRigidBody> bodies{RRigidBody(
+      BoxDef(RVec3(0.5, 1, 1.5)).Spinning(RVec3(0.3, 0.2, 0.1)).Moving(RVec3(1, 0, 0)))};
+  RIntegrator integrator;
+  integrator.Update(bodies, 0.01);
+  const RRigidBody& b = bodies[0];
+  EXPECT_EQ(b.WorldFormComputations(), 0u);  // nothing asked yet: nothing computed
+  for (int i = 0; i < 5; ++i) b.WorldForm(integrator.CacheStamp());
+  EXPECT_EQ(b.WorldFormComputations(), 1u);
+  // Its contents: the body's vertices, rotated and translated.
+  const RWorldForm& wf = b.WorldForm(integrator.CacheStamp());
+  const RMat3 R = b.Orientation_WB().toRotationMatrix();
+  for (std::size_t i = 0; i < wf.vertices_W.size(); ++i) {
+    const RVec3 expect = R * b.Polyhedron_B()->Vertices()[i] + b.Position_W();
+    EXPECT_LT((wf.vertices_W[i] - expect).norm(), 1e-15);
+    EXPECT_TRUE((wf.vertices_W[i].array() >= wf.aabbMin_W.array()).all());
+    EXPECT_TRUE((wf.vertices_W[i].array() <= wf.aabbMax_W.array()).all());
+    EXPECT_LE((wf.vertices_W[i] - wf.sphereCenter_W).norm(), wf.sphereRadius * (1 + 1e-15));
+    for (const RPlane& p : wf.planes_W) EXPECT_LE(p.SignedDistance(wf.vertices_W[i]), 1e-14);
+  }
+  integrator.Update(bodies, 0.01);
+  b.WorldForm(integrator.CacheStamp());
+  b.WorldForm(integrator.CacheStamp());
+  EXPECT_EQ(b.WorldFormComputations(), 2u);
+  bodies[0].SetShapePose(RVec3(5, 0, 0), RQuat::Identity());  // moved by game code
+  b.WorldForm(integrator.CacheStamp());
+  EXPECT_EQ(b.WorldFormComputations(), 3u);
+  EXPECT_NEAR(b.WorldForm(integrator.CacheStamp()).aabbMin_W.x(), 4.5, 1e-15);
+}
+
+// Between steps the stamp describes the bodies' present poses: a world form asked for after
+// Update shows where the body is now, even if collision detection cached it during the step.
+TEST(Polyhedron, WorldFormAfterUpdateIsThePostStepPose) {
+  std::vector<RRigidBody> bodies;
+  for (RScalar x : {0.0, 1.1}) {  // 0.1 m apart, moving together: near, never touching
+    bodies.emplace_back(BoxDef(RVec3(0.5, 0.5, 0.5)).At(RVec3(x, 0, 0)).Moving(RVec3(10, 0, 0)));
+  }
+  RIntegrator integrator;
+  integrator.Update(bodies, 0.1);
+  EXPECT_GE(bodies[0].WorldFormComputations(), 1u) << "detection asked for it";
+  const RWorldForm& wf = bodies[0].WorldForm(integrator.CacheStamp());
+  EXPECT_NEAR(wf.aabbMin_W.x(), bodies[0].Position_W().x() - 0.5, 1e-14);
+  EXPECT_NEAR(bodies[0].Position_W().x(), 1.0, 1e-14);
+}
+
+// Every step draws a new stamp, and no two integrators share one.
+TEST(FreeMotion, CacheStampAdvancesEveryStep) {
+  std::vector<RRigidBody> bodies;
+  RIntegrator a, b;
+  a.Update(bodies, 0.1);
+  const auto s1 = a.CacheStamp();
+  b.Update(bodies, 0.1);
+  a.Update(bodies, 0.1);
+  EXPECT_GT(a.CacheStamp(), s1);
+  EXPECT_NE(a.CacheStamp(), b.CacheStamp());
+}
