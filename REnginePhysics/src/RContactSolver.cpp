@@ -64,7 +64,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     const RMat3 R = b.m_q_WB.toRotationMatrix();
     s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
     s.v = m_moveV[i];  // computed by CollisionDetection's pre-pass this step
-    s.w = R * b.m_w_B + s.invI * (b.m_angularImpulse_W + b.m_torque_W * halfDt);
+    s.w = R * b.m_w_B + s.invI * StartAngularKick_W(b, halfDt);
   }
 
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
@@ -519,8 +519,8 @@ void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
     RSolverBody& s = m_solverBodies[i];
     s.vMid = s.v - s.deferV;
     if (b.m_isStatic) continue;
-    s.v += (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
-    s.w += s.invI * (b.m_torque_W * halfDt);
+    s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
+    s.w += s.invI * EndAngularKick_W(b, halfDt);
   }
   WarmStart(RPhase::kEnd);  // last step's end impulses, found with the rows
   const int iterations = std::max(1, m_settings.solverIterations);

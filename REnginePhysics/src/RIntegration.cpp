@@ -24,8 +24,8 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
     const RQuat q0 = b.m_q_WB;
 
     // Linear: impulse, then kick-drift-kick with constant acceleration.
-    const RVec3 accel = b.m_force_W * b.m_invMass + m_settings.gravity_W;
-    const RVec3 vHalf = b.m_v_W + b.m_linearImpulse_W * b.m_invMass + accel * halfDt;
+    const RVec3 accel = Acceleration(b, m_settings.gravity_W);
+    const RVec3 vHalf = MidStepVelocity(b, m_settings.gravity_W, halfDt);
     b.m_x_W += vHalf * dt;
     b.m_v_W = vHalf + accel * halfDt;
 
@@ -33,13 +33,13 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
     // is applied only when non-zero so that a free body's omega passes through bit for bit
     // (which is what lets RFreeRotation reuse its cached elliptic constants).
     const bool torque = !b.m_torque_W.isZero(0);
-    const RVec3 kick0_W = b.m_angularImpulse_W + b.m_torque_W * halfDt;
+    const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
     if (!kick0_W.isZero(0)) {
       b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
     }
     b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
     if (torque) {
-      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * (b.m_torque_W * halfDt));
+      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * EndAngularKick_W(b, halfDt));
     }
 
     // Position correction: displacement without velocity (split impulses). A body it moves

@@ -72,9 +72,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       // moving body's is.
       if (b.m_isStatic && !shortcuts.staticForms) b.m_worldForm.stamp = 0;
     } else {
-      m_moveV[i] = b.m_v_W + b.m_linearImpulse_W * b.m_invMass +
-                   (b.m_force_W * b.m_invMass + m_settings.gravity_W) * halfDt;
-      const RVec3 kick_B = b.m_q_WB.conjugate() * (b.m_angularImpulse_W + b.m_torque_W * halfDt);
+      m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+      const RVec3 kick_B = b.m_q_WB.conjugate() * StartAngularKick_W(b, halfDt);
       m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
     }
     m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;

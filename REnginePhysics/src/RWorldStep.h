@@ -46,6 +46,23 @@ struct RStepBodies {
 
 class RWorldStep {
  public:
+  // The step's velocities, one definition for every subsystem (kick-drift-kick): a body moves
+  // through the step with its mid-step velocity v + J/m + a dt/2, a = F/m + g (exact for a
+  // constant a), and ends it with another a dt/2. Its angular kick at the start is the
+  // angular impulse plus half the torque's impulse, and at the end the other half (world,
+  // N m s). The contact solver solves for the mid-step velocities, the pair sweep grows the
+  // bounds by them, Integrate moves the bodies with them.
+  static RVec3 Acceleration(const RRigidBody& b, const RVec3& gravity_W) {
+    return b.m_force_W * b.m_invMass + gravity_W;
+  }
+  static RVec3 MidStepVelocity(const RRigidBody& b, const RVec3& gravity_W, RScalar halfDt) {
+    return b.m_v_W + b.m_linearImpulse_W * b.m_invMass + Acceleration(b, gravity_W) * halfDt;
+  }
+  static RVec3 StartAngularKick_W(const RRigidBody& b, RScalar halfDt) {
+    return b.m_angularImpulse_W + b.m_torque_W * halfDt;
+  }
+  static RVec3 EndAngularKick_W(const RRigidBody& b, RScalar halfDt) { return b.m_torque_W * halfDt; }
+
   // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
   // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
   bool DetectPairs(const RStepBodies& bodies, RScalar dt);
