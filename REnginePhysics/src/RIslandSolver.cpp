@@ -77,22 +77,15 @@ void EnvelopeCholeskySolve(const RScalar* L, int m, int ld, const int* first, RS
 // the iterated answer: a dense solve grows as the cube of the rows.
 void RWorldStep::BuildIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
-  m_islandParent.resize(n);
-  for (std::size_t i = 0; i < n; ++i) m_islandParent[i] = static_cast<std::uint32_t>(i);
-  auto find = [this](std::uint32_t i) {
-    while (m_islandParent[i] != i) i = m_islandParent[i] = m_islandParent[m_islandParent[i]];
-    return i;
-  };
+  m_islandSets.Reset(n);
   for (const RContactRow& r : m_rows) {
     if (bodies[r.a].m_isStatic || bodies[r.b].m_isStatic) continue;
-    const std::uint32_t x = find(r.a), y = find(r.b);
-    // The smaller index as root: the grouping does not depend on the order of unions.
-    if (x != y) m_islandParent[std::max(x, y)] = std::min(x, y);
+    m_islandSets.Union(r.a, r.b);
   }
   m_islandRows.clear();
   for (std::uint32_t i = 0; i < m_rows.size(); ++i) {
     const RContactRow& r = m_rows[i];
-    m_islandRows.emplace_back(find(bodies[r.a].m_isStatic ? r.b : r.a), i);
+    m_islandRows.emplace_back(m_islandSets.Find(bodies[r.a].m_isStatic ? r.b : r.a), i);
   }
   std::sort(m_islandRows.begin(), m_islandRows.end());
   m_islands.clear();

@@ -106,15 +106,11 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   m_pairStats.sleepingBodies = asleep;
   // Islands are built only in a step where some body has rested long enough.
   if (!m_settings.shortcuts.sleeping || !anyRested) return;
-  m_sleepParent.resize(n);
+  m_sleepSets.Reset(n);
   m_sleepRest.assign(n, std::numeric_limits<RScalar>::infinity());
   m_sleepSupported.assign(n, 0);
   m_sleepStill.assign(n, 1);
-  for (std::size_t i = 0; i < n; ++i) m_sleepParent[i] = static_cast<std::uint32_t>(i);
-  auto find = [this](std::uint32_t i) {
-    while (m_sleepParent[i] != i) i = m_sleepParent[i] = m_sleepParent[m_sleepParent[i]];
-    return i;
-  };
+  auto find = [this](std::uint32_t i) { return m_sleepSets.Find(i); };
   for (const RContact& c : m_contacts) {
     if (!c.resolved) continue;
     const bool staticA = bodies[c.a].m_isStatic, staticB = bodies[c.b].m_isStatic;
@@ -126,9 +122,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
       if (pushed > 0) m_sleepSupported[staticA ? c.b : c.a] = 1;
       continue;
     }
-    const std::uint32_t ra = find(c.a), rb = find(c.b);
-    // The smaller index as the root: island ids do not depend on the order of contacts.
-    if (ra != rb) m_sleepParent[std::max(ra, rb)] = std::min(ra, rb);
+    m_sleepSets.Union(c.a, c.b);
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     const RRigidBody& b = bodies[i];

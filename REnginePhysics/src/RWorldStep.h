@@ -12,6 +12,8 @@
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 
+#include "RUnionFind.h"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -223,7 +225,7 @@ class RWorldStep {
   // Islands up to this many rows get their normal impulses solved directly (see
   // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
-  std::vector<std::uint32_t> m_islandParent;                        // union-find over bodies
+  RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_islandRows;  // (island, row)
   std::vector<std::uint32_t> m_islandIndex;                         // rows of one island
   std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
@@ -239,7 +241,7 @@ class RWorldStep {
   void KeepSleepingWarmStarts(const RStepBodies& bodies);
   // Sleeping: islands to wake (by island id), union-find and per-island state (scratch).
   std::vector<char> m_wakeMark;
-  std::vector<std::uint32_t> m_sleepParent;
+  RUnionFind m_sleepSets;
   std::vector<RScalar> m_sleepRest;
   std::vector<char> m_sleepSupported, m_sleepStill;
   std::size_t m_sleepBodyCount = 0;
