@@ -231,7 +231,7 @@ TEST(Manifold, RestingFacesAlwaysGetAFullManifold) {
         const RRigidBody upper(BoxDef(RVec3::Constant(0.5 * size))
                                    .At(RVec3(0, 2.5, 0) * size - RVec3(0, overlap, 0) + side));
         RContactManifold m;
-        ASSERT_TRUE(RCollisionSolver::CheckCollisionWithMargin(lower, upper, 1e-3 * size, m))
+        ASSERT_TRUE(RCollisionSolver::CheckCollision(lower, upper, RMargin{1e-3 * size}, m))
             << size << " " << k << " " << s;
         EXPECT_NE(m.query.status, RCollisionStatus::kIterationCap) << size << " " << k << " " << s;
         EXPECT_EQ(m.pointCount, 4) << size << " " << k << " " << s;
@@ -257,7 +257,7 @@ TEST(Manifold, RestingFacesAlwaysGetAFullManifold) {
   lowerDef.q_WS.normalize(), upperDef.q_WS.normalize();
   const RRigidBody lower(lowerDef), upper(upperDef);
   RContactManifold m;
-  ASSERT_TRUE(RCollisionSolver::CheckCollisionWithMargin(lower, upper, 1e-3, m));
+  ASSERT_TRUE(RCollisionSolver::CheckCollision(lower, upper, RMargin{1e-3}, m));
   EXPECT_NE(m.query.status, RCollisionStatus::kIterationCap);
   EXPECT_EQ(m.pointCount, 4);
   EXPECT_LT((m.normal - RVec3::UnitY()).norm(), 1e-12);
@@ -273,7 +273,7 @@ TEST(Manifold, BarelyTouchingFacesGetTheFaceNormal) {
     const RRigidBody box(
         BoxDef(RVec3(0.5, 0.5, 0.5)).At(o + tilt * RVec3(0, 0.5, 0)).Oriented(tilt));
     RContactManifold m;
-    ASSERT_TRUE(RCollisionSolver::CheckCollisionWithMargin(slab, box, 1e-3, m)) << offset;
+    ASSERT_TRUE(RCollisionSolver::CheckCollision(slab, box, RMargin{1e-3}, m)) << offset;
     EXPECT_EQ(m.pointCount, 4) << offset;
     EXPECT_LT((m.normal - tilt * RVec3::UnitY()).norm(), 1e-15) << offset;
     EXPECT_LT(std::abs(m.query.separation), 1e-9) << offset;

@@ -405,14 +405,14 @@ bool RCollisionSolver::CheckCollision(const RRigidBody& a, const RRigidBody& b, 
   const RScalar approach = (b.Velocity_W() - a.Velocity_W()).norm() +
                            a.AngularVelocity_B().norm() * a.BoundingRadius() +
                            b.AngularVelocity_B().norm() * b.BoundingRadius();
-  return CheckCollisionWithMargin(a, b, approach * dt, out);
+  return CheckCollision(a, b, RMargin{approach * dt}, out);
 }
 
-bool RCollisionSolver::CheckCollisionWithMargin(const RRigidBody& a, const RRigidBody& b,
-                                                RScalar margin, RContactManifold& out) {
+bool RCollisionSolver::CheckCollision(const RRigidBody& a, const RRigidBody& b, RMargin margin,
+                                      RContactManifold& out) {
   const RConvexShape sa = ShapeOf(a), sb = ShapeOf(b);
   const RRelativePose X = RelativePose(a, b);
-  out = Manifold(sa, sb, X, margin + Band(sa, sb));
+  out = Manifold(sa, sb, X, margin.metres + Band(sa, sb));
   const RCollisionStatus st = out.query.status;
   if (st == RCollisionStatus::kSeparated && out.pointCount == 0) return false;
   // To world: rotate by A's orientation, then translate by its position.

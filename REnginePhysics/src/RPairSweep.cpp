@@ -173,8 +173,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       const std::size_t ia = flip ? j : i, ib = flip ? i : j;
       const RRigidBody& A = bodies[ia];
       const RRigidBody& B = bodies[ib];
-      if (RCollisionSolver::CheckCollisionWithMargin(A, B, approach * dt + allowance,
-                                                     contact.manifold)) {
+      if (RCollisionSolver::CheckCollision(A, B, RMargin{approach * dt + allowance},
+                                           contact.manifold)) {
         // A sleeping body touched by one that responds wakes, with its island. A sensor
         // or a laser (does not respond) is reported against it without waking it.
         if ((a.m_sleeping || b.m_sleeping) && a.m_responds && b.m_responds) {

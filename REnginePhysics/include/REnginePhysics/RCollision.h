@@ -75,6 +75,12 @@ struct RContactManifold {
   RContactPoint points[4];
 };
 
+// A speculative margin, m: a gap this small still counts as a contact. (A type of its own so
+// that it is never mistaken for the time step CheckCollision also accepts.)
+struct RMargin {
+  RScalar metres = 0;
+};
+
 class RCollisionSolver {
  public:
   // Touching band, relative to the sum of the two bounding radii.
@@ -99,16 +105,17 @@ class RCollisionSolver {
   static RContactManifold Manifold(const RConvexShape& a, const RConvexShape& b,
                                    const RRelativePose& X_AB, RScalar margin);
 
-  // The pair of bodies in world terms: whether they touch now or may touch within dt, and
-  // if so the manifold with world-space normal and points. "May touch": the gap is within
-  // a bound on how far any point of b can approach any point of a in dt, from the bodies'
-  // current velocities. Returns false (and leaves `out` unspecified) otherwise.
+  // The pair of bodies in world terms, the narrow phase CollisionDetection calls: whether
+  // they touch now or are within the speculative margin (m) of touching, and if so the
+  // manifold with world-space normal and points. The integrator's margin is how far the
+  // bodies can approach within the step, from the velocities they will move with (pending
+  // impulses and forces included). Returns false (and leaves `out` unspecified) otherwise.
+  static bool CheckCollision(const RRigidBody& a, const RRigidBody& b, RMargin margin,
+                             RContactManifold& out);
+  // The same with the margin bounded from the bodies' current velocities over dt: how far
+  // any point of b can approach any point of a.
   static bool CheckCollision(const RRigidBody& a, const RRigidBody& b, RScalar dt,
                              RContactManifold& out);
-  // The same with the speculative margin (m) given: the integrator passes one from the
-  // velocities the bodies will move with this step (pending impulses and forces included).
-  static bool CheckCollisionWithMargin(const RRigidBody& a, const RRigidBody& b,
-                                       RScalar margin, RContactManifold& out);
 };
 
 // The shape of a body, as the narrow phase wants it.
