@@ -105,10 +105,6 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   m_p_BS = shape.p_BS;
   m_polyhedron_B = shape.polyhedron_B.get();
   m_boundingRadius = shape.boundingRadius;
-  if (m_polyhedron_B) {
-    m_worldForm.vertices_W.resize(m_polyhedron_B->Vertices().size());
-    m_worldForm.planes_W.resize(m_polyhedron_B->Faces().size());
-  }
   if (!m_isStatic) {
     if (def.mass) {
       Require(PositiveFinite(*def.mass), "mass", "must be finite and > 0");
@@ -176,17 +172,11 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
   RVec3 hi = -lo;
   for (std::size_t i = 0; i < v_B.size(); ++i) {
     const RVec3 v = R * v_B[i] + m_x_W;
-    wf.vertices_W[i] = v;
     lo = lo.cwiseMin(v);
     hi = hi.cwiseMax(v);
   }
   wf.aabbMin_W = lo;
   wf.aabbMax_W = hi;
-  const std::vector<RFace>& faces = m_polyhedron_B->Faces();
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const RVec3 n = R * faces[f].plane.normal;
-    wf.planes_W[f] = RPlane{n, faces[f].plane.offset + n.dot(m_x_W)};
-  }
 }
 
 bool RRigidBody::ShouldCheckCollision(const RRigidBody& other) const {

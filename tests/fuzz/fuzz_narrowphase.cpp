@@ -157,7 +157,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto extent = [&](const RRigidBody& body, const RVec3& d) {  // max over the body of d.x
       if (!body.Polyhedron_B()) return d.dot(body.Position_W()) + body.BoundingRadius();
       double most = -1e300;
-      for (const RVec3& v : body.WorldForm(1).vertices_W) most = std::max(most, d.dot(v));
+      const RMat3 R = body.Orientation_WB().toRotationMatrix();
+      for (const RVec3& v : body.Polyhedron_B()->Vertices()) {
+        most = std::max(most, d.dot(R * v + body.Position_W()));
+      }
       return most;
     };
     const double overlap = extent(a, n_W) + extent(b, -n_W);

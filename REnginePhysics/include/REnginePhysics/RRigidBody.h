@@ -22,11 +22,10 @@
 namespace REngine {
 
 // World-space form of a body's collision shape, computed lazily and cached against the
-// integrator's stamp: at most once per body per step, however many pairs ask.
+// integrator's stamp: at most once per body per step, however many pairs ask. It holds what
+// the pair sweep reads (the narrow phase works in the bodies' own frames).
 struct RWorldForm {
   std::uint64_t stamp = 0;           // stamp it was computed at; 0: never
-  std::vector<RVec3> vertices_W;     // polyhedron vertices, world, m (empty for a sphere)
-  std::vector<RPlane> planes_W;      // face planes, world (unit normal, offset in m)
   RVec3 aabbMin_W = RVec3::Zero();   // axis-aligned bounding box, world, m
   RVec3 aabbMax_W = RVec3::Zero();
   RVec3 sphereCenter_W = RVec3::Zero();  // bounding sphere about the centre of mass, m
