@@ -14,5 +14,5 @@ target_link_libraries(REngineScene
   PRIVATE nlohmann_json::nlohmann_json $<BUILD_INTERFACE:rengine_warnings>)
 
 if(RENGINE_INSTALL)
-  install(TARGETS REngineScene EXPORT REngineTargets)
+  install(TARGETS REngineScene EXPORT REngineSceneTargets)
 endif()
