@@ -33,13 +33,14 @@ def main():
         unit = {"ns": 1e-3, "us": 1.0, "ms": 1e3}[b["time_unit"]]
         runs.setdefault(name, []).append(b["real_time"] * unit)
         if "asleep" in b:
-            asleep[name] = b["asleep"]
+            asleep.setdefault(name, []).append(b["asleep"])
     med = {name: statistics.median(times) for name, times in runs.items()}
     print(f"medians of {reps} interleaved repetitions")
     for name, m in med.items():
         per = m / 10 if name.startswith("BM_Pile") else m
         what = "us/step" if name.startswith("BM_Pile") else "us/body"
-        extra = f"  (pile asleep: {asleep[name]:.0f})" if name in asleep else ""
+        extra = (f"  (asleep at the end: {min(asleep[name]):.0f} to {max(asleep[name]):.0f})"
+                 if name in asleep else "")
         print(f"  {name:28s} {per:10.3f} {what}{extra}")
     c = med["BM_Pile_Constant"]
     print(f"churn / constant step:         {med['BM_Pile_Churn'] / c:.3f}  (issue #12: at most 1.5)")
