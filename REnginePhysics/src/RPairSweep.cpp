@@ -36,6 +36,57 @@ RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, 
 
 }  // namespace
 
+RBoundsTree::RBox RWorldStep::SweepBox(std::size_t i) const {
+  // The grown sphere's box, widened by a millionth of the reach and by a few units in the
+  // last place of the coordinates: the all-pairs loop's sphere test, with its own
+  // rounding, passes no pair whose boxes are apart.
+  const RScalar c[3] = {m_cx[i], m_cy[i], m_cz[i]};
+  const RScalar reach = m_reach[i];
+  RBoundsTree::RBox box;
+  for (int a = 0; a < 3; ++a) {
+    const RScalar half = reach * (1 + 1e-6) + 4e-15 * (std::abs(c[a]) + reach);
+    box.lo[a] = c[a] - half, box.hi[a] = c[a] + half;
+  }
+  return box;
+}
+
+void RWorldStep::BuildBroadPhase(const RStepBodies& bodies) {
+  // A box with a NaN (a body with a non-finite reach) would pass no sphere test: such a
+  // body is left out of the trees, as the all-pairs loop pairs it with nothing.
+  auto finite = [](const RBoundsTree::RBox& b) {
+    return !(std::isnan(b.lo[0]) || std::isnan(b.lo[1]) || std::isnan(b.lo[2]) ||
+             std::isnan(b.hi[0]) || std::isnan(b.hi[1]) || std::isnan(b.hi[2]));
+  };
+  m_treeBoxes.clear(), m_treeIds.clear();
+  for (std::uint32_t i : m_active) {
+    const RBoundsTree::RBox box = SweepBox(i);
+    if (finite(box)) m_treeBoxes.push_back(box), m_treeIds.push_back(i);
+  }
+  m_activeTree.Build(m_treeBoxes.data(), m_treeIds.data(), m_treeIds.size());
+  // The passive bodies (asleep, or static, and responding): their boxes change only when
+  // the game moves or replaces one, or the step's size or gravity changes their reach.
+  m_treeBoxes.clear(), m_treeIds.clear();
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (next < m_active.size() && m_active[next] == i) {
+      ++next;
+      continue;
+    }
+    const RBoundsTree::RBox box = SweepBox(i);
+    if (finite(box)) m_treeBoxes.push_back(box), m_treeIds.push_back(static_cast<std::uint32_t>(i));
+  }
+  const bool same = m_treeIds == m_passiveIds && m_treeBoxes.size() == m_passiveBoxes.size() &&
+                    std::equal(m_treeBoxes.begin(), m_treeBoxes.end(), m_passiveBoxes.begin(),
+                               [](const RBoundsTree::RBox& x, const RBoundsTree::RBox& y) {
+                                 return std::equal(x.lo, x.lo + 3, y.lo) &&
+                                        std::equal(x.hi, x.hi + 3, y.hi);
+                               });
+  if (!same) {
+    std::swap(m_treeIds, m_passiveIds), std::swap(m_treeBoxes, m_passiveBoxes);
+    m_passiveTree.Build(m_passiveBoxes.data(), m_passiveIds.data(), m_passiveIds.size());
+  }
+}
+
 bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   m_contacts.clear();
   m_pairStats = RPairStats{};
@@ -100,6 +151,14 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // The touching band, and a relative allowance for the rounding of the squares.
   constexpr RScalar kGrow = 1 + 1e-9;
   const bool bounds = shortcuts.boundsRejection;
+  // The broad phase (RShortcuts::broadPhase): bounding-volume trees over the same grown
+  // spheres, one of the bodies that can start a contact (built every sweep) and one of the
+  // passive ones (rebuilt only when one of their boxes changed), so that a body meets the
+  // bodies near it instead of every other. The boxes hold the spheres with room for the
+  // rounding of their sums, and every candidate then takes the same sphere test as in the
+  // all-pairs loop, in the same (i, then j) order: the pairs found are exactly the loop's.
+  const bool tree = bounds && shortcuts.broadPhase;
+  if (tree) BuildBroadPhase(bodies);
   std::size_t nextActive = 0;  // first entry of m_active above i
   m_near.resize(n), m_candidates.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -107,17 +166,35 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     const RRigidBody& a = bodies[i];
     while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
     const bool passiveA = passive(a);
-    // The candidates j > i: every later body, or, for a passive body, the later awake ones.
-    // First the bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown
-    // spheres touch, in a branch-free loop over contiguous arrays that the compiler
-    // vectorises (the contiguous case; the awake list is a gather); then the pairs that
-    // passed, in index order. A body with a non-finite position passes no test: UpdateObjects
-    // never leaves one so, but game code could set it.
-    const std::size_t count = passiveA ? m_active.size() - nextActive : n - i - 1;
+    // The candidates j > i: every later body, or, for a passive body, the later awake ones
+    // (with the broad phase: those of them whose boxes overlap this one's). First the
+    // bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown spheres touch,
+    // in a branch-free loop over contiguous arrays that the compiler vectorises (the
+    // contiguous case; a list of candidates is a gather); then the pairs that passed, in
+    // index order. A body with a non-finite position passes no test: UpdateObjects never
+    // leaves one so, but game code could set it.
+    const std::uint32_t* js = nullptr;  // the candidates, when they are not i + 1 + k
+    std::size_t count = 0;
+    if (tree) {
+      m_hits.clear();
+      const RBoundsTree::RBox box = SweepBox(i);
+      m_activeTree.Query(box, m_hits);
+      if (!passiveA) m_passiveTree.Query(box, m_hits);
+      m_hits.erase(std::remove_if(m_hits.begin(), m_hits.end(),
+                                  [i](std::uint32_t j) { return j <= i; }),
+                   m_hits.end());
+      std::sort(m_hits.begin(), m_hits.end());
+      js = m_hits.data(), count = m_hits.size();
+    } else if (passiveA) {
+      js = m_active.data() + nextActive, count = m_active.size() - nextActive;
+    } else {
+      count = n - i - 1;
+    }
+    m_pairStats.sphereTests += count;
     RScalar* near = m_near.data();
     if (!bounds) {
       std::fill(near, near + count, RScalar(0));
-    } else if (!passiveA) {
+    } else if (!js) {
       const RScalar* cx = m_cx.data() + i + 1;
       const RScalar* cy = m_cy.data() + i + 1;
       const RScalar* cz = m_cz.data() + i + 1;
@@ -128,9 +205,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
       }
     } else {
-      const std::uint32_t* active = m_active.data() + nextActive;
       for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t j = active[k];
+        const std::size_t j = js[k];
         const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
         const RScalar lim = (ri + m_reach[j]) * kGrow;
         near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
@@ -146,7 +222,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     }
     for (std::size_t c = 0; c < found; ++c) {
       const std::size_t k = candidates[c];
-      const std::size_t j = passiveA ? m_active[nextActive + k] : i + 1 + k;
+      const std::size_t j = js ? js[k] : i + 1 + k;
       const RRigidBody& b = bodies[j];
       if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
           (m_filter && !m_filter(a, b, m_filterUser))) {

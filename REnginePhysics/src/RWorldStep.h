@@ -12,6 +12,7 @@
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 
+#include "RBoundsTree.h"
 #include "RUnionFind.h"
 
 #include <Eigen/Core>
@@ -71,6 +72,13 @@ class RWorldStep {
   // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
   // one of whose bodies the game woke (or all, when the body count or gravity changed);
   // after it, puts to sleep the islands that have rested long enough.
+  // The broad phase's trees for this sweep (see DetectPairs), and a body's box in them.
+  void BuildBroadPhase(const RStepBodies& bodies);
+  RBoundsTree::RBox SweepBox(std::size_t i) const;
+  RBoundsTree m_activeTree, m_passiveTree;
+  std::vector<RBoundsTree::RBox> m_treeBoxes, m_passiveBoxes;  // scratch; the passive tree's
+  std::vector<std::uint32_t> m_treeIds, m_passiveIds;
+  std::vector<std::uint32_t> m_hits;  // one body's candidates
   void WakeIslands(const RStepBodies& bodies);
   void WakeMarked(const RStepBodies& bodies);
   void SleepIslands(const RStepBodies& bodies);
