@@ -71,22 +71,23 @@ std::uint32_t RBoundsTree::BuildNode(std::uint32_t begin, std::uint32_t end) {
   return index;
 }
 
-void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out) const {
+void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,
+                        std::vector<std::uint32_t>& stack) const {
   if (m_nodes.empty()) return;
-  m_stack.clear();
-  m_stack.push_back(0);
-  while (!m_stack.empty()) {
-    const RNode& node = m_nodes[m_stack.back()];
-    const std::uint32_t self = m_stack.back();
-    m_stack.pop_back();
+  stack.clear();
+  stack.push_back(0);
+  while (!stack.empty()) {
+    const RNode& node = m_nodes[stack.back()];
+    const std::uint32_t self = stack.back();
+    stack.pop_back();
     if (!Overlap(node.box, box)) continue;
     if (node.count > 0) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
         if (Overlap(m_boxes[k], box)) out.push_back(m_items[k]);
       }
     } else {
-      m_stack.push_back(node.first);  // right
-      m_stack.push_back(self + 1);    // left, visited first
+      stack.push_back(node.first);  // right
+      stack.push_back(self + 1);    // left, visited first
     }
   }
 }

@@ -28,7 +28,9 @@ class RBoundsTree {
 
   // Appends to `out` the id of every item whose box overlaps `box` (closed intervals), in
   // the tree's order.
-  void Query(const RBox& box, std::vector<std::uint32_t>& out) const;
+  void Query(const RBox& box, std::vector<std::uint32_t>& out) const { Query(box, out, m_stack); }
+  // The same with the caller's traversal stack: queries from several threads at once.
+  void Query(const RBox& box, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& stack) const;
 
  private:
   static constexpr std::uint32_t kLeafSize = 4;

@@ -12,74 +12,83 @@ namespace REngine {
 void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
   m_nonFiniteLast.clear();
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    RRigidBody& b = bodies[i];
-    // A sleeping body has no velocity, and nothing touched it: it stays where it is.
-    if (b.m_isStatic || b.m_sleeping) {
+  // Every body moves on its own: the bodies are cut into ranges, one task each; the bodies
+  // put back are listed afterwards, in index order.
+  m_putBack.assign(bodies.size(), 0);
+  ParallelRanges(m_jobs, bodies.size(), m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      RRigidBody& b = bodies[i];
+      // A sleeping body has no velocity, and nothing touched it: it stays where it is.
+      if (b.m_isStatic || b.m_sleeping) {
+        b.m_force_W.setZero(), b.m_torque_W.setZero();
+        b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+        continue;
+      }
+      const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
+      const RQuat q0 = b.m_q_WB;
+
+      // Linear: impulse, then kick-drift-kick with constant acceleration.
+      const RVec3 accel = Acceleration(b, m_settings.gravity_W);
+      const RVec3 vHalf = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+      b.m_x_W += vHalf * dt;
+      b.m_v_W = vHalf + accel * halfDt;
+
+      // Angular: impulse and half the torque's impulse, exact free flow, other half. A kick
+      // is applied only when non-zero so that a free body's omega passes through bit for bit
+      // (which is what lets RFreeRotation reuse its cached elliptic constants).
+      const bool torque = !b.m_torque_W.isZero(0);
+      const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
+      if (!kick0_W.isZero(0)) {
+        b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
+      }
+      b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
+      if (torque) {
+        b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * EndAngularKick_W(b, halfDt));
+      }
+
+      // Position correction: displacement without velocity (split impulses). A body it moves
+      // faster than the sleep speed is not at rest.
+      RScalar pseudoSpeed = 0;
+      const RSolverBody* out = m_solved ? &m_solverBodies[i] : nullptr;
+      if (out && (!out->vp.isZero(0) || !out->wp.isZero(0))) {
+        pseudoSpeed = out->vp.norm() + out->wp.norm() * b.m_boundingRadius;
+        b.m_x_W += out->vp * dt;
+        b.m_q_WB = QuatExp(out->wp * dt) * b.m_q_WB;
+        b.m_q_WB.normalize();
+      }
+
+      // Impacts within the step: the velocity change deferred to its end.
+      if (out && !out->deferredImpulse.isZero(0)) b.m_v_W += out->deferredImpulse * b.m_invMass;
+      // Contact impulses at the end of the step, in the body frame the step ends with. Their
+      // angular part was summed about the centre of mass at the start of the step; about the
+      // centre it ends at, each impulse J acting at a point p has the lever arm
+      // (p - x0) - (x - x0).
+      if (out && (!out->endLinear.isZero(0) || !out->endAngular.isZero(0))) {
+        const RVec3 h_W = out->endAngular - (b.m_x_W - x0).cross(out->endLinear);
+        b.m_v_W += out->endLinear * b.m_invMass;
+        b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
+      }
+
       b.m_force_W.setZero(), b.m_torque_W.setZero();
       b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
-      continue;
+
+      // How long it has been at rest: its centre and the farthest point of its bounding
+      // sphere slower than the sleep speed (SleepIslands).
+      const RScalar speed = std::max(b.m_v_W.norm() + b.m_w_B.norm() * b.m_boundingRadius, pseudoSpeed);
+      b.m_restTime = speed < m_settings.sleepSpeed ? b.m_restTime + dt : 0;
+
+      if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
+            AllFinite(b.m_q_WB))) {
+        b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0;
+        b.m_restTime = 0;
+        m_putBack[i] = 1;
+      }
     }
-    const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
-    const RQuat q0 = b.m_q_WB;
-
-    // Linear: impulse, then kick-drift-kick with constant acceleration.
-    const RVec3 accel = Acceleration(b, m_settings.gravity_W);
-    const RVec3 vHalf = MidStepVelocity(b, m_settings.gravity_W, halfDt);
-    b.m_x_W += vHalf * dt;
-    b.m_v_W = vHalf + accel * halfDt;
-
-    // Angular: impulse and half the torque's impulse, exact free flow, other half. A kick
-    // is applied only when non-zero so that a free body's omega passes through bit for bit
-    // (which is what lets RFreeRotation reuse its cached elliptic constants).
-    const bool torque = !b.m_torque_W.isZero(0);
-    const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
-    if (!kick0_W.isZero(0)) {
-      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
-    }
-    b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
-    if (torque) {
-      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * EndAngularKick_W(b, halfDt));
-    }
-
-    // Position correction: displacement without velocity (split impulses). A body it moves
-    // faster than the sleep speed is not at rest.
-    RScalar pseudoSpeed = 0;
-    const RSolverBody* out = m_solved ? &m_solverBodies[i] : nullptr;
-    if (out && (!out->vp.isZero(0) || !out->wp.isZero(0))) {
-      pseudoSpeed = out->vp.norm() + out->wp.norm() * b.m_boundingRadius;
-      b.m_x_W += out->vp * dt;
-      b.m_q_WB = QuatExp(out->wp * dt) * b.m_q_WB;
-      b.m_q_WB.normalize();
-    }
-
-    // Impacts within the step: the velocity change deferred to its end.
-    if (out && !out->deferredImpulse.isZero(0)) b.m_v_W += out->deferredImpulse * b.m_invMass;
-    // Contact impulses at the end of the step, in the body frame the step ends with. Their
-    // angular part was summed about the centre of mass at the start of the step; about the
-    // centre it ends at, each impulse J acting at a point p has the lever arm
-    // (p - x0) - (x - x0).
-    if (out && (!out->endLinear.isZero(0) || !out->endAngular.isZero(0))) {
-      const RVec3 h_W = out->endAngular - (b.m_x_W - x0).cross(out->endLinear);
-      b.m_v_W += out->endLinear * b.m_invMass;
-      b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
-    }
-
-    b.m_force_W.setZero(), b.m_torque_W.setZero();
-    b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
-
-    // How long it has been at rest: its centre and the farthest point of its bounding
-    // sphere slower than the sleep speed (SleepIslands).
-    const RScalar speed = std::max(b.m_v_W.norm() + b.m_w_B.norm() * b.m_boundingRadius, pseudoSpeed);
-    b.m_restTime = speed < m_settings.sleepSpeed ? b.m_restTime + dt : 0;
-
-    if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
-          AllFinite(b.m_q_WB))) {
-      b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0;
-      b.m_restTime = 0;
-      m_nonFiniteLast.push_back(RNonFiniteBody{i, bodies.handles[i], b.m_name, m_stepCount});
-      if (!m_nonFinite) m_nonFinite = m_nonFiniteLast.back();
-    }
+  });
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (!m_putBack[i]) continue;
+    m_nonFiniteLast.push_back(RNonFiniteBody{i, bodies.handles[i], bodies[i].m_name, m_stepCount});
+    if (!m_nonFinite) m_nonFinite = m_nonFiniteLast.back();
   }
   // A body put back lost this step's impulses, and the contact memory of its pairs holds
   // what made it overflow: started warm from that, it would overflow again every step.

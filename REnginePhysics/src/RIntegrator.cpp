@@ -48,9 +48,10 @@ RIntegrator::RIntegrator(const RWorldSettings& settings) : RIntegrator() {
   m_w->m_settings = settings;
 }
 RIntegrator::~RIntegrator() = default;
-RIntegrator::RIntegrator(const RIntegrator& other) : m_w(std::make_unique<RWorldStep>(*other.m_w)) {}
+RIntegrator::RIntegrator(const RIntegrator& other)
+    : m_w(std::make_unique<RWorldStep>(*other.m_w)), m_gameJobs(other.m_gameJobs) {}
 RIntegrator& RIntegrator::operator=(const RIntegrator& other) {
-  if (this != &other) *m_w = *other.m_w;
+  if (this != &other) *m_w = *other.m_w, m_gameJobs = other.m_gameJobs;
   return *this;
 }
 RIntegrator::RIntegrator(RIntegrator&&) noexcept = default;
@@ -68,6 +69,27 @@ const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
 }
 const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
 const RPairStats& RIntegrator::PairStats() const { return m_w->m_pairStats; }
+void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
+
+void RIntegrator::PrepareJobs() {
+  RWorldStep& w = *m_w;
+  RJobSystem* jobs = m_gameJobs;
+  if (!jobs) {
+    const int threads = w.m_settings.threads > 0 ? w.m_settings.threads : RThreadPool::MachineThreads();
+    if (threads > 1) {
+      if (!m_pool || m_pool->ThreadCount() != threads) m_pool = std::make_unique<RThreadPool>(threads);
+      jobs = m_pool.get();
+    } else {
+      m_pool.reset();
+    }
+  }
+  // A few tasks per thread, so that a thread that drew a light range takes another. The
+  // count changes only how the work is cut, never its result.
+  const int threads = jobs ? jobs->ThreadCount() : 1;
+  w.m_jobs = threads > 1 ? jobs : nullptr;
+  w.m_tasks = threads > 1 ? static_cast<std::size_t>(4 * threads) : 1;
+}
+
 void RIntegrator::SetPairFilter(RPairFilter filter, void* user) {
   m_w->m_filter = filter, m_w->m_filterUser = user, m_w->m_wakeAll = true;
 }
@@ -118,6 +140,7 @@ void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
 void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   RWorldStep& w = *m_w;
   const auto t0 = Clock::now();
+  PrepareJobs();
   w.m_cacheStamp = NextCacheStamp();
   ++w.m_stepCount;
   w.WakeIslands(bodies);

@@ -95,8 +95,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // Bounding spheres about the centres of mass, each grown by how far its surface can
   // move within the step (speed plus the farthest point's rotation, times dt): a pair
   // whose grown spheres are apart cannot touch before the next step. Stored as separate
-  // arrays so the O(n^2) sweep below is a tight loop over contiguous doubles; the arrays
-  // keep their capacity between steps.
+  // arrays so the sweep below is a tight loop over contiguous doubles; the arrays keep
+  // their capacity between steps.
   // The velocities are those the body will move with this step: a missile given its
   // launch impulse this step is as fast as one that has flown for a while.
   // Every pair is also looked at within a fixed allowance: two bodies that rest on each
@@ -108,34 +108,35 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
   m_moveV.resize(n), m_moveW.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
-  for (std::size_t i = 0; i < n; ++i) {
-    RRigidBody& b = bodies[i];
-    const RScalar r = b.BoundingRadius();
-    m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
-    if (b.m_sleeping) {
-      // Reach and margin as if it were awake and resting (half a step of gravity), so that
-      // the margin between a sleeper and a resting neighbour is the one two awake bodies
-      // have: a neighbour beyond it while both were awake does not wake it.
-      m_moveV[i] = m_settings.gravity_W * halfDt, m_moveW[i] = 0;
-    } else if (b.m_isStatic) {
-      m_moveV[i].setZero(), m_moveW[i] = 0;
-      // Without the shortcut a static body's world form is recomputed every step, as a
-      // moving body's is.
-      if (b.m_isStatic && !shortcuts.staticForms) b.m_worldForm.stamp = 0;
-    } else {
-      m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
-      const RVec3 kick_B = b.m_q_WB.conjugate() * StartAngularKick_W(b, halfDt);
-      m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
+  ParallelRanges(m_jobs, n, m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      RRigidBody& b = bodies[i];
+      const RScalar r = b.BoundingRadius();
+      m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
+      if (b.m_sleeping) {
+        // Reach and margin as if it were awake and resting (half a step of gravity), so
+        // that the margin between a sleeper and a resting neighbour is the one two awake
+        // bodies have: a neighbour beyond it while both were awake does not wake it.
+        m_moveV[i] = m_settings.gravity_W * halfDt, m_moveW[i] = 0;
+      } else if (b.m_isStatic) {
+        m_moveV[i].setZero(), m_moveW[i] = 0;
+        // Without the shortcut a static body's world form is recomputed every step, as a
+        // moving body's is.
+        if (!shortcuts.staticForms) b.m_worldForm.stamp = 0;
+      } else {
+        m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+        const RVec3 kick_B = b.m_q_WB.conjugate() * StartAngularKick_W(b, halfDt);
+        m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
+      }
+      m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
     }
-    m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
-  }
+  });
   // Bodies that cannot start a contact: asleep, or static, and responding (a sensor keeps
   // reporting what sleeps on it). A pair of two of them is skipped; a sleeping body touched
   // by any other (in the speculative margin) wakes with its island.
   auto passive = [](const RRigidBody& b) {
     return (b.m_sleeping || b.m_isStatic) && b.m_responds;
   };
-  bool woke = false;
   // The bodies that can start a contact, in index order. A passive body is only paired with
   // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
   // the pairs are still visited in (i, then j) order.
@@ -159,87 +160,132 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // all-pairs loop, in the same (i, then j) order: the pairs found are exactly the loop's.
   const bool tree = bounds && shortcuts.broadPhase;
   if (tree) BuildBroadPhase(bodies);
-  std::size_t nextActive = 0;  // first entry of m_active above i
-  m_near.resize(n), m_candidates.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
-    const RRigidBody& a = bodies[i];
-    while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
-    const bool passiveA = passive(a);
-    // The candidates j > i: every later body, or, for a passive body, the later awake ones
-    // (with the broad phase: those of them whose boxes overlap this one's). First the
-    // bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown spheres touch,
-    // in a branch-free loop over contiguous arrays that the compiler vectorises (the
-    // contiguous case; a list of candidates is a gather); then the pairs that passed, in
-    // index order. A body with a non-finite position passes no test: UpdateObjects never
-    // leaves one so, but game code could set it.
-    const std::uint32_t* js = nullptr;  // the candidates, when they are not i + 1 + k
-    std::size_t count = 0;
-    if (tree) {
-      m_hits.clear();
-      const RBoundsTree::RBox box = SweepBox(i);
-      m_activeTree.Query(box, m_hits);
-      if (!passiveA) m_passiveTree.Query(box, m_hits);
-      m_hits.erase(std::remove_if(m_hits.begin(), m_hits.end(),
-                                  [i](std::uint32_t j) { return j <= i; }),
-                   m_hits.end());
-      std::sort(m_hits.begin(), m_hits.end());
-      js = m_hits.data(), count = m_hits.size();
-    } else if (passiveA) {
-      js = m_active.data() + nextActive, count = m_active.size() - nextActive;
-    } else {
-      count = n - i - 1;
-    }
-    m_pairStats.sphereTests += count;
-    RScalar* near = m_near.data();
-    if (!bounds) {
-      std::fill(near, near + count, RScalar(0));
-    } else if (!js) {
-      const RScalar* cx = m_cx.data() + i + 1;
-      const RScalar* cy = m_cy.data() + i + 1;
-      const RScalar* cz = m_cz.data() + i + 1;
-      const RScalar* reach = m_reach.data() + i + 1;
-      for (std::size_t k = 0; k < count; ++k) {
-        const RScalar dx = cx[k] - xi, dy = cy[k] - yi, dz = cz[k] - zi;
-        const RScalar lim = (ri + reach[k]) * kGrow;
-        near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+
+  // Stage 1: the pairs whose grown spheres touch, in (i, then j) order. Each task takes a
+  // contiguous range of i and lists its pairs; the lists, joined in task order, are the
+  // all-pairs loop's order whatever the number of tasks or threads.
+  const std::size_t tasks = m_tasks;
+  if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
+  ParallelRanges(m_jobs, n, tasks, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+    RSweepTask& st = m_sweepTasks[task];
+    st.pairs.clear();
+    st.sphereTests = 0;
+    st.near.resize(n), st.candidates.resize(n);
+    // The first entry of m_active above i.
+    std::size_t nextActive = static_cast<std::size_t>(
+        std::lower_bound(m_active.begin(), m_active.end(), static_cast<std::uint32_t>(i0)) -
+        m_active.begin());
+    for (std::size_t i = i0; i < i1; ++i) {
+      const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
+      while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
+      const bool passiveA = passive(bodies[i]);
+      // The candidates j > i: every later body, or, for a passive body, the later awake ones
+      // (with the broad phase: those of them whose boxes overlap this one's). First the
+      // bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown spheres
+      // touch, in a branch-free loop over contiguous arrays that the compiler vectorises
+      // (the contiguous case; a list of candidates is a gather); then the pairs that passed,
+      // in index order. A body with a non-finite position passes no test: UpdateObjects
+      // never leaves one so, but game code could set it.
+      const std::uint32_t* js = nullptr;  // the candidates, when they are not i + 1 + k
+      std::size_t count = 0;
+      if (tree) {
+        st.hits.clear();
+        const RBoundsTree::RBox box = SweepBox(i);
+        m_activeTree.Query(box, st.hits, st.stack);
+        if (!passiveA) m_passiveTree.Query(box, st.hits, st.stack);
+        st.hits.erase(std::remove_if(st.hits.begin(), st.hits.end(),
+                                     [i](std::uint32_t j) { return j <= i; }),
+                      st.hits.end());
+        std::sort(st.hits.begin(), st.hits.end());
+        js = st.hits.data(), count = st.hits.size();
+      } else if (passiveA) {
+        js = m_active.data() + nextActive, count = m_active.size() - nextActive;
+      } else {
+        count = n - i - 1;
       }
-    } else {
+      st.sphereTests += count;
+      RScalar* near = st.near.data();
+      if (!bounds) {
+        std::fill(near, near + count, RScalar(0));
+      } else if (!js) {
+        const RScalar* cx = m_cx.data() + i + 1;
+        const RScalar* cy = m_cy.data() + i + 1;
+        const RScalar* cz = m_cz.data() + i + 1;
+        const RScalar* reach = m_reach.data() + i + 1;
+        for (std::size_t k = 0; k < count; ++k) {
+          const RScalar dx = cx[k] - xi, dy = cy[k] - yi, dz = cz[k] - zi;
+          const RScalar lim = (ri + reach[k]) * kGrow;
+          near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+        }
+      } else {
+        for (std::size_t k = 0; k < count; ++k) {
+          const std::size_t j = js[k];
+          const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
+          const RScalar lim = (ri + m_reach[j]) * kGrow;
+          near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+        }
+      }
+      // The few that passed, compacted by a tight loop of its own (kept apart from the
+      // pair work, whose register pressure would otherwise put this counter in memory).
+      std::uint32_t* candidates = st.candidates.data();
+      std::size_t found = 0;
       for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t j = js[k];
-        const RScalar dx = m_cx[j] - xi, dy = m_cy[j] - yi, dz = m_cz[j] - zi;
-        const RScalar lim = (ri + m_reach[j]) * kGrow;
-        near[k] = lim * lim - (dx * dx + dy * dy + dz * dz);
+        candidates[found] = static_cast<std::uint32_t>(k);
+        found += near[k] >= 0;
+      }
+      for (std::size_t c = 0; c < found; ++c) {
+        const std::size_t k = candidates[c];
+        const std::size_t j = js ? js[k] : i + 1 + k;
+        st.pairs.emplace_back(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
       }
     }
-    // The few that passed, compacted by a tight loop of its own (kept apart from the pair
-    // work below, whose register pressure would otherwise put this counter in memory).
-    std::uint32_t* candidates = m_candidates.data();
-    std::size_t found = 0;
-    for (std::size_t k = 0; k < count; ++k) {
-      candidates[found] = static_cast<std::uint32_t>(k);
-      found += near[k] >= 0;
-    }
-    for (std::size_t c = 0; c < found; ++c) {
-      const std::size_t k = candidates[c];
-      const std::size_t j = js ? js[k] : i + 1 + k;
+  });
+  m_pairs.clear();
+  for (std::size_t t = 0; t < std::min(tasks, n); ++t) {
+    m_pairs.insert(m_pairs.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
+    m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
+  }
+
+  // The world forms those pairs read, each computed once: on several threads they are
+  // computed here, before the pairs are shared out, since a lazily computed form would be
+  // written by whichever threads asked at once.
+  if (m_jobs && tasks > 1) {
+    m_formNeeded.assign(n, 0);
+    for (const auto& [i, j] : m_pairs) m_formNeeded[i] = m_formNeeded[j] = 1;
+    ParallelRanges(m_jobs, n, tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+      for (std::size_t i = i0; i < i1; ++i) {
+        if (m_formNeeded[i]) bodies[i].WorldForm(m_cacheStamp);
+      }
+    });
+  }
+
+  // Stage 2: each pair through the filters, the bounding boxes and the narrow phase. Tasks
+  // take contiguous ranges of the pairs; their contacts, joined in task order, keep the
+  // pairs' order.
+  ParallelRanges(m_jobs, m_pairs.size(), tasks, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    RSweepTask& st = m_sweepTasks[task];
+    st.contacts.clear(), st.wake.clear();
+    st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      const std::size_t i = m_pairs[k].first, j = m_pairs[k].second;
+      const RRigidBody& a = bodies[i];
       const RRigidBody& b = bodies[j];
       if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
           (m_filter && !m_filter(a, b, m_filterUser))) {
-        ++m_pairStats.rejectedFilter;
+        ++st.rejectedFilter;
         continue;
       }
       // Bounding boxes from the stamped world forms, grown the same way: they reject the
       // many pairs whose spheres overlap only because a body is long or flat (the ground).
       const RWorldForm& fa = a.WorldForm(m_cacheStamp);
       const RWorldForm& fb = b.WorldForm(m_cacheStamp);
-      const RScalar grow = (ri - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
+      const RScalar grow = (m_reach[i] - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
       if (bounds && (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
                      ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any())) {
-        ++m_pairStats.rejectedBoxes;
+        ++st.rejectedBoxes;
         continue;
       }
-      ++m_pairStats.narrowPhase;
+      ++st.narrowPhase;
       RContact contact;
       const RScalar approach = (m_moveV[j] - m_moveV[i]).norm() +
                                m_moveW[i] * a.BoundingRadius() + m_moveW[j] * b.BoundingRadius();
@@ -254,18 +300,25 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         // A sleeping body touched by one that responds wakes, with its island. A sensor
         // or a laser (does not respond) is reported against it without waking it.
         if ((a.m_sleeping || b.m_sleeping) && a.m_responds && b.m_responds) {
-          const RRigidBody& sleeper = a.m_sleeping ? a : b;
-          m_wakeMark[sleeper.m_sleepIsland] = 1;
-          woke = true;
+          st.wake.push_back((a.m_sleeping ? a : b).m_sleepIsland);
           continue;
         }
         contact.a = static_cast<std::uint32_t>(ia);
         contact.b = static_cast<std::uint32_t>(ib);
         contact.handleA = bodies.handles[ia], contact.handleB = bodies.handles[ib];
         contact.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], contact.manifold, dt);
-        m_contacts.push_back(contact);
+        st.contacts.push_back(contact);
       }
     }
+  });
+  bool woke = false;
+  for (std::size_t t = 0; t < std::min(tasks, m_pairs.size()); ++t) {
+    RSweepTask& st = m_sweepTasks[t];
+    m_contacts.insert(m_contacts.end(), st.contacts.begin(), st.contacts.end());
+    for (std::uint32_t island : st.wake) m_wakeMark[island] = 1, woke = true;
+    m_pairStats.rejectedFilter += st.rejectedFilter;
+    m_pairStats.rejectedBoxes += st.rejectedBoxes;
+    m_pairStats.narrowPhase += st.narrowPhase;
   }
   // Pairs never visited: two passive static bodies (counted with the filter's), or two
   // passive bodies of which one at least sleeps. (Counts are those of the last sweep when

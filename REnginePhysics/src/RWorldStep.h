@@ -11,6 +11,7 @@
 
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
+#include <REnginePhysics/RJobSystem.h>
 
 #include "RBoundsTree.h"
 #include "RUnionFind.h"
@@ -78,7 +79,24 @@ class RWorldStep {
   RBoundsTree m_activeTree, m_passiveTree;
   std::vector<RBoundsTree::RBox> m_treeBoxes, m_passiveBoxes;  // scratch; the passive tree's
   std::vector<std::uint32_t> m_treeIds, m_passiveIds;
-  std::vector<std::uint32_t> m_hits;  // one body's candidates
+  // The pair sweep's work, cut into tasks (see DetectPairs): each task's scratch and
+  // outputs, kept between steps so that no step allocates.
+  struct RSweepTask {
+    std::vector<RScalar> near;               // one body's candidates, lim^2 - d^2 (m^2)
+    std::vector<std::uint32_t> candidates;   // those with lim^2 - d^2 >= 0
+    std::vector<std::uint32_t> hits, stack;  // tree query output and traversal stack
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch
+    std::vector<RContact> contacts;          // stage 2: contacts, in pair order
+    std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
+    std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0;
+  };
+  std::vector<RSweepTask> m_sweepTasks;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
+  std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
+  // The step's job system (null: one thread) and how many tasks a parallel stage is cut
+  // into (1 on one thread). Set by RIntegrator before each step.
+  RJobSystem* m_jobs = nullptr;
+  std::size_t m_tasks = 1;
   void WakeIslands(const RStepBodies& bodies);
   void WakeMarked(const RStepBodies& bodies);
   void SleepIslands(const RStepBodies& bodies);
@@ -187,11 +205,10 @@ class RWorldStep {
   std::uint64_t m_cacheStamp = 0;
   std::optional<RNonFiniteBody> m_nonFinite;
   std::vector<RNonFiniteBody> m_nonFiniteLast;
+  std::vector<char> m_putBack;  // Integrate: bodies whose new state was not finite
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
   std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
-  std::vector<RScalar> m_near;  // pair sweep: one body's candidates, lim^2 - d^2 (m^2)
-  std::vector<std::uint32_t> m_candidates;  // pair sweep: those with lim^2 - d^2 >= 0
   std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
   std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
   std::vector<RContactRow> m_rows;

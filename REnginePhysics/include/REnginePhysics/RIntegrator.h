@@ -18,6 +18,7 @@
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RJobSystem.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <cstdint>
@@ -82,6 +83,11 @@ struct RWorldSettings {
   RScalar sleepSpeed = 0.01;
   // ... and how long (s) its whole island must stay below it before it sleeps.
   RScalar sleepTime = 0.5;
+  // Threads the step runs on, the caller's included: 0 is what the machine has
+  // (std::thread::hardware_concurrency), 1 runs everything on the caller. The results are
+  // bit-identical for every value (see RJobSystem.h). Ignored while a job system of the
+  // game's is set (RIntegrator::SetJobSystem).
+  int threads = 0;
 };
 
 // Wall-clock time of each stage of the last Update, milliseconds.
@@ -194,8 +200,13 @@ class RIntegrator {
   const std::vector<RContact>& Contacts() const;
   const RPairStats& PairStats() const;
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
-  // answer changes for a pair must Wake() its dynamic body.
+  // answer changes for a pair must Wake() its dynamic body. On more than one thread the
+  // filter is called from several threads at once (for different pairs): it must only read.
   void SetPairFilter(RPairFilter filter, void* user);
+  // Runs the step's parallel stages on the game's job system instead of the integrator's
+  // own threads (RWorldSettings::threads); null goes back to those. The job system must
+  // outlive its use here; a copy of the integrator uses the same one.
+  void SetJobSystem(RJobSystem* jobs);
 
  private:
   // The step, as the design reads: stamp, CollisionDetection, UpdateObjects.
@@ -206,6 +217,12 @@ class RIntegrator {
   void UpdateObjects(const RStepBodies& bodies, RScalar dt);
 
   std::unique_ptr<RWorldStep> m_w;
+  // The integrator's own threads, started at the first step that asks for more than one
+  // (and again when RWorldSettings::threads changes); a copy starts its own.
+  std::unique_ptr<RThreadPool> m_pool;
+  RJobSystem* m_gameJobs = nullptr;
+  // Points the working state at this step's job system and task count.
+  void PrepareJobs();
 };
 
 // Process-wide stamp source: every Update of every integrator draws a new value, so a cache

@@ -1,0 +1,90 @@
+// RJobSystem: how the step spreads its work over threads. The engine's own is RThreadPool;
+// a game with a job system of its own implements RJobSystem and hands it to
+// RIntegrator::SetJobSystem, so the physics shares the game's workers instead of competing
+// with them.
+//
+// Determinism does not depend on it: the step splits its work into tasks whose outputs are
+// kept apart and merged in a fixed order, so any thread count, any schedule and any job
+// system give bit-identical results.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace REngine {
+
+class RJobSystem {
+ public:
+  // One task: run(context, k) for task k. A plain function pointer and a context, so a call
+  // costs no allocation; the engine makes one Run call per parallel stage, never one per pair.
+  using RTask = void (*)(void* context, std::size_t k);
+
+  virtual ~RJobSystem() = default;
+  // How many threads may run tasks at once, the calling thread included (>= 1). The engine
+  // cuts a stage into a few tasks per thread.
+  virtual int ThreadCount() const = 0;
+  // Runs task(context, k) for every k in [0, count), each exactly once, on any of its
+  // threads (the caller's included), and returns when all have finished. Tasks of one Run
+  // never share outputs; they may run in any order.
+  virtual void Run(std::size_t count, RTask task, void* context) = 0;
+};
+
+// The engine's job system: threads - 1 workers started once and kept, plus the caller. Run
+// hands out tasks through one atomic counter; the workers sleep between Runs.
+class RThreadPool final : public RJobSystem {
+ public:
+  // threads <= 0: std::thread::hardware_concurrency() (at least 1).
+  explicit RThreadPool(int threads = 0);
+  ~RThreadPool() override;
+  RThreadPool(const RThreadPool&) = delete;
+  RThreadPool& operator=(const RThreadPool&) = delete;
+
+  int ThreadCount() const override { return static_cast<int>(m_workers.size()) + 1; }
+  void Run(std::size_t count, RTask task, void* context) override;
+
+  // What "what the machine has" means: hardware_concurrency, at least 1.
+  static int MachineThreads();
+
+ private:
+  void WorkerLoop();
+  void Drain();  // takes tasks of the current Run until none is left
+
+  std::vector<std::thread> m_workers;
+  std::mutex m_mutex;
+  std::condition_variable m_wake, m_done;
+  std::uint64_t m_generation = 0;  // bumped by each Run (guarded by m_mutex)
+  bool m_stop = false;
+  // The current Run (written under m_mutex before the generation changes).
+  RTask m_task = nullptr;
+  void* m_context = nullptr;
+  std::size_t m_count = 0;
+  std::size_t m_next = 0;      // next task to take (guarded by m_mutex)
+  std::size_t m_finished = 0;  // tasks finished (guarded by m_mutex)
+};
+
+// Runs body(begin, end) over [0, count) cut into `tasks` contiguous ranges (on the job
+// system when there is one and more than one task, else inline). The ranges depend only on
+// count and tasks, never on the threads.
+template <class Body>
+void ParallelRanges(RJobSystem* jobs, std::size_t count, std::size_t tasks, const Body& body) {
+  if (count == 0) return;
+  if (tasks > count) tasks = count;
+  if (!jobs || tasks <= 1) {
+    body(std::size_t{0}, count, std::size_t{0});
+    return;
+  }
+  struct Context {
+    const Body* body;
+    std::size_t count, tasks;
+  } context{&body, count, tasks};
+  jobs->Run(tasks, [](void* p, std::size_t k) {
+    const Context& c = *static_cast<const Context*>(p);
+    (*c.body)(c.count * k / c.tasks, c.count * (k + 1) / c.tasks, k);
+  }, &context);
+}
+
+}  // namespace REngine
