@@ -240,7 +240,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // deficient (four points of one face constrain three degrees of freedom), so the
   // minimum-norm least-squares inverse is precomputed once per step; when its answer
   // would pull at a point, that manifold falls back to one point at a time.
-  for (RBlock& blk : m_blocks) {
+  ParallelRanges(m_jobs, m_blocks.size(), m_tasks, [&](std::size_t b0, std::size_t b1, std::size_t) {
+  for (std::size_t bi = b0; bi < b1; ++bi) {
+    RBlock& blk = m_blocks[bi];
     if (!blk.useBlock) continue;
     const std::uint32_t first = blk.first;
     const RSolverBody& sa = m_solverBodies[m_rows[first].a];
@@ -270,24 +272,10 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
       blk.pinv += (v / s[k]) * v.transpose();
     }
   }
+  });
 
-  const std::size_t nBlocks = m_blocks.size();
-  for (int it = 0; it < iterations; ++it) {
-    // Alternate the sweep's direction, for the same reason as the blocks across manifolds.
-    for (std::size_t bb = 0; bb < nBlocks; ++bb) {
-      RBlock& blk = m_blocks[(it % 2 == 0) ? bb : nBlocks - 1 - bb];
-      RContactRow* rows = &m_rows[blk.first];
-      // Normal: reach the targets, never pull.
-      SolveNormalBlock(blk, rows, RPhase::kVelocity);
-      // Friction, bounded by this pass's normal impulses.
-      SolvePatch(blk, false, RPhase::kVelocity);
-      // Position correction on the pseudo-velocities, as a block like the velocities: one
-      // point at a time, the first point of a face would be favoured and the correction
-      // would tilt the box (a 20-box stack then leans further every step and falls).
-      SolveNormalBlock(blk, rows, RPhase::kPosition);
-    }
-  }
   BuildIslands(bodies);
+  SolveBlocks(RPhase::kVelocity, iterations);
   SolveIslands(RPhase::kVelocity);
   SolveIslands(RPhase::kPosition);
   // What the contact phase changed after the impacts (see the deferred impulses below).
@@ -398,6 +386,40 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
 }
 
 
+// The sequential-impulse passes over the manifolds, alternating the sweep's direction (for
+// the same reason as the blocks across manifolds). kVelocity: each manifold's normal rows
+// (reach the targets, never pull), its friction bounded by this pass's normal impulses,
+// then position correction on the pseudo-velocities, as a block like the velocities (one
+// point at a time, the first point of a face would be favoured and the correction would
+// tilt the box: a 20-box stack then leans further every step and falls). kEnd: normal rows
+// and friction on the end velocities.
+//
+// Manifolds of different islands (bodies linked through dynamic bodies, BuildIslands)
+// share no body that an impulse moves, so each island's passes are those of the whole
+// sweep restricted to its manifolds, in the same order: the islands are solved apart, on
+// as many threads as there are, with bit-identical results.
+void RWorldStep::SolveBlocks(RPhase phase, int iterations) {
+  ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t isl = i0; isl < i1; ++isl) {
+      const std::uint32_t first = m_blockIslands[isl].first, last = m_blockIslands[isl].second;
+      for (int it = 0; it < iterations; ++it) {
+        for (std::uint32_t k = first; k < last; ++k) {
+          RBlock& blk = m_blocks[m_blockOrder[(it % 2 == 0) ? k : last - 1 - (k - first)]];
+          RContactRow* rows = &m_rows[blk.first];
+          if (phase == RPhase::kVelocity) {
+            SolveNormalBlock(blk, rows, RPhase::kVelocity);
+            SolvePatch(blk, false, RPhase::kVelocity);
+            SolveNormalBlock(blk, rows, RPhase::kPosition);
+          } else {
+            SolveNormalBlock(blk, rows, RPhase::kEnd);
+            SolvePatch(blk, false, RPhase::kEnd);
+          }
+        }
+      }
+    }
+  });
+}
+
 // Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when
 // the rows were built) to the solver bodies' velocities.
 void RWorldStep::WarmStart(RPhase phase) {
@@ -420,7 +442,10 @@ void RWorldStep::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar d
   RSolverBody& sb = m_solverBodies[r.b];
   if (d1 != 0) Push(blk.t[0], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
   if (d2 != 0) Push(blk.t[1], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-  if (dTwist != 0) sa.w -= dTwist * blk.twistIA, sb.w += dTwist * blk.twistIB;
+  if (dTwist != 0) {
+    if (sa.invM != 0) sa.w -= dTwist * blk.twistIA;
+    if (sb.invM != 0) sb.w += dTwist * blk.twistIB;
+  }
 }
 
 // A manifold's friction: the tangential impulse at its centroid stops the sliding there,
@@ -523,15 +548,7 @@ void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
     s.w += s.invI * EndAngularKick_W(b, halfDt);
   }
   WarmStart(RPhase::kEnd);  // last step's end impulses, found with the rows
-  const int iterations = std::max(1, m_settings.solverIterations);
-  const std::size_t nBlocks = m_blocks.size();
-  for (int it = 0; it < iterations; ++it) {
-    for (std::size_t bb = 0; bb < nBlocks; ++bb) {
-      RBlock& blk = m_blocks[(it % 2 == 0) ? bb : nBlocks - 1 - bb];
-      SolveNormalBlock(blk, &m_rows[blk.first], RPhase::kEnd);
-      SolvePatch(blk, false, RPhase::kEnd);
-    }
-  }
+  SolveBlocks(RPhase::kEnd, std::max(1, m_settings.solverIterations));
   SolveIslands(RPhase::kEnd);
 }
 

@@ -82,6 +82,30 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
     if (bodies[r.a].m_isStatic || bodies[r.b].m_isStatic) continue;
     m_islandSets.Union(r.a, r.b);
   }
+  // The manifolds grouped by island for the passes (SolveBlocks): a counting sort by the
+  // island's representative (its smallest body index), each island's manifolds in their
+  // order.
+  m_islandOfBlock.resize(m_blocks.size());
+  m_blockStart.assign(n + 1, 0);
+  for (std::size_t k = 0; k < m_blocks.size(); ++k) {
+    const RContactRow& r = m_rows[m_blocks[k].first];
+    const std::uint32_t root = m_islandSets.Find(bodies[r.a].m_isStatic ? r.b : r.a);
+    m_islandOfBlock[k] = root;
+    ++m_blockStart[root + 1];
+  }
+  m_blockIslands.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (m_blockStart[i + 1] > 0) {
+      m_blockIslands.emplace_back(static_cast<std::uint32_t>(m_blockStart[i]),
+                                  static_cast<std::uint32_t>(m_blockStart[i] + m_blockStart[i + 1]));
+    }
+    m_blockStart[i + 1] += m_blockStart[i];
+  }
+  m_blockOrder.resize(m_blocks.size());
+  for (std::size_t k = 0; k < m_blocks.size(); ++k) {
+    m_blockOrder[m_blockStart[m_islandOfBlock[k]]++] = static_cast<std::uint32_t>(k);
+  }
+
   m_islandRows.clear();
   for (std::uint32_t i = 0; i < m_rows.size(); ++i) {
     const RContactRow& r = m_rows[i];

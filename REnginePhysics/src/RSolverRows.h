@@ -32,13 +32,19 @@ RScalar Speed(const Dir& dir, const RVec3& va, const RVec3& wa, const RVec3& vb,
   return dir.d.dot(vb - va) + dir.rBxd.dot(wb) - dir.rAxd.dot(wa);
 }
 
+// A body of inverse mass 0 (static) is not written: impulses cannot move it, and islands
+// solved on several threads share the ground, which must then be only read.
 template <class Dir>
 void Push(const Dir& dir, RScalar lambda, RScalar invMA, RScalar invMB, RVec3& va, RVec3& wa,
           RVec3& vb, RVec3& wb) {
-  va -= (invMA * lambda) * dir.d;
-  wa -= lambda * dir.iA;
-  vb += (invMB * lambda) * dir.d;
-  wb += lambda * dir.iB;
+  if (invMA != 0) {
+    va -= (invMA * lambda) * dir.d;
+    wa -= lambda * dir.iA;
+  }
+  if (invMB != 0) {
+    vb += (invMB * lambda) * dir.d;
+    wb += lambda * dir.iB;
+  }
 }
 
 // A previous point closer than this fraction of the pair's size to a new one is taken as

@@ -244,6 +244,11 @@ class RWorldStep {
   void SolveEndOfStep(const RStepBodies& bodies, RScalar dt);
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
   void BuildIslands(const RStepBodies& bodies);
+  void SolveBlocks(RPhase phase, int iterations);
+  // The manifolds grouped by island (BuildIslands), for SolveBlocks: m_blockOrder lists
+  // block indices island by island, m_blockIslands each island's [first, last) in it.
+  std::vector<std::uint32_t> m_blockOrder, m_islandOfBlock, m_blockStart;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
   void SolveIslands(RPhase phase);
   bool SolveIslandDirect(RPhase phase);
   void AssembleIslandMatrix();
