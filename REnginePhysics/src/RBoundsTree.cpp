@@ -38,7 +38,9 @@ std::uint32_t RBoundsTree::BuildNode(std::uint32_t begin, std::uint32_t end) {
     }
   }
   if (end - begin <= kLeafSize) {
-    m_nodes[index] = RNode{bounds, static_cast<std::uint32_t>(m_items.size()), end - begin};
+    std::uint32_t maxId = 0;
+    for (std::uint32_t k = begin; k < end; ++k) maxId = std::max(maxId, m_inputIds[m_order[k]]);
+    m_nodes[index] = RNode{bounds, static_cast<std::uint32_t>(m_items.size()), end - begin, maxId};
     for (std::uint32_t k = begin; k < end; ++k) {
       m_items.push_back(m_inputIds[m_order[k]]);
       m_boxes.push_back(m_input[m_order[k]]);
@@ -67,12 +69,39 @@ std::uint32_t RBoundsTree::BuildNode(std::uint32_t begin, std::uint32_t end) {
                    });
   BuildNode(begin, mid);  // the left child is the next node
   const std::uint32_t right = BuildNode(mid, end);
-  m_nodes[index] = RNode{bounds, right, 0};
+  m_nodes[index] = RNode{bounds, right, 0, std::max(m_nodes[index + 1].maxId, m_nodes[right].maxId)};
   return index;
 }
 
+void RBoundsTree::Refit(const RBox* byId) {
+  for (std::size_t k = 0; k < m_items.size(); ++k) m_boxes[k] = byId[m_items[k]];
+  // Depth-first order puts both children after their parent: back to front, every node
+  // meets its children already refitted.
+  for (std::size_t index = m_nodes.size(); index-- > 0;) {
+    RNode& node = m_nodes[index];
+    const RBox* a;
+    const RBox* b;
+    std::uint32_t count;
+    if (node.count > 0) {
+      a = &m_boxes[node.first], b = nullptr, count = node.count;
+    } else {
+      a = &m_nodes[index + 1].box, b = &m_nodes[node.first].box, count = 0;
+    }
+    RBox box = *a;
+    auto grow = [&box](const RBox& x) {
+      for (int axis = 0; axis < 3; ++axis) {
+        box.lo[axis] = std::min(box.lo[axis], x.lo[axis]);
+        box.hi[axis] = std::max(box.hi[axis], x.hi[axis]);
+      }
+    };
+    for (std::uint32_t k = 1; k < count; ++k) grow(a[k]);
+    if (b) grow(*b);
+    node.box = box;
+  }
+}
+
 void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,
-                        std::vector<std::uint32_t>& stack) const {
+                        std::vector<std::uint32_t>& stack, std::int64_t after) const {
   if (m_nodes.empty()) return;
   stack.clear();
   stack.push_back(0);
@@ -80,10 +109,10 @@ void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,
     const RNode& node = m_nodes[stack.back()];
     const std::uint32_t self = stack.back();
     stack.pop_back();
-    if (!Overlap(node.box, box)) continue;
+    if (std::int64_t(node.maxId) <= after || !Overlap(node.box, box)) continue;
     if (node.count > 0) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-        if (Overlap(m_boxes[k], box)) out.push_back(m_items[k]);
+        if (std::int64_t(m_items[k]) > after && Overlap(m_boxes[k], box)) out.push_back(m_items[k]);
       }
     } else {
       stack.push_back(node.first);  // right

@@ -23,14 +23,20 @@ class RBoundsTree {
   // Builds the tree over `count` boxes; item k has id ids[k] (what queries report). Keeps
   // the arrays' capacity between builds.
   void Build(const RBox* boxes, const std::uint32_t* ids, std::size_t count);
+  // New boxes for the same items, the tree's shape kept: byId[id] is item id's box. O(n).
+  void Refit(const RBox* byId);
   void Clear() { m_nodes.clear(), m_items.clear(), m_boxes.clear(); }
   std::size_t Size() const { return m_items.size(); }
 
-  // Appends to `out` the id of every item whose box overlaps `box` (closed intervals), in
-  // the tree's order.
-  void Query(const RBox& box, std::vector<std::uint32_t>& out) const { Query(box, out, m_stack); }
+  // Appends to `out` the id of every item whose box overlaps `box` (closed intervals) and
+  // whose id is above `after` (the pair sweep asks body i for its partners j > i: a subtree
+  // whose largest id is not above it is skipped whole), in the tree's order.
+  void Query(const RBox& box, std::vector<std::uint32_t>& out, std::int64_t after = -1) const {
+    Query(box, out, m_stack, after);
+  }
   // The same with the caller's traversal stack: queries from several threads at once.
-  void Query(const RBox& box, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& stack) const;
+  void Query(const RBox& box, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& stack,
+             std::int64_t after = -1) const;
 
  private:
   static constexpr std::uint32_t kLeafSize = 4;
@@ -38,6 +44,7 @@ class RBoundsTree {
     RBox box;
     std::uint32_t first;  // leaf: first item; inner: index of the right child (left: next)
     std::uint32_t count;  // leaf: items (> 0); inner: 0
+    std::uint32_t maxId;  // the largest id below it
   };
   static bool Overlap(const RBox& a, const RBox& b) {
     return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&

@@ -57,22 +57,39 @@ void RWorldStep::BuildBroadPhase(const RStepBodies& bodies) {
     return !(std::isnan(b.lo[0]) || std::isnan(b.lo[1]) || std::isnan(b.lo[2]) ||
              std::isnan(b.hi[0]) || std::isnan(b.hi[1]) || std::isnan(b.hi[2]));
   };
-  m_treeBoxes.clear(), m_treeIds.clear();
+  const std::size_t n = bodies.size();
+  m_sweepBoxes.resize(n);
+  ParallelRanges(m_jobs, n, m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) m_sweepBoxes[i] = SweepBox(i);
+  });
+  // The active tree: refitted to this step's boxes while it holds the same bodies (O(n)),
+  // rebuilt when they change and every kRefits steps, since a refitted tree loosens as
+  // its bodies move apart. Its shape changes how fast queries are, never what they find.
+  m_treeIds.clear();
   for (std::uint32_t i : m_active) {
-    const RBoundsTree::RBox box = SweepBox(i);
-    if (finite(box)) m_treeBoxes.push_back(box), m_treeIds.push_back(i);
+    if (finite(m_sweepBoxes[i])) m_treeIds.push_back(i);
   }
-  m_activeTree.Build(m_treeBoxes.data(), m_treeIds.data(), m_treeIds.size());
+  constexpr int kRefits = 8;
+  if (m_treeIds == m_activeIds && m_activeRefits < kRefits) {
+    m_activeTree.Refit(m_sweepBoxes.data());
+    ++m_activeRefits;
+  } else {
+    std::swap(m_treeIds, m_activeIds);
+    m_treeBoxes.clear();
+    for (std::uint32_t i : m_activeIds) m_treeBoxes.push_back(m_sweepBoxes[i]);
+    m_activeTree.Build(m_treeBoxes.data(), m_activeIds.data(), m_activeIds.size());
+    m_activeRefits = 0;
+  }
   // The passive bodies (asleep, or static, and responding): their boxes change only when
   // the game moves or replaces one, or the step's size or gravity changes their reach.
   m_treeBoxes.clear(), m_treeIds.clear();
   std::size_t next = 0;
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     if (next < m_active.size() && m_active[next] == i) {
       ++next;
       continue;
     }
-    const RBoundsTree::RBox box = SweepBox(i);
+    const RBoundsTree::RBox& box = m_sweepBoxes[i];
     if (finite(box)) m_treeBoxes.push_back(box), m_treeIds.push_back(static_cast<std::uint32_t>(i));
   }
   const bool same = m_treeIds == m_passiveIds && m_treeBoxes.size() == m_passiveBoxes.size() &&
@@ -190,12 +207,10 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       std::size_t count = 0;
       if (tree) {
         st.hits.clear();
-        const RBoundsTree::RBox box = SweepBox(i);
-        m_activeTree.Query(box, st.hits, st.stack);
-        if (!passiveA) m_passiveTree.Query(box, st.hits, st.stack);
-        st.hits.erase(std::remove_if(st.hits.begin(), st.hits.end(),
-                                     [i](std::uint32_t j) { return j <= i; }),
-                      st.hits.end());
+        const RBoundsTree::RBox& box = m_sweepBoxes[i];
+        const std::int64_t after = static_cast<std::int64_t>(i);
+        m_activeTree.Query(box, st.hits, st.stack, after);
+        if (!passiveA) m_passiveTree.Query(box, st.hits, st.stack, after);
         std::sort(st.hits.begin(), st.hits.end());
         js = st.hits.data(), count = st.hits.size();
       } else if (passiveA) {
@@ -242,7 +257,12 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   });
   m_pairs.clear();
   for (std::size_t t = 0; t < std::min(tasks, n); ++t) {
-    m_pairs.insert(m_pairs.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
+    // One task: its list is the list (swapped, not copied; both keep their capacity).
+    if (tasks == 1) {
+      std::swap(m_pairs, m_sweepTasks[t].pairs);
+    } else {
+      m_pairs.insert(m_pairs.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
+    }
     m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
   }
 
@@ -314,7 +334,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   bool woke = false;
   for (std::size_t t = 0; t < std::min(tasks, m_pairs.size()); ++t) {
     RSweepTask& st = m_sweepTasks[t];
-    m_contacts.insert(m_contacts.end(), st.contacts.begin(), st.contacts.end());
+    if (tasks == 1) {
+      std::swap(m_contacts, st.contacts);
+    } else {
+      m_contacts.insert(m_contacts.end(), st.contacts.begin(), st.contacts.end());
+    }
     for (std::uint32_t island : st.wake) m_wakeMark[island] = 1, woke = true;
     m_pairStats.rejectedFilter += st.rejectedFilter;
     m_pairStats.rejectedBoxes += st.rejectedBoxes;

@@ -79,6 +79,9 @@ class RWorldStep {
   RBoundsTree m_activeTree, m_passiveTree;
   std::vector<RBoundsTree::RBox> m_treeBoxes, m_passiveBoxes;  // scratch; the passive tree's
   std::vector<std::uint32_t> m_treeIds, m_passiveIds;
+  std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
+  std::vector<std::uint32_t> m_activeIds;       // the active tree's bodies
+  int m_activeRefits = 0;                       // refits since it was last built
   // The pair sweep's work, cut into tasks (see DetectPairs): each task's scratch and
   // outputs, kept between steps so that no step allocates.
   struct RSweepTask {
