@@ -8,6 +8,10 @@
 
 #include "support/TestBodies.h"
 
+#include "RBoundsTree.h"  // private to the engine: tested directly below
+
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -191,4 +195,91 @@ TEST(BroadPhase, FindsTheSamePairsThroughChurnAndSleep) {
     sleepers = std::max(sleepers, static_cast<int>(ia.PairStats().sleepingBodies));
   }
   EXPECT_GT(sleepers, 0) << "nothing ever slept: the passive tree was not exercised";
+}
+
+// The tree itself (private to the engine) against brute force: every overlapping pair of
+// boxes found exactly once, however the search is split; queries find every overlapping
+// box above the index asked for. Boxes are drawn with many exact touches (coordinates on a
+// coarse grid), duplicates, and a far-away cluster.
+TEST(BoundsTree, FindsEveryOverlapOnceAgainstBruteForce) {
+  std::mt19937_64 rng(17);
+  auto draw = [&](std::size_t count, RScalar offset) {
+    std::vector<RBoundsTree::RBox> boxes(count);
+    for (RBoundsTree::RBox& b : boxes) {
+      for (int a = 0; a < 3; ++a) {
+        b.lo[a] = offset + RScalar(rng() % 40);
+        b.hi[a] = b.lo[a] + RScalar(rng() % 4);
+      }
+    }
+    boxes[count / 2] = boxes[count / 3];  // a duplicate
+    return boxes;
+  };
+  auto overlap = [](const RBoundsTree::RBox& x, const RBoundsTree::RBox& y) {
+    for (int a = 0; a < 3; ++a) {
+      if (x.lo[a] > y.hi[a] || y.lo[a] > x.hi[a]) return false;
+    }
+    return true;
+  };
+  for (std::size_t n : {1u, 2u, 5u, 300u, 1000u}) {
+    const std::vector<RBoundsTree::RBox> a = draw(n, 0), b = draw(n / 2 + 1, 10);
+    std::vector<std::uint32_t> idsA(a.size()), idsB(b.size());
+    for (std::size_t k = 0; k < idsA.size(); ++k) idsA[k] = static_cast<std::uint32_t>(k);
+    for (std::size_t k = 0; k < idsB.size(); ++k) idsB[k] = static_cast<std::uint32_t>(100000 + k);
+    RBoundsTree ta, tb;
+    ta.Build(a.data(), idsA.data(), a.size());
+    tb.Build(b.data(), idsB.data(), b.size());
+    std::vector<std::uint64_t> self, cross;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      for (std::size_t j = i + 1; j < a.size(); ++j) {
+        if (overlap(a[i], a[j])) self.push_back((std::uint64_t(i) << 32) | j);
+      }
+      for (std::size_t j = 0; j < b.size(); ++j) {
+        if (overlap(a[i], b[j])) cross.push_back((std::uint64_t(i) << 32) | idsB[j]);
+      }
+    }
+    for (std::size_t want : {1u, 7u, 64u}) {
+      std::vector<RBoundsTree::RNodePair> seeds, scratch, stack;
+      for (int mode = 0; mode < 2; ++mode) {
+        const RBoundsTree& other = mode == 0 ? ta : tb;
+        ta.PairSeeds(other, want, seeds, scratch);
+        std::vector<std::uint64_t> found;
+        for (const RBoundsTree::RNodePair& s : seeds) {
+          ta.Pairs(other, s, stack, [&](std::uint32_t x, std::uint32_t y) {
+            const std::uint32_t lo = mode == 0 ? std::min(x, y) : x, hi = mode == 0 ? std::max(x, y) : y;
+            found.push_back((std::uint64_t(lo) << 32) | hi);
+          });
+        }
+        std::sort(found.begin(), found.end());
+        EXPECT_EQ(found, mode == 0 ? self : cross) << n << " boxes, " << want << " starts, mode " << mode;
+      }
+    }
+    // Queries above an index.
+    for (std::size_t i = 0; i < a.size(); i += 7) {
+      std::vector<std::uint32_t> hits, expected;
+      ta.Query(a[i], hits, static_cast<std::int64_t>(i));
+      std::sort(hits.begin(), hits.end());
+      for (std::size_t j = i + 1; j < a.size(); ++j) {
+        if (overlap(a[i], a[j])) expected.push_back(static_cast<std::uint32_t>(j));
+      }
+      EXPECT_EQ(hits, expected) << n << " boxes, query " << i;
+    }
+    // A refit to moved boxes finds what a fresh build finds.
+    std::vector<RBoundsTree::RBox> moved = draw(n, 3);
+    ta.Refit(moved.data());
+    std::vector<std::uint64_t> refitted, expected;
+    std::vector<RBoundsTree::RNodePair> seeds, scratch, stack;
+    ta.PairSeeds(ta, 5, seeds, scratch);
+    for (const RBoundsTree::RNodePair& s : seeds) {
+      ta.Pairs(ta, s, stack, [&](std::uint32_t x, std::uint32_t y) {
+        refitted.push_back((std::uint64_t(std::min(x, y)) << 32) | std::max(x, y));
+      });
+    }
+    std::sort(refitted.begin(), refitted.end());
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = i + 1; j < n; ++j) {
+        if (overlap(moved[i], moved[j])) expected.push_back((std::uint64_t(i) << 32) | j);
+      }
+    }
+    EXPECT_EQ(refitted, expected) << n << " boxes, refitted";
+  }
 }

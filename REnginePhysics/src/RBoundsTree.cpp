@@ -73,6 +73,45 @@ std::uint32_t RBoundsTree::BuildNode(std::uint32_t begin, std::uint32_t end) {
   return index;
 }
 
+void RBoundsTree::PairSeeds(const RBoundsTree& other, std::size_t want,
+                            std::vector<RNodePair>& seeds, std::vector<RNodePair>& scratch) const {
+  seeds.clear();
+  if (m_nodes.empty() || other.m_nodes.empty()) return;
+  const bool self = &other == this;
+  seeds.push_back({0, 0});
+  // Breadth first, one level at a time, until there are enough starts or none can be split.
+  for (bool split = true; split && seeds.size() < want;) {
+    split = false;
+    scratch.clear();
+    for (const RNodePair& p : seeds) {
+      const RNode& x = m_nodes[p.a];
+      if (self && p.a == p.b) {
+        if (x.count > 0) {
+          scratch.push_back(p);
+        } else {
+          scratch.push_back({p.a + 1, p.a + 1});
+          scratch.push_back({x.first, x.first});
+          scratch.push_back({p.a + 1, x.first});
+          split = true;
+        }
+        continue;
+      }
+      const RNode& y = other.m_nodes[p.b];
+      if (!Overlap(x.box, y.box)) continue;
+      if (x.count > 0 && y.count > 0) {
+        scratch.push_back(p);
+      } else if (SplitFirst(x, y)) {
+        scratch.push_back({p.a + 1, p.b}), scratch.push_back({x.first, p.b});
+        split = true;
+      } else {
+        scratch.push_back({p.a, p.b + 1}), scratch.push_back({p.a, y.first});
+        split = true;
+      }
+    }
+    std::swap(seeds, scratch);
+  }
+}
+
 void RBoundsTree::Refit(const RBox* byId) {
   for (std::size_t k = 0; k < m_items.size(); ++k) m_boxes[k] = byId[m_items[k]];
   // Depth-first order puts both children after their parent: back to front, every node

@@ -104,6 +104,48 @@ void RWorldStep::BuildBroadPhase(const RStepBodies& bodies) {
   }
 }
 
+// Stage 1 of the pair sweep with the broad phase: the pairs of overlapping boxes in the
+// active tree and between it and the passive one, each through the all-pairs loop's
+// sphere test (the same operands in the same order, so the same answer to the bit), then
+// sorted into the loop's (i, then j) order. The search is split into independent starts
+// (PairSeeds), taken by the tasks; the sort makes the result independent of the split.
+void RWorldStep::TreePairs(RScalar grow) {
+  const std::size_t tasks = m_tasks;
+  m_activeTree.PairSeeds(m_activeTree, 8 * tasks, m_seeds, m_seedScratch);
+  const std::size_t selfSeeds = m_seeds.size();
+  m_activeTree.PairSeeds(m_passiveTree, 8 * tasks, m_seedScratch2, m_seedScratch);
+  m_seeds.insert(m_seeds.end(), m_seedScratch2.begin(), m_seedScratch2.end());
+  const std::size_t used = std::min(tasks, m_seeds.size());
+  ParallelRanges(m_jobs, m_seeds.size(), tasks, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    RSweepTask& st = m_sweepTasks[task];
+    st.keys.clear();
+    st.sphereTests = 0;
+    auto found = [&](std::uint32_t x, std::uint32_t y) {
+      ++st.sphereTests;
+      const std::uint32_t i = std::min(x, y), j = std::max(x, y);
+      const RScalar dx = m_cx[j] - m_cx[i], dy = m_cy[j] - m_cy[i], dz = m_cz[j] - m_cz[i];
+      const RScalar lim = (m_reach[i] + m_reach[j]) * grow;
+      if (lim * lim - (dx * dx + dy * dy + dz * dz) >= 0) {
+        st.keys.push_back((std::uint64_t(i) << 32) | j);
+      }
+    };
+    for (std::size_t k = k0; k < k1; ++k) {
+      const RBoundsTree& other = k < selfSeeds ? m_activeTree : m_passiveTree;
+      m_activeTree.Pairs(other, m_seeds[k], st.nodeStack, found);
+    }
+  });
+  m_pairKeys.clear();
+  for (std::size_t t = 0; t < used; ++t) {
+    m_pairKeys.insert(m_pairKeys.end(), m_sweepTasks[t].keys.begin(), m_sweepTasks[t].keys.end());
+    m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
+  }
+  std::sort(m_pairKeys.begin(), m_pairKeys.end());
+  m_pairs.resize(m_pairKeys.size());
+  for (std::size_t k = 0; k < m_pairKeys.size(); ++k) {
+    m_pairs[k] = {static_cast<std::uint32_t>(m_pairKeys[k] >> 32), static_cast<std::uint32_t>(m_pairKeys[k])};
+  }
+}
+
 bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   m_contacts.clear();
   m_pairStats = RPairStats{};
@@ -178,11 +220,15 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   const bool tree = bounds && shortcuts.broadPhase;
   if (tree) BuildBroadPhase(bodies);
 
-  // Stage 1: the pairs whose grown spheres touch, in (i, then j) order. Each task takes a
-  // contiguous range of i and lists its pairs; the lists, joined in task order, are the
-  // all-pairs loop's order whatever the number of tasks or threads.
+  // Stage 1: the pairs whose grown spheres touch, in (i, then j) order.
   const std::size_t tasks = m_tasks;
   if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
+  if (tree) {
+    TreePairs(kGrow);
+  } else {
+  // Without the trees, each task takes a contiguous range of i and lists its pairs; the
+  // lists, joined in task order, are the all-pairs loop's order whatever the number of tasks
+  // or threads.
   ParallelRanges(m_jobs, n, tasks, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.pairs.clear();
@@ -196,8 +242,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
       while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
       const bool passiveA = passive(bodies[i]);
-      // The candidates j > i: every later body, or, for a passive body, the later awake ones
-      // (with the broad phase: those of them whose boxes overlap this one's). First the
+      // The candidates j > i: every later body, or, for a passive body, the later awake
+      // ones. First the
       // bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown spheres
       // touch, in a branch-free loop over contiguous arrays that the compiler vectorises
       // (the contiguous case; a list of candidates is a gather); then the pairs that passed,
@@ -205,15 +251,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       // never leaves one so, but game code could set it.
       const std::uint32_t* js = nullptr;  // the candidates, when they are not i + 1 + k
       std::size_t count = 0;
-      if (tree) {
-        st.hits.clear();
-        const RBoundsTree::RBox& box = m_sweepBoxes[i];
-        const std::int64_t after = static_cast<std::int64_t>(i);
-        m_activeTree.Query(box, st.hits, st.stack, after);
-        if (!passiveA) m_passiveTree.Query(box, st.hits, st.stack, after);
-        std::sort(st.hits.begin(), st.hits.end());
-        js = st.hits.data(), count = st.hits.size();
-      } else if (passiveA) {
+      if (passiveA) {
         js = m_active.data() + nextActive, count = m_active.size() - nextActive;
       } else {
         count = n - i - 1;
@@ -264,6 +302,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       m_pairs.insert(m_pairs.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
     }
     m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
+  }
   }
 
   // The world forms those pairs read, each computed once: on several threads they are

@@ -87,7 +87,8 @@ class RWorldStep {
   struct RSweepTask {
     std::vector<RScalar> near;               // one body's candidates, lim^2 - d^2 (m^2)
     std::vector<std::uint32_t> candidates;   // those with lim^2 - d^2 >= 0
-    std::vector<std::uint32_t> hits, stack;  // tree query output and traversal stack
+    std::vector<std::uint64_t> keys;         // stage 1 with the trees: (i << 32 | j)
+    std::vector<RBoundsTree::RNodePair> nodeStack;  // the trees' pair search
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch
     std::vector<RContact> contacts;          // stage 2: contacts, in pair order
     std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
@@ -95,6 +96,9 @@ class RWorldStep {
   };
   std::vector<RSweepTask> m_sweepTasks;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
+  std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch, m_seedScratch2;  // TreePairs
+  std::vector<std::uint64_t> m_pairKeys;  // TreePairs: the pairs found, (i << 32 | j)
+  void TreePairs(RScalar grow);
   std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
   // The step's job system (null: one thread) and how many tasks a parallel stage is cut
   // into (1 on one thread). Set by RIntegrator before each step.
