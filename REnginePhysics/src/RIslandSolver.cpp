@@ -126,76 +126,83 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
   }
 }
 
+// Islands share no body an impulse moves: each is solved on its own, as a task with its own
+// scratch, on as many threads as there are; the result does not depend on which.
 void RWorldStep::SolveIslands(RPhase phase) {
-  for (const auto& [first, last] : m_islands) {
-    m_islandIndex.clear();
-    for (std::size_t k = first; k < last; ++k) m_islandIndex.push_back(m_islandRows[k].second);
-    m_islandKReady = false;
-    SolveIslandDirect(phase);
-  }
+  if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
+  ParallelRanges(m_jobs, m_islands.size(), m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+    RIslandScratch& sc = m_islandScratch[task];
+    for (std::size_t island = i0; island < i1; ++island) {
+      const auto [first, last] = m_islands[island];
+      sc.index.clear();
+      for (std::size_t k = first; k < last; ++k) sc.index.push_back(m_islandRows[k].second);
+      sc.kReady = false;
+      SolveIslandDirect(phase, sc);
+    }
+  });
 }
 
-// The island's matrix K (m x m, row-major, in m_islandK), assembled from the pairs of
+// The island's matrix K (m x m, row-major, in sc.K), assembled from the pairs of
 // manifolds that share a dynamic body: the others couple nothing, and in a stack or a pile
 // a manifold touches only a few of the island's others.
-void RWorldStep::AssembleIslandMatrix() {
-  const int m = static_cast<int>(m_islandIndex.size());
-  RScalar* K = m_islandK.data();
+void RWorldStep::AssembleIslandMatrix(RIslandScratch& sc) {
+  const int m = static_cast<int>(sc.index.size());
+  RScalar* K = sc.K.data();
   std::fill(K, K + std::size_t(m) * m, RScalar(0));
   // Manifolds as runs of consecutive rows (rows come grouped by contact).
-  m_islandRuns.clear();
+  sc.runs.clear();
   for (int i = 0; i < m;) {
     int j = i + 1;
-    while (j < m && m_rows[m_islandIndex[j]].contact == m_rows[m_islandIndex[i]].contact) ++j;
-    m_islandRuns.emplace_back(i, j);
+    while (j < m && m_rows[sc.index[j]].contact == m_rows[sc.index[i]].contact) ++j;
+    sc.runs.emplace_back(i, j);
     i = j;
   }
   // Each row's non-zero columns lie within [lo, hi]: the loops below visit only those.
-  for (int i = 0; i < m; ++i) m_islandLo[i] = i, m_islandHi[i] = i;
+  for (int i = 0; i < m; ++i) sc.lo[i] = i, sc.hi[i] = i;
   auto dynamic = [this](std::uint32_t body) { return m_solverBodies[body].invM > 0; };
-  for (std::size_t s = 0; s < m_islandRuns.size(); ++s) {
-    const RContactRow& rs = m_rows[m_islandIndex[m_islandRuns[s].first]];
-    for (std::size_t t = s; t < m_islandRuns.size(); ++t) {
-      const RContactRow& rt = m_rows[m_islandIndex[m_islandRuns[t].first]];
+  for (std::size_t s = 0; s < sc.runs.size(); ++s) {
+    const RContactRow& rs = m_rows[sc.index[sc.runs[s].first]];
+    for (std::size_t t = s; t < sc.runs.size(); ++t) {
+      const RContactRow& rt = m_rows[sc.index[sc.runs[t].first]];
       const bool shared = ((rs.a == rt.a || rs.a == rt.b) && dynamic(rs.a)) ||
                           ((rs.b == rt.a || rs.b == rt.b) && dynamic(rs.b));
       if (!shared) continue;
-      for (int i = m_islandRuns[s].first; i < m_islandRuns[s].second; ++i) {
-        const RContactRow& ri = m_rows[m_islandIndex[i]];
+      for (int i = sc.runs[s].first; i < sc.runs[s].second; ++i) {
+        const RContactRow& ri = m_rows[sc.index[i]];
         const RScalar invMa = m_solverBodies[ri.a].invM, invMb = m_solverBodies[ri.b].invM;
-        for (int j = m_islandRuns[t].first; j < m_islandRuns[t].second; ++j) {
-          const RScalar k = Coupling(ri, m_rows[m_islandIndex[j]], invMa, invMb);
+        for (int j = sc.runs[t].first; j < sc.runs[t].second; ++j) {
+          const RScalar k = Coupling(ri, m_rows[sc.index[j]], invMa, invMb);
           K[i * m + j] = k;
           K[j * m + i] = k;
         }
-        const int first = m_islandRuns[t].first, last = m_islandRuns[t].second - 1;
-        m_islandLo[i] = std::min(m_islandLo[i], first), m_islandHi[i] = std::max(m_islandHi[i], last);
+        const int first = sc.runs[t].first, last = sc.runs[t].second - 1;
+        sc.lo[i] = std::min(sc.lo[i], first), sc.hi[i] = std::max(sc.hi[i], last);
         for (int j = first; j <= last; ++j) {
-          m_islandLo[j] = std::min(m_islandLo[j], m_islandRuns[s].first);
-          m_islandHi[j] = std::max(m_islandHi[j], m_islandRuns[s].second - 1);
+          sc.lo[j] = std::min(sc.lo[j], sc.runs[s].first);
+          sc.hi[j] = std::max(sc.hi[j], sc.runs[s].second - 1);
         }
       }
     }
   }
-  m_islandKReady = true;
+  sc.kReady = true;
 }
 
-// The active-set solve of one island's normal rows (m_islandIndex), on the velocities or on
+// The active-set solve of one island's normal rows (sc.index), on the velocities or on
 // the pseudo-velocities. Applies the answer and returns true if it converged; otherwise
 // leaves the iterated impulses as they are.
-bool RWorldStep::SolveIslandDirect(RPhase phase) {
+bool RWorldStep::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
   const bool pseudo = phase == RPhase::kPosition;
-  const int m = static_cast<int>(m_islandIndex.size());
+  const int m = static_cast<int>(sc.index.size());
   const int ld = m;
-  m_islandK.resize(std::size_t(kDirectRows) * kDirectRows);
-  m_islandL.resize(std::size_t(kDirectRows) * kDirectRows);
-  m_islandB.resize(kDirectRows), m_islandX.resize(kDirectRows), m_islandActive.resize(kDirectRows);
-  m_islandMap.resize(kDirectRows), m_islandFirst.resize(kDirectRows);
-  m_islandLo.resize(kDirectRows), m_islandHi.resize(kDirectRows);
-  m_islandInvDiag.resize(kDirectRows), m_islandR.resize(kDirectRows);
-  RScalar* K = m_islandK.data();
-  RScalar* b = m_islandB.data();
-  RScalar* x = m_islandX.data();
+  sc.K.resize(std::size_t(kDirectRows) * kDirectRows);
+  sc.L.resize(std::size_t(kDirectRows) * kDirectRows);
+  sc.b.resize(kDirectRows), sc.x.resize(kDirectRows), sc.active.resize(kDirectRows);
+  sc.map.resize(kDirectRows), sc.envelope.resize(kDirectRows);
+  sc.lo.resize(kDirectRows), sc.hi.resize(kDirectRows);
+  sc.invDiag.resize(kDirectRows), sc.residual.resize(kDirectRows);
+  RScalar* K = sc.K.data();
+  RScalar* b = sc.b.data();
+  RScalar* x = sc.x.data();
   auto target = [phase](const RContactRow& r) { return Target(r, phase); };
   auto lambda = [phase](RContactRow& r) -> RScalar& { return Lambda(r, phase); };
   // An island the iterations left solved (a row that pushes is at its target, one that
@@ -206,7 +213,7 @@ bool RWorldStep::SolveIslandDirect(RPhase phase) {
   RScalar worst = 0;
   bool anyActive = false;
   for (int i = 0; i < m; ++i) {
-    RContactRow& r = m_rows[m_islandIndex[i]];
+    RContactRow& r = m_rows[sc.index[i]];
     const RSolverBody& sa = m_solverBodies[r.a];
     const RSolverBody& sb = m_solverBodies[r.b];
     const RScalar v = pseudo ? Speed(r.n, sa.vp, sa.wp, sb.vp, sb.wp)
@@ -214,15 +221,15 @@ bool RWorldStep::SolveIslandDirect(RPhase phase) {
     b[i] = v;  // for now; b proper below
     const RScalar miss = target(r) - v;
     worst = std::max(worst, lambda(r) > 0 ? std::abs(miss) : miss);
-    m_islandActive[i] = lambda(r) > 0 || miss > 0;
-    anyActive = anyActive || m_islandActive[i];
+    sc.active[i] = lambda(r) > 0 || miss > 0;
+    anyActive = anyActive || sc.active[i];
   }
   if (!anyActive || worst <= kSolved) return true;
-  if (!m_islandKReady) AssembleIslandMatrix();
+  if (!sc.kReady) AssembleIslandMatrix(sc);
   // b: the velocity each row would have with none of the island's normal impulses.
   for (int i = 0; i < m; ++i) {
     RScalar s = b[i];
-    for (int j = m_islandLo[i]; j <= m_islandHi[i]; ++j) s -= K[i * ld + j] * lambda(m_rows[m_islandIndex[j]]);
+    for (int j = sc.lo[i]; j <= sc.hi[i]; ++j) s -= K[i * ld + j] * lambda(m_rows[sc.index[j]]);
     b[i] = s;
   }
   RScalar maxDiag = 0;
@@ -233,17 +240,17 @@ bool RWorldStep::SolveIslandDirect(RPhase phase) {
   const RScalar ridge = 1e-9 * maxDiag;
   constexpr RScalar kTolerance = 1e-9;  // m/s: a violation smaller than this is rounding
   constexpr int kRounds = 16;
-  const int* map = m_islandMap.data();
+  const int* map = sc.map.data();
   for (int round = 0; round < kRounds; ++round) {
     int na = 0;
     for (int i = 0; i < m; ++i) {
-      if (m_islandActive[i]) m_islandMap[na++] = i;
+      if (sc.active[i]) sc.map[na++] = i;
     }
-    RScalar* L = m_islandL.data();
-    int* envelope = m_islandFirst.data();
+    RScalar* L = sc.L.data();
+    int* envelope = sc.envelope.data();
     for (int p = 0; p < na; ++p) {
       // Active rows before p whose columns may be non-zero: from the first at or after lo.
-      const int start = static_cast<int>(std::lower_bound(map, map + p, m_islandLo[map[p]]) - map);
+      const int start = static_cast<int>(std::lower_bound(map, map + p, sc.lo[map[p]]) - map);
       envelope[p] = p;
       for (int q = start; q <= p; ++q) {
         const RScalar k = K[map[p] * ld + map[q]];
@@ -252,10 +259,10 @@ bool RWorldStep::SolveIslandDirect(RPhase phase) {
       }
       L[p * na + p] += ridge;
     }
-    if (!EnvelopeCholesky(L, na, na, envelope, m_islandInvDiag.data())) return false;
+    if (!EnvelopeCholesky(L, na, na, envelope, sc.invDiag.data())) return false;
     for (int p = 0; p < na; ++p) {
-      const RContactRow& r = m_rows[m_islandIndex[m_islandMap[p]]];
-      x[p] = target(r) - b[m_islandMap[p]];
+      const RContactRow& r = m_rows[sc.index[sc.map[p]]];
+      x[p] = target(r) - b[sc.map[p]];
     }
     EnvelopeCholeskySolve(L, na, na, envelope, x);
     // Iterative refinement against K itself: the ridge biases the answer in the directions
@@ -270,18 +277,18 @@ bool RWorldStep::SolveIslandDirect(RPhase phase) {
     // corrections leave the null space of four coplanar points alone (its residual is 0).
     constexpr int kMaxRefinements = 64;
     constexpr RScalar kRefined = 1e-12;  // m/s
-    RScalar* residual = m_islandR.data();
+    RScalar* residual = sc.residual.data();
     RScalar previous = std::numeric_limits<RScalar>::infinity();
     for (int pass = 0; pass < kMaxRefinements; ++pass) {
       RScalar largest = 0;
       for (int p = 0; p < na; ++p) {
         const int i = map[p];
         RScalar v = b[i];
-        for (int q = static_cast<int>(std::lower_bound(map, map + na, m_islandLo[i]) - map);
-             q < na && map[q] <= m_islandHi[i]; ++q) {
+        for (int q = static_cast<int>(std::lower_bound(map, map + na, sc.lo[i]) - map);
+             q < na && map[q] <= sc.hi[i]; ++q) {
           v += K[i * ld + map[q]] * x[q];
         }
-        residual[p] = target(m_rows[m_islandIndex[i]]) - v;
+        residual[p] = target(m_rows[sc.index[i]]) - v;
         largest = std::max(largest, std::abs(residual[p]));
       }
       if (largest <= kRefined || !(largest < RScalar(0.95) * previous)) break;
@@ -291,25 +298,25 @@ bool RWorldStep::SolveIslandDirect(RPhase phase) {
     }
     bool changed = false;
     for (int p = 0; p < na; ++p) {
-      if (x[p] < 0) m_islandActive[m_islandMap[p]] = false, changed = true;
+      if (x[p] < 0) sc.active[sc.map[p]] = false, changed = true;
     }
     if (changed) continue;
     for (int i = 0; i < m; ++i) {
-      if (m_islandActive[i]) continue;
+      if (sc.active[i]) continue;
       RScalar v = b[i];
-      for (int p = static_cast<int>(std::lower_bound(map, map + na, m_islandLo[i]) - map);
-           p < na && map[p] <= m_islandHi[i]; ++p) {
+      for (int p = static_cast<int>(std::lower_bound(map, map + na, sc.lo[i]) - map);
+           p < na && map[p] <= sc.hi[i]; ++p) {
         v += K[i * ld + map[p]] * x[p];
       }
-      const RContactRow& r = m_rows[m_islandIndex[i]];
-      if (v < target(r) - kTolerance) m_islandActive[i] = true, changed = true;
+      const RContactRow& r = m_rows[sc.index[i]];
+      if (v < target(r) - kTolerance) sc.active[i] = true, changed = true;
     }
     if (changed) continue;
     // Converged: apply the differences.
     int p = 0;
     for (int i = 0; i < m; ++i) {
-      RContactRow& r = m_rows[m_islandIndex[i]];
-      const RScalar next = m_islandActive[i] ? x[p++] : RScalar(0);
+      RContactRow& r = m_rows[sc.index[i]];
+      const RScalar next = sc.active[i] ? x[p++] : RScalar(0);
       RScalar& current = lambda(r);
       const RScalar d = next - current;
       current = next;
@@ -325,8 +332,8 @@ bool RWorldStep::SolveIslandDirect(RPhase phase) {
     // Friction back inside the cones of the new normal impulses.
     if (!pseudo) {
       for (int i = 0; i < m; ++i) {
-        const std::uint32_t blk = m_rows[m_islandIndex[i]].block;
-        if (i == 0 || blk != m_rows[m_islandIndex[i - 1]].block) SolvePatch(m_blocks[blk], true, phase);
+        const std::uint32_t blk = m_rows[sc.index[i]].block;
+        if (i == 0 || blk != m_rows[sc.index[i - 1]].block) SolvePatch(m_blocks[blk], true, phase);
       }
     }
     return true;

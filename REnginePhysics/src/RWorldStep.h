@@ -240,6 +240,17 @@ class RWorldStep {
     RScalar lambdaTwist[2];
   };
   std::vector<RBlock> m_blocks;
+  // Row building (FindImpulses): each contact's first row and its block (= impact row)
+  // index, and each task's count of warm-started rows.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_rowStart;
+  std::vector<std::uint32_t> m_warmTasks;
+  struct RLeadingPoints {
+    int deepest = 0;
+    int count = 0;
+    RVec3 centre;  // contact frame as the manifold's points
+  };
+  RLeadingPoints LeadingPoints(const RContactManifold& m) const;
+  std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt);
   void SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
   void SolveImpacts(const RStepBodies& bodies, RScalar dt);
   template <class Advance>
@@ -257,20 +268,25 @@ class RWorldStep {
   std::vector<std::uint32_t> m_blockOrder, m_islandOfBlock, m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
   void SolveIslands(RPhase phase);
-  bool SolveIslandDirect(RPhase phase);
-  void AssembleIslandMatrix();
+  // One island's direct solve: its rows and the dense scratch (kDirectRows^2 at most),
+  // one per task so that islands are solved side by side.
+  struct RIslandScratch {
+    std::vector<std::uint32_t> index;  // the island's rows
+    std::vector<RScalar> K, L, b, x, invDiag, residual;
+    std::vector<int> map, envelope, lo, hi;
+    std::vector<std::pair<int, int>> runs;  // the island's manifolds: [first, last)
+    std::vector<char> active;
+    bool kReady = false;
+  };
+  std::vector<RIslandScratch> m_islandScratch;
+  bool SolveIslandDirect(RPhase phase, RIslandScratch& sc);
+  void AssembleIslandMatrix(RIslandScratch& sc);
   // Islands up to this many rows get their normal impulses solved directly (see
   // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
   RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_islandRows;  // (island, row)
-  std::vector<std::uint32_t> m_islandIndex;                         // rows of one island
   std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
-  std::vector<RScalar> m_islandK, m_islandL, m_islandB, m_islandX, m_islandInvDiag, m_islandR;  // scratch
-  std::vector<int> m_islandMap, m_islandFirst, m_islandLo, m_islandHi;
-  std::vector<std::pair<int, int>> m_islandRuns;  // one island's manifolds: [first, last)
-  bool m_islandKReady = false;
-  std::vector<char> m_islandActive;
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   std::size_t m_warmBodyCount = 0;
   // Keeps the warm starts of pairs that sleep (both bodies asleep, or one asleep and one
