@@ -2,11 +2,16 @@
 // the step's outputs, behind RIntegrator (which holds one through a pointer, so none of this
 // is in an installed header). Each subsystem's functions are defined in its own file:
 //   RPairSweep.cpp      DetectPairs, TimeOfImpact
-//   RContactSolver.cpp  FindImpulses, WarmStart, SolvePatch, SolveNormalBlock, SolveEndOfStep
+//   RBroadPhase.cpp     BuildBroadPhase, SweepBox, TreePairs (trees: RBoundsTree.cpp)
+//   RContactSolver.cpp  FindImpulses, SolveBlocks, WarmStart, SolvePatch, SolveNormalBlock,
+//                       SolveEndOfStep
+//   RContactRows.cpp    BuildContactRows, LeadingPoints
 //   RImpactPhase.cpp    SolveImpacts, ImpactGeometry
 //   RIslandSolver.cpp   BuildIslands, SolveIslands, SolveIslandDirect
 //   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
 //   RIntegration.cpp    Integrate (the motion)
+// Stages that run as tasks (RJobSystem, m_jobs and m_tasks) write only their own outputs:
+// per-task scratch, or slots counted beforehand; the results do not depend on the threads.
 #pragma once
 
 #include <REnginePhysics/RBodies.h>

@@ -1,0 +1,165 @@
+// The contact solver's rows (RWorldStep::BuildContactRows): for each resolved contact, its
+// impact row, a normal row per manifold point warm-started from last step's impulses, and
+// its friction patch; see FindImpulses in RContactSolver.cpp.
+#include "RWorldStep.h"
+
+#include "RSolverRows.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace REngine {
+
+using namespace solver;
+
+// The leading points of a manifold: its deepest, and the centre of those within the slop of
+// it, where an impact acts. count is 0 when the separations are not numbers.
+RWorldStep::RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) const {
+  RLeadingPoints lead;
+  for (int k = 1; k < m.pointCount; ++k) {
+    if (m.points[k].separation < m.points[lead.deepest].separation) lead.deepest = k;
+  }
+  const RScalar leadSeparation = m.points[lead.deepest].separation;
+  lead.centre = RVec3::Zero();
+  for (int k = 0; k < m.pointCount; ++k) {
+    if (m.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
+      lead.centre += m.points[k].position;
+      ++lead.count;
+    }
+  }
+  if (lead.count > 0) lead.centre /= lead.count;
+  return lead;
+}
+
+// One resolved contact's rows (at m_rowStart): its impact row, a contact row per manifold
+// point warm-started from last step's impulses, and its friction patch. Returns how many
+// rows found a warm start.
+std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
+  const RContact& c = m_contacts[ci];
+  const std::uint32_t firstRow = m_rowStart[ci].first, blockIndex = m_rowStart[ci].second;
+  const RRigidBody& A = bodies[c.a];
+  const RRigidBody& B = bodies[c.b];
+  std::uint32_t warmStarted = 0;
+  const RSolverBody& sa = m_solverBodies[c.a];
+  const RSolverBody& sb = m_solverBodies[c.b];
+  const RScalar e = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
+  const RScalar mu = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
+  // Impacts bounce in a phase of their own, before the contacts are solved (below): each
+  // manifold gets one impact row at the centre of its leading points (those within the
+  // slop of the deepest). A whole face hitting flat bounces through the face's centre,
+  // with no torque, a corner through the corner: one constraint, whose outcome is the
+  // closed form and conserves energy at e = 1. Restitution targets at several points of
+  // one manifold, solved one after another, could return more energy than came in.
+  const RLeadingPoints lead = LeadingPoints(c.manifold);
+  const int deepest = lead.deepest;
+  const RScalar leadSeparation = c.manifold.points[deepest].separation;
+  const RVec3 leadCentre = lead.centre;
+  const RVec3& normal = c.manifold.normal;
+  RVec3 t1, t2;
+  OrthonormalBasis(normal, t1, t2);
+  {
+    RImpactRow r;
+    r.a = c.a, r.b = c.b, r.contact = ci, r.point = deepest;
+    const RVec3 rA = leadCentre - A.m_x_W, rB = leadCentre - B.m_x_W;
+    SetDirection(r.dir[0], normal, rA, rB, sa, sb);
+    SetDirection(r.dir[1], t1, rA, rB, sa, sb);
+    SetDirection(r.dir[2], t2, rA, rB, sa, sb);
+    r.rA = rA, r.rB = rB;
+    r.gap = leadSeparation;
+    r.restitution = e;
+    r.friction = mu;
+    r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
+    r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
+    r.miss = false;
+    m_impacts[blockIndex] = r;
+  }
+  const RWarmStart* patchWarm = nullptr;  // the first of its points found last step
+  // One contact row per manifold point: no restitution; the contact may close its gap
+  // within the step (speculative: a fast body stops at the surface, not inside it) but
+  // not approach beyond it.
+  for (int k = 0; k < c.manifold.pointCount; ++k) {
+    const RVec3& position = c.manifold.points[k].position;
+    const RScalar gap = c.manifold.points[k].separation;
+    RContactRow r;
+    r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
+    r.rA = position - A.m_x_W;
+    r.rB = position - B.m_x_W;
+    SetDirection(r.n, normal, r.rA, r.rB, sa, sb);
+    r.block = blockIndex;
+    r.target = -std::max(gap, RScalar(0)) / dt;
+    r.pseudoTarget = gap < -m_settings.penetrationSlop
+                         ? std::min(m_settings.positionCorrection * (-gap - m_settings.penetrationSlop),
+                                    m_settings.maxPositionCorrection) / dt
+                         : 0;
+    r.gap = gap;
+    r.deferN = 0;
+    r.lambdaN = r.lambdaP = r.lambdaE = 0;
+    r.endTarget = kNever;
+    r.lever = 0;  // set with the patch below
+    // Warm start from the same features last step, or else from the nearest of last
+    // step's points of this pair (in a's frame, where a resting contact stays put).
+    const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
+    auto it = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
+                               [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; });
+    const RVec3 point_A = A.m_q_WB.conjugate() * (position - A.m_x_W);
+    const std::uint32_t feature = c.manifold.points[r.point].featureId;
+    const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());
+    // The same feature wins over any nearer point. Two new rows may take the same old
+    // point (a corner that became two clip points): each starts from its impulse, and
+    // the passes below redistribute.
+    const RWarmStart* match = nullptr;
+    const RWarmStart* nearest = nullptr;
+    RScalar bestD2 = reach * reach;
+    for (; it != m_warm.end() && it->pair == pair; ++it) {
+      // A body that took over a freed slot is not the one the memory is of.
+      if (it->genA != c.handleA.generation || it->genB != c.handleB.generation) continue;
+      if (it->feature == feature) {
+        match = &*it;
+        break;
+      }
+      const RScalar d2 = (it->point_A - point_A).squaredNorm();
+      if (d2 < bestD2) bestD2 = d2, nearest = &*it;
+    }
+    if (!match) match = nearest;
+    if (match) {
+      ++warmStarted;
+      r.lambdaN = match->lambdaN;
+      r.lambdaE = match->lambdaE;
+      if (!patchWarm) patchWarm = match;
+    }
+    m_rows[firstRow + k] = r;
+  }
+  // The manifold's friction patch (see RBlock): at the centroid of its points, limited by
+  // mu times their total normal impulse, and a twist limited by mu times the sum of each
+  // point's normal impulse and distance from the centroid.
+  RBlock blk;
+  blk.first = firstRow;
+  blk.count = c.manifold.pointCount;
+  blk.useBlock = blk.count > 1;
+  blk.pinv.setZero();  // filled below, once every row is warm-started
+  RVec3 centroid = RVec3::Zero();
+  for (int k = 0; k < c.manifold.pointCount; ++k) centroid += c.manifold.points[k].position;
+  centroid /= c.manifold.pointCount;
+  blk.rA = centroid - A.m_x_W, blk.rB = centroid - B.m_x_W;
+  SetDirection(blk.t[0], t1, blk.rA, blk.rB, sa, sb);
+  SetDirection(blk.t[1], t2, blk.rA, blk.rB, sa, sb);
+  blk.normal = normal;
+  blk.twistIA = sa.invI * normal, blk.twistIB = sb.invI * normal;
+  blk.kTwist = normal.dot(blk.twistIA) + normal.dot(blk.twistIB);
+  for (int k = 0; k < c.manifold.pointCount; ++k) {
+    m_rows[firstRow + k].lever = (c.manifold.points[k].position - centroid).norm();
+  }
+  blk.friction = mu;
+  for (int ph = 0; ph < 2; ++ph) blk.lambdaT1[ph] = blk.lambdaT2[ph] = blk.lambdaTwist[ph] = 0;
+  if (patchWarm) {
+    for (int ph = 0; ph < 2; ++ph) {
+      blk.lambdaT1[ph] = patchWarm->tangentImpulse[ph].dot(t1);
+      blk.lambdaT2[ph] = patchWarm->tangentImpulse[ph].dot(t2);
+      blk.lambdaTwist[ph] = patchWarm->twistImpulse[ph];
+    }
+  }
+  m_blocks[blockIndex] = blk;
+  return warmStarted;
+}
+
+}  // namespace REngine
