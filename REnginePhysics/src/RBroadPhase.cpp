@@ -111,10 +111,24 @@ void RWorldStep::TreePairs(RScalar grow) {
     m_pairKeys.insert(m_pairKeys.end(), m_sweepTasks[t].keys.begin(), m_sweepTasks[t].keys.end());
     m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
   }
-  std::sort(m_pairKeys.begin(), m_pairKeys.end());
+  // Into (i, then j) order: a counting sort by i (O(pairs + bodies)), then each body's few
+  // partners by insertion.
+  const std::size_t n = m_cx.size();
+  m_pairStart.assign(n + 1, 0);
+  for (std::uint64_t key : m_pairKeys) ++m_pairStart[(key >> 32) + 1];
+  for (std::size_t i = 0; i < n; ++i) m_pairStart[i + 1] += m_pairStart[i];
   m_pairs.resize(m_pairKeys.size());
-  for (std::size_t k = 0; k < m_pairKeys.size(); ++k) {
-    m_pairs[k] = {static_cast<std::uint32_t>(m_pairKeys[k] >> 32), static_cast<std::uint32_t>(m_pairKeys[k])};
+  for (std::uint64_t key : m_pairKeys) {
+    m_pairs[m_pairStart[key >> 32]++] = {static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key)};
+  }
+  for (std::size_t first = 0, i = 0; i < n; first = m_pairStart[i++]) {
+    const std::size_t last = m_pairStart[i];
+    for (std::size_t k = first + 1; k < last; ++k) {
+      const auto pair = m_pairs[k];
+      std::size_t at = k;
+      for (; at > first && m_pairs[at - 1].second > pair.second; --at) m_pairs[at] = m_pairs[at - 1];
+      m_pairs[at] = pair;
+    }
   }
 }
 

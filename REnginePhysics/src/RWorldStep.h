@@ -103,6 +103,7 @@ class RWorldStep {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
   std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch, m_seedScratch2;  // TreePairs
   std::vector<std::uint64_t> m_pairKeys;  // TreePairs: the pairs found, (i << 32 | j)
+  std::vector<std::uint32_t> m_pairStart;  // TreePairs: counting sort by i
   void TreePairs(RScalar grow);
   std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
   // The step's job system (null: one thread) and how many tasks a parallel stage is cut
