@@ -139,11 +139,19 @@ TEST(Threads, ParallelRangesCoverEachIndexOnceWhateverTheCut) {
   RThreadPool pool(3);
   for (std::size_t count : {1u, 5u, 64u, 1001u}) {
     for (std::size_t tasks : {1u, 2u, 12u, 5000u}) {
-      std::vector<int> hits(count, 0);
-      ParallelRanges(&pool, count, tasks, [&](std::size_t b, std::size_t e, std::size_t) {
-        for (std::size_t i = b; i < e; ++i) ++hits[i];
-      });
-      for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(hits[i], 1) << count << " " << tasks;
+      for (std::size_t grain : {1u, 3u, 100u}) {
+        std::vector<int> hits(count, 0);
+        std::vector<std::atomic<int>> taskRuns(tasks);
+        for (auto& r : taskRuns) r = 0;
+        const std::size_t used = ParallelRanges(&pool, count, tasks, grain, [&](std::size_t b, std::size_t e, std::size_t k) {
+          for (std::size_t i = b; i < e; ++i) ++hits[i];
+          ++taskRuns[k];
+          EXPECT_GE(e - b, std::min(grain, count)) << "a range below the grain";
+        });
+        for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(hits[i], 1) << count << " " << tasks;
+        EXPECT_EQ(used, std::min(tasks, std::max<std::size_t>(1, count / grain)));
+        for (std::size_t k = 0; k < tasks; ++k) EXPECT_EQ(taskRuns[k].load(), k < used ? 1 : 0);
+      }
     }
   }
 }

@@ -31,7 +31,7 @@ void RWorldStep::BuildBroadPhase(const RStepBodies& bodies) {
   };
   const std::size_t n = bodies.size();
   m_sweepBoxes.resize(n);
-  ParallelRanges(m_jobs, n, m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) m_sweepBoxes[i] = SweepBox(i);
   });
   // The active tree: refitted to this step's boxes while it holds the same bodies (O(n)),
@@ -87,8 +87,9 @@ void RWorldStep::TreePairs(RScalar grow) {
   const std::size_t selfSeeds = m_seeds.size();
   m_activeTree.PairSeeds(m_passiveTree, 8 * tasks, m_seedScratch2, m_seedScratch);
   m_seeds.insert(m_seeds.end(), m_seedScratch2.begin(), m_seedScratch2.end());
-  const std::size_t used = std::min(tasks, m_seeds.size());
-  ParallelRanges(m_jobs, m_seeds.size(), tasks, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+  // Trees of a few hundred bodies are searched on one thread.
+  const std::size_t grain = m_activeIds.size() < 512 ? m_seeds.size() : 1;
+  const std::size_t used = ParallelRanges(m_jobs, m_seeds.size(), tasks, grain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.keys.clear();
     st.sphereTests = 0;

@@ -86,13 +86,13 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   }
   m_rows.resize(rowCount), m_impacts.resize(blockCount), m_blocks.resize(blockCount);
   if (m_warmTasks.size() < m_tasks) m_warmTasks.resize(m_tasks);
-  ParallelRanges(m_jobs, m_contacts.size(), m_tasks, [&](std::size_t c0, std::size_t c1, std::size_t task) {
+  const std::size_t rowTasks = ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 32, [&](std::size_t c0, std::size_t c1, std::size_t task) {
     m_warmTasks[task] = 0;
     for (std::size_t ci = c0; ci < c1; ++ci) {
       if (m_contacts[ci].resolved) m_warmTasks[task] += BuildContactRows(bodies, static_cast<std::uint32_t>(ci), dt);
     }
   });
-  for (std::size_t t = 0; t < std::min(m_tasks, m_contacts.size()); ++t) m_pairStats.warmStarted += m_warmTasks[t];
+  for (std::size_t t = 0; t < rowTasks; ++t) m_pairStats.warmStarted += m_warmTasks[t];
 
   m_pairStats.contactPoints = m_rows.size();
   WarmStart(RPhase::kVelocity);
@@ -122,7 +122,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // deficient (four points of one face constrain three degrees of freedom), so the
   // minimum-norm least-squares inverse is precomputed once per step; when its answer
   // would pull at a point, that manifold falls back to one point at a time.
-  ParallelRanges(m_jobs, m_blocks.size(), m_tasks, [&](std::size_t b0, std::size_t b1, std::size_t) {
+  ParallelRanges(m_jobs, m_blocks.size(), m_tasks, 64, [&](std::size_t b0, std::size_t b1, std::size_t) {
   for (std::size_t bi = b0; bi < b1; ++bi) {
     RBlock& blk = m_blocks[bi];
     if (!blk.useBlock) continue;
@@ -281,7 +281,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
 // sweep restricted to its manifolds, in the same order: the islands are solved apart, on
 // as many threads as there are, with bit-identical results.
 void RWorldStep::SolveBlocks(RPhase phase, int iterations) {
-  ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t isl = i0; isl < i1; ++isl) {
       const std::uint32_t first = m_blockIslands[isl].first, last = m_blockIslands[isl].second;
       for (int it = 0; it < iterations; ++it) {

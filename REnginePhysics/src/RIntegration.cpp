@@ -15,7 +15,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
   // Every body moves on its own: the bodies are cut into ranges, one task each; the bodies
   // put back are listed afterwards, in index order.
   m_putBack.assign(bodies.size(), 0);
-  ParallelRanges(m_jobs, bodies.size(), m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(m_jobs, bodies.size(), m_tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       RRigidBody& b = bodies[i];
       // A sleeping body has no velocity, and nothing touched it: it stays where it is.

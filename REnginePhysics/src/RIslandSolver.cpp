@@ -130,7 +130,7 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
 // scratch, on as many threads as there are; the result does not depend on which.
 void RWorldStep::SolveIslands(RPhase phase) {
   if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
-  ParallelRanges(m_jobs, m_islands.size(), m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+  ParallelRanges(m_jobs, m_islands.size(), m_tasks, 2, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RIslandScratch& sc = m_islandScratch[task];
     for (std::size_t island = i0; island < i1; ++island) {
       const auto [first, last] = m_islands[island];

@@ -57,7 +57,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
   m_moveV.resize(n), m_moveW.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
-  ParallelRanges(m_jobs, n, m_tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       RRigidBody& b = bodies[i];
       const RScalar r = b.BoundingRadius();
@@ -119,7 +119,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // Without the trees, each task takes a contiguous range of i and lists its pairs; the
   // lists, joined in task order, are the all-pairs loop's order whatever the number of tasks
   // or threads.
-  ParallelRanges(m_jobs, n, tasks, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+  const std::size_t used = ParallelRanges(m_jobs, n, tasks, 64, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.pairs.clear();
     st.sphereTests = 0;
@@ -184,9 +184,9 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     }
   });
   m_pairs.clear();
-  for (std::size_t t = 0; t < std::min(tasks, n); ++t) {
+  for (std::size_t t = 0; t < used; ++t) {
     // One task: its list is the list (swapped, not copied; both keep their capacity).
-    if (tasks == 1) {
+    if (used == 1) {
       std::swap(m_pairs, m_sweepTasks[t].pairs);
     } else {
       m_pairs.insert(m_pairs.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
@@ -198,10 +198,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // The world forms those pairs read, each computed once: on several threads they are
   // computed here, before the pairs are shared out, since a lazily computed form would be
   // written by whichever threads asked at once.
-  if (m_jobs && tasks > 1) {
+  constexpr std::size_t kPairGrain = 32;  // pairs per task, at least
+  if (m_jobs && std::min(tasks, m_pairs.size() / kPairGrain) > 1) {
     m_formNeeded.assign(n, 0);
     for (const auto& [i, j] : m_pairs) m_formNeeded[i] = m_formNeeded[j] = 1;
-    ParallelRanges(m_jobs, n, tasks, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    ParallelRanges(m_jobs, n, tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
       for (std::size_t i = i0; i < i1; ++i) {
         if (m_formNeeded[i]) bodies[i].WorldForm(m_cacheStamp);
       }
@@ -211,7 +212,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // Stage 2: each pair through the filters, the bounding boxes and the narrow phase. Tasks
   // take contiguous ranges of the pairs; their contacts, joined in task order, keep the
   // pairs' order.
-  ParallelRanges(m_jobs, m_pairs.size(), tasks, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+  const std::size_t pairTasks = ParallelRanges(m_jobs, m_pairs.size(), tasks, kPairGrain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.contacts.clear(), st.wake.clear();
     st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = 0;
@@ -261,9 +262,9 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     }
   });
   bool woke = false;
-  for (std::size_t t = 0; t < std::min(tasks, m_pairs.size()); ++t) {
+  for (std::size_t t = 0; t < pairTasks; ++t) {
     RSweepTask& st = m_sweepTasks[t];
-    if (tasks == 1) {
+    if (pairTasks == 1) {
       std::swap(m_contacts, st.contacts);
     } else {
       m_contacts.insert(m_contacts.end(), st.contacts.begin(), st.contacts.end());

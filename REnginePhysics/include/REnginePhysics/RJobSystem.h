@@ -8,6 +8,7 @@
 // system give bit-identical results.
 #pragma once
 
+#include <algorithm>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -66,16 +67,19 @@ class RThreadPool final : public RJobSystem {
   std::size_t m_finished = 0;  // tasks finished (guarded by m_mutex)
 };
 
-// Runs body(begin, end) over [0, count) cut into `tasks` contiguous ranges (on the job
-// system when there is one and more than one task, else inline). The ranges depend only on
-// count and tasks, never on the threads.
+// Runs body(begin, end, task) over [0, count) cut into contiguous ranges, at most `tasks`
+// of them and none of fewer than `grain` items (a stage too small to pay for waking threads
+// runs inline, as one range), on the job system when there is one and more than one range.
+// Returns how many ranges there were (0 for an empty range): task k's outputs are those of
+// range k. The ranges depend only on count, tasks and grain, never on the threads.
 template <class Body>
-void ParallelRanges(RJobSystem* jobs, std::size_t count, std::size_t tasks, const Body& body) {
-  if (count == 0) return;
-  if (tasks > count) tasks = count;
+std::size_t ParallelRanges(RJobSystem* jobs, std::size_t count, std::size_t tasks,
+                           std::size_t grain, const Body& body) {
+  if (count == 0) return 0;
+  tasks = std::min(tasks, std::max<std::size_t>(1, count / std::max<std::size_t>(1, grain)));
   if (!jobs || tasks <= 1) {
     body(std::size_t{0}, count, std::size_t{0});
-    return;
+    return 1;
   }
   struct Context {
     const Body* body;
@@ -85,6 +89,7 @@ void ParallelRanges(RJobSystem* jobs, std::size_t count, std::size_t tasks, cons
     const Context& c = *static_cast<const Context*>(p);
     (*c.body)(c.count * k / c.tasks, c.count * (k + 1) / c.tasks, k);
   }, &context);
+  return tasks;
 }
 
 }  // namespace REngine
