@@ -6,6 +6,7 @@
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 
+#include "support/RandomWorlds.h"
 #include "support/TestBodies.h"
 
 #include "RBoundsTree.h"  // private to the engine: tested directly below
@@ -23,45 +24,6 @@ using namespace REngine;
 using namespace REngine::test;
 
 namespace {
-
-// A body drawn from rng around `origin` in a cube of side `side`.
-RBodyDef Draw(std::mt19937_64& rng, const RVec3& origin, RScalar side, int i) {
-  std::uniform_real_distribution<RScalar> u(0, 1);
-  // 1 cm to 3 m, and one body in 50 of 10 to 100 m (a station among debris).
-  const RScalar size = u(rng) < 0.02 ? std::pow(10.0, 1 + u(rng)) : std::pow(10.0, -2 + 2.5 * u(rng));
-  BodyDef d;
-  switch (i % 3) {
-    case 0: d = SphereDef(size); break;
-    case 1: d = BoxDef(RVec3(size, size * (0.2 + u(rng)), size * (0.2 + u(rng)))); break;
-    default:
-      d = HullDef({RVec3(0, 0, 0), RVec3(size, 0, 0), RVec3(0, size, 0), RVec3(0, 0, size),
-                   RVec3(size, size, size) * 0.6});
-  }
-  d.position_W = origin + RVec3(u(rng), u(rng), u(rng)) * side;
-  d.q_WS = RQuat(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
-  const RScalar speed = u(rng) < 0.05 ? 3000 : 20 * u(rng) * u(rng);
-  d.velocity_W = RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * speed;
-  d.angularVelocity_W = RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 4;
-  d.mass = 1 + 10 * u(rng);
-  d.isStatic = u(rng) < 0.1;
-  d.responds = u(rng) > 0.05;
-  d.name = "b" + std::to_string(i);
-  return d;
-}
-
-std::vector<RBodyDef> World(std::uint64_t seed, const RVec3& origin, int n, RScalar side) {
-  std::mt19937_64 rng(seed);
-  std::vector<RBodyDef> defs;
-  for (int i = 0; i < n; ++i) defs.push_back(Draw(rng, origin, side, i));
-  // A floor and a resting stack on it (contacts touching exactly, then asleep).
-  BodyDef floor = BoxDef(RVec3(side, 0.5, side));
-  floor.At(origin + RVec3(0, -0.5 - side, 0)).Static().Named("floor");
-  defs.push_back(floor);
-  for (int k = 0; k < 4; ++k) {
-    defs.push_back(BoxDef(RVec3::Constant(0.5)).At(origin + RVec3(0, 0.5 + k - side, 0)).Mass(1).Named("s" + std::to_string(k)));
-  }
-  return defs;
-}
 
 bool SameState(const RRigidBody& a, const RRigidBody& b) {
   return a.Position_W() == b.Position_W() && a.Velocity_W() == b.Velocity_W() &&
@@ -100,23 +62,20 @@ void ExpectSameAsAllPairs(const std::vector<RBodyDef>& defs, const RVec3& gravit
 }  // namespace
 
 TEST(BroadPhase, FindsTheAllPairsLoopsPairsNearTheOrigin) {
-  // Seed 3 is left out while its world gains energy without bound (bodies spawned deep
-  // inside each other; followed up in energy_blowup tests): both loops agree on it, but
-  // every pair ends up in contact and the test takes minutes.
-  for (std::uint64_t seed : {1, 2, 4, 5}) {
-    ExpectSameAsAllPairs(World(seed, RVec3::Zero(), 300, 40), RVec3(0, -9.81, 0), 60);
+  for (std::uint64_t seed : {1, 2, 3, 4, 5}) {
+    ExpectSameAsAllPairs(RandomWorld(seed, RVec3::Zero(), 300, 40), RVec3(0, -9.81, 0), 60);
   }
 }
 
 TEST(BroadPhase, FindsTheAllPairsLoopsPairsFarFromTheOrigin) {
   // 1e12 m out, coordinates carry 1e-4 m of rounding: the boxes' room for it is what keeps
   // touching pairs.
-  ExpectSameAsAllPairs(World(7, RVec3(1e12, -3e11, 5e11), 200, 30), RVec3::Zero(), 40);
+  ExpectSameAsAllPairs(RandomWorld(7, RVec3(1e12, -3e11, 5e11), 200, 30), RVec3::Zero(), 40);
 }
 
 // A sparse field (the broad phase's case): a body meets its few neighbours, not every other.
 TEST(BroadPhase, TestsFewPairsInASparseField) {
-  const std::vector<RBodyDef> defs = World(13, RVec3::Zero(), 2000, 2000);
+  const std::vector<RBodyDef> defs = RandomWorld(13, RVec3::Zero(), 2000, 2000);
   RWorldSettings on;
   RIntegrator a(on);
   std::vector<RRigidBody> wa;
@@ -130,7 +89,7 @@ TEST(BroadPhase, TestsFewPairsInASparseField) {
 }
 
 TEST(BroadPhase, FindsTheAllPairsLoopsPairsInZeroGravityCrowds) {
-  ExpectSameAsAllPairs(World(11, RVec3(-5, 2, 7), 400, 15), RVec3::Zero(), 40);
+  ExpectSameAsAllPairs(RandomWorld(11, RVec3(-5, 2, 7), 400, 15), RVec3::Zero(), 40);
 }
 
 // Sleeping and churn: the passive tree is reused while nothing passive changes and rebuilt
@@ -145,7 +104,7 @@ TEST(BroadPhase, FindsTheSamePairsThroughChurnAndSleep) {
   // A tumbling crowd falling freely 300 m away, beside a floor of 16 small stacks that go to
   // sleep; bodies of both come and go (never a static one: removing that wakes every island,
   // and nothing would stay asleep long enough to test the passive tree).
-  std::vector<RBodyDef> defs = World(3, RVec3(300, 0, 0), 120, 20);
+  std::vector<RBodyDef> defs = RandomWorld(3, RVec3(300, 0, 0), 120, 20);
   defs.push_back(BoxDef(RVec3(20, 0.5, 20)).At(RVec3(0, -0.5, 0)).Static().Named("ground"));
   for (int x = 0; x < 4; ++x) {
     for (int z = 0; z < 4; ++z) {

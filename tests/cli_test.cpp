@@ -552,8 +552,8 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
     const char* scene;
     const char* hash;
   } pins[] = {
-      {"box_pile_1000", "073bbd87657d9a55"},     {"box_stack_10", "b93c00dd45e2d91c"},
-      {"debris_cloud_1000", "065c41fd2ba16dca"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"box_pile_1000", "4e573835cc43f667"},     {"box_stack_10", "b93c00dd45e2d91c"},
+      {"debris_cloud_1000", "4a21507c31948404"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {

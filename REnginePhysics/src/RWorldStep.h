@@ -138,7 +138,7 @@ class RWorldStep {
     std::uint32_t contact;     // index into m_contacts
     std::uint32_t block;       // index into m_blocks
     int point;                 // index into its manifold
-    RDirection n;              // the normal, A to B
+    RDirection n;              // the normal, A to B (arms shifted after impacts: FindImpulses)
     RVec3 rA, rB;              // contact point from each centre of mass, world, m
     RScalar lever;             // distance from the manifold's centroid, m
     RScalar gap;               // separation at the start of the step, m
@@ -234,7 +234,7 @@ class RWorldStep {
     int count;
     bool useBlock;
     Eigen::Matrix<RScalar, 4, 4> pinv;
-    RDirection t[2];           // tangents at the centroid
+    RDirection t[2];           // tangents at the centroid (arms shifted as the rows')
     RVec3 rA, rB;              // the centroid from each centre of mass, world, m
     RVec3 normal;              // world, A to B
     RVec3 twistIA, twistIB;    // inverse inertias times the normal, 1/(kg m^2)
