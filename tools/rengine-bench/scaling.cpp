@@ -63,6 +63,11 @@ using Clock = std::chrono::steady_clock;
 constexpr int kExitOk = 0, kExitRunFailed = 1, kExitBadInput = 2;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::uint64_t kQuickSteps = 10;
+#ifdef RENGINE_HAVE_BULLET
+constexpr bool kHaveBullet = true;
+#else
+constexpr bool kHaveBullet = false;
+#endif
 
 struct ScalingRow {
   const ScalingScene* scene = nullptr;
@@ -324,12 +329,15 @@ int RunScaling(const ScalingOptions& options) {
 #else
   std::printf("scaling: REngine only (built without Bullet: no Bullet series, no Jolt estimate)\n");
 #endif
-  std::printf("timing: steady_clock around the step loop only; per scene %d interleaved "
-              "run%s of each engine (REngine, Bullet, ...), medians; steps: %s\n",
+  std::printf("timing: steady_clock around the step loop only; per scene %d run%s of each "
+              "engine%s, medians; steps: %s\n",
               opt.repeats, opt.repeats == 1 ? "" : "s",
+              kHaveBullet ? ", interleaved (REngine, Bullet, REngine, ...)" : "",
               opt.steps ? std::to_string(opt.steps).c_str() : "each scene's own");
-  std::printf("jolt estimate = Bullet ms/step of this run x Jolt / Bullet of the issue's table; "
-              "vs Jolt = REngine / jolt estimate (<= 1: at or under Jolt)\n");
+  if (kHaveBullet) {
+    std::printf("jolt estimate = Bullet ms/step of this run x Jolt / Bullet of the issue's "
+                "table; vs Jolt = REngine / jolt estimate (<= 1: at or under Jolt)\n");
+  }
 
   std::vector<ScalingRow> rows;
   bool ok = true;
