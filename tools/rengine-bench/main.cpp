@@ -2,6 +2,9 @@
 //
 //   rengine-bench [--scenes a,b,...] [--csv FILE] [--repeats N] [--quick]
 //   rengine-bench --shortcuts [--csv FILE] [--repeats N] [--quick]   (see shortcuts.h)
+//   rengine-bench --scaling [--scenes a,b,...] [--steps N] [--broadphase on|off|both]
+//                 [--scene-dir DIR] [--generate-scenes] [--csv FILE] [--repeats N] [--quick]
+//                 (ms/step against body count, REngine and Bullet: see scaling.h)
 //
 // Runs reference scenes whose answer is known in closed form (or whose conserved quantities
 // are) over a grid of step sizes (and, for contact scenes, solver iterations), and writes one
@@ -81,7 +84,8 @@
 //
 // Files: scenes.cpp (the scenes above and their closed forms), engines.cpp (REngine and
 // Bullet behind one interface), report.cpp (the table and the CSV), shortcuts.cpp
-// (--shortcuts), and this one (the command line and the grid).
+// (--shortcuts), scaling.cpp and scaling_scenes.cpp (--scaling), and this one (the command
+// line and the grid).
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RScene.h>
 
@@ -93,6 +97,7 @@
 
 #include "engines.h"
 #include "report.h"
+#include "scaling.h"
 #include "scenes.h"
 #include "shortcuts.h"
 
@@ -100,6 +105,7 @@
 #include <cerrno>
 #include <charconv>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -179,6 +185,46 @@ int ParseRepeats(const std::string& text) {
   return n;
 }
 
+// --steps for --scaling: a whole number >= 1.
+std::uint64_t ParseSteps(const std::string& text) {
+  std::uint64_t n = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (ec != std::errc() || end != text.data() + text.size() || n < 1) {
+    throw UsageError{"--steps: must be an integer >= 1 (got \"" + text + "\")"};
+  }
+  return n;
+}
+
+ScalingOptions::BroadPhase ParseBroadPhase(const std::string& text) {
+  if (text == "on") return ScalingOptions::BroadPhase::kOn;
+  if (text == "off") return ScalingOptions::BroadPhase::kOff;
+  if (text == "both") return ScalingOptions::BroadPhase::kBoth;
+  throw UsageError{"--broadphase: must be on, off or both (got \"" + text + "\")"};
+}
+
+std::vector<std::string> SplitList(const std::string& list) {
+  std::vector<std::string> items;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) items.push_back(item);
+  return items;
+}
+
+// The CSV's directory is created and the file opened before any run, so a bad path fails in
+// a second rather than after minutes.
+bool ProbeCsv(const std::string& csvPath) {
+  const std::filesystem::path parent = std::filesystem::path(csvPath).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (std::FILE* probe = std::fopen(csvPath.c_str(), "ab")) {
+    std::fclose(probe);
+    return true;
+  }
+  std::fprintf(stderr, "error: %s: cannot open for writing: %s\n", csvPath.c_str(),
+               std::strerror(errno));
+  return false;
+}
+
 std::string KnownScenes() {
   std::string known;
   for (const Scene& s : AllScenes()) known += std::string(known.empty() ? "" : ", ") + s.name;
@@ -231,17 +277,41 @@ int Run(int argc, char** argv) {
                "REngine, and Bullet where it was found at build time.",
                "rengine-bench"};
   std::string scenesText, csvPath = "build/bench/bench.csv", repeatsText = "5";
-  bool quick = false, shortcuts = false;
-  app.add_option("--scenes", scenesText, "Comma-separated scenes (default all): " + KnownScenes());
+  std::string stepsText, broadPhaseText = "on", sceneDir = RENGINE_SCALING_SCENES;
+  bool quick = false, shortcuts = false, scaling = false, generateScenes = false;
+  app.add_option("--scenes", scenesText,
+                 "Comma-separated scenes (default all): " + KnownScenes() +
+                     "; with --scaling: " + ScalingSceneNames());
   app.add_option("--csv", csvPath, "CSV output, one row per run")->capture_default_str();
   app.add_option("--repeats", repeatsText, "Timed runs per grid point (median reported)")
       ->capture_default_str();
   app.add_flag("--quick", quick,
                "Smoke test: dt in {1/30, 1/120} (debris_cloud, asteroid_field: 1/30, 1 s), "
                "10 iterations, 1 timed run");
-  app.add_flag("--shortcuts", shortcuts,
-               "Instead of the grid: each shortcut's scene with and without it (time per step "
-               "and error; CSV default build/bench/shortcuts.csv)");
+  CLI::Option* shortcutsFlag = app.add_flag(
+      "--shortcuts", shortcuts,
+      "Instead of the grid: each shortcut's scene with and without it (time per step "
+      "and error; CSV default build/bench/shortcuts.csv)");
+  CLI::Option* scalingFlag = app.add_flag(
+      "--scaling", scaling,
+      "Instead of the grid: ms/step against body count on the scaling scenes, REngine and "
+      "Bullet interleaved, the issue's Jolt figures scaled to this run (CSV default "
+      "build/bench/scaling.csv, repeats default 3; --quick: the 1000-body scenes, 10 steps)");
+  scalingFlag->excludes(shortcutsFlag);
+  app.add_option("--steps", stepsText, "--scaling: steps per run (default each scene's own, 300)")
+      ->needs(scalingFlag);
+  app.add_option("--broadphase", broadPhaseText,
+                 "--scaling: REngine's broad phase on, off (the all-pairs reference loop) or both")
+      ->needs(scalingFlag)
+      ->capture_default_str();
+  app.add_option("--scene-dir", sceneDir,
+                 "--scaling: the scene files, generated there by "
+                 "../shared/scaling/make_scaling_scenes.py when missing")
+      ->needs(scalingFlag)
+      ->capture_default_str();
+  app.add_flag("--generate-scenes", generateScenes,
+               "--scaling: make the missing scene files, then exit")
+      ->needs(scalingFlag);
   app.footer(kErrorHelp);
   try {
     app.parse(argc, argv);
@@ -250,6 +320,24 @@ int Run(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
 
+  if (scaling) {
+    ScalingOptions opt;
+    try {
+      if (!scenesText.empty()) opt.scenes = SplitList(scenesText);
+      if (app.count("--repeats")) opt.repeats = ParseRepeats(repeatsText);
+      if (!stepsText.empty()) opt.steps = ParseSteps(stepsText);
+      opt.broadPhase = ParseBroadPhase(broadPhaseText);
+    } catch (const UsageError& e) {
+      std::fprintf(stderr, "error: %s\n", e.message.c_str());
+      return kExitBadInput;
+    }
+    opt.sceneDir = sceneDir;
+    opt.csvPath = app.count("--csv") ? csvPath : "build/bench/scaling.csv";
+    opt.quick = quick;
+    opt.generateOnly = generateScenes;
+    if (!opt.generateOnly && !ProbeCsv(opt.csvPath)) return kExitBadInput;
+    return RunScaling(opt);
+  }
   if (shortcuts && app.count("--csv") == 0) csvPath = "build/bench/shortcuts.csv";
   std::vector<const Scene*> scenes;
   int repeats = 0;
@@ -265,17 +353,7 @@ int Run(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitBadInput;
   }
-  // Created before the runs, so a bad path fails in a second rather than after minutes.
-  const std::filesystem::path parent = std::filesystem::path(csvPath).parent_path();
-  std::error_code ec;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  if (std::FILE* probe = std::fopen(csvPath.c_str(), "ab")) {
-    std::fclose(probe);
-  } else {
-    std::fprintf(stderr, "error: %s: cannot open for writing: %s\n", csvPath.c_str(),
-                 std::strerror(errno));
-    return kExitBadInput;
-  }
+  if (!ProbeCsv(csvPath)) return kExitBadInput;
 
   if (shortcuts) {
     std::vector<rbench::ShortcutRow> rows;

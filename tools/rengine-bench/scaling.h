@@ -1,0 +1,33 @@
+// rengine-bench --scaling (issue #13): ms/step against body count for REngine and Bullet in
+// the same run, on the scaling scenes (scaling_scenes.h), with the issue's Jolt figures
+// scaled to this run. tools/plot_scaling.py draws the CSV.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rbench {
+
+struct ScalingOptions {
+  std::vector<std::string> scenes;  // from ScalingScenes(); empty: all (--quick: the smallest)
+  std::string sceneDir;             // where the scene files are, or are generated
+  std::string csvPath;
+  int repeats = 3;                  // interleaved timed runs per scene and engine (median kept)
+  std::uint64_t steps = 0;          // 0: each scene's own (300)
+  // REngine's broad phase (the scene key solver.broadphase): on, off (the all-pairs reference
+  // loop), or both (two REngine rows per scene, timed in the same interleaving).
+  enum class BroadPhase { kOn, kOff, kBoth } broadPhase = BroadPhase::kOn;
+  bool quick = false;          // smoke test: the smallest scenes, 10 steps, 1 run
+  bool generateOnly = false;   // make the missing scene files, run nothing
+};
+
+// Runs the scaling series, prints the table and writes the CSV. Returns the exit code: 0,
+// 1 when a run failed (a body became non-finite, REngine's repeats disagree), 2 bad input
+// (an unknown scene, a scene file that cannot be made or read, the CSV path).
+int RunScaling(const ScalingOptions& options);
+
+// The scene names, comma-separated, for --help and error messages.
+std::string ScalingSceneNames();
+
+}  // namespace rbench
