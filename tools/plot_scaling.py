@@ -34,6 +34,7 @@ SERIES = {  # series -> (label, colour)
 ENGINES = {  # engine -> (label, line style, marker, filled)
     "REngine": ("REngine", "-", "o", True),
     "REngine all pairs": ("REngine, all-pairs loop (broad phase off)", ":", "x", True),
+    "REngine 2 threads": ("REngine, 2 threads", (0, (5, 1)), "D", True),
     "Bullet": ("Bullet 3.24, this run", "-.", "s", True),
     "Jolt": ("Jolt 5.5, the issue's table", "--", "^", False),
 }
@@ -51,12 +52,17 @@ def read_points(paths):
             for row in csv.DictReader(f):
                 bodies, series = int(row["bodies"]), row["series"]
                 broadphase = row["broadphase"] == "on"
+                threads = int(row.get("threads") or 1)
+                engine = "REngine" if broadphase else "REngine all pairs"
+                if threads != 1:
+                    engine = f"REngine {threads} threads"
+                    ENGINES.setdefault(engine, (f"REngine, {threads} threads", (0, (5, 1)), "D", True))
                 values = {
-                    ("REngine" if broadphase else "REngine all pairs"):
-                        number(row["rengine_ms_per_step"]),
+                    engine: number(row["rengine_ms_per_step"]),
                     "Jolt": number(row["jolt_table_ms_per_step"]),
                 }
-                if broadphase:  # Bullet does not depend on REngine's setting: once per run
+                first = broadphase and threads == 1
+                if first:  # Bullet does not depend on REngine's setting: once per run
                     values["Bullet"] = number(row["bullet_ms_per_step"])
                 for engine, ms in values.items():
                     if ms is not None:
@@ -81,12 +87,12 @@ def cell(text, fmt):
 
 
 def print_results(rows):
-    print("| scene | bodies | steps | sleeping | broad phase | REngine ms/step | Bullet ms/step "
-          "| Jolt estimate ms/step | REngine / Jolt estimate |")
-    print("| --- | ---: | ---: | --- | --- | ---: | ---: | ---: | ---: |")
+    print("| scene | bodies | steps | sleeping | broad phase | threads | REngine ms/step "
+          "| Bullet ms/step | Jolt estimate ms/step | REngine / Jolt estimate |")
+    print("| --- | ---: | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: |")
     for r in rows:
         print(f"| {r['scene']} | {r['bodies']} | {r['steps']} | {r['sleeping']} "
-              f"| {r['broadphase']} | {cell(r['rengine_ms_per_step'], '%.3g')} "
+              f"| {r['broadphase']} | {r.get('threads') or 1} | {cell(r['rengine_ms_per_step'], '%.3g')} "
               f"| {cell(r['bullet_ms_per_step'], '%.3g')} "
               f"| {cell(r['jolt_estimate_ms_per_step'], '%.3g')} | {cell(r['vs_jolt'], '%.2f')} |")
 
@@ -121,7 +127,7 @@ def plot(points, out_path):
     ax.set_yscale("log")
     ax.set_xlabel("bodies (dynamic)")
     ax.set_ylabel("ms per step (median of interleaved runs)")
-    ax.set_title("Cost per step against body count, 60 Hz, 10 iterations, one thread")
+    ax.set_title("Cost per step against body count, 60 Hz, 10 iterations (one thread unless marked)")
     ax.grid(True, which="both", alpha=0.3)
     series_legend = ax.legend(
         [Line2D([], [], color=c, linewidth=3) for _, c in SERIES.values()],

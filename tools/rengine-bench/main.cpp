@@ -300,6 +300,10 @@ int Run(int argc, char** argv) {
   scalingFlag->excludes(shortcutsFlag);
   app.add_option("--steps", stepsText, "--scaling: steps per run (default each scene's own, 300)")
       ->needs(scalingFlag);
+  std::string threadsText = "1";
+  app.add_option("--threads", threadsText,
+                 "--scaling: REngine's thread counts, comma-separated (default 1, as the issue's "
+                 "figures; 0: what the machine has)");
   app.add_option("--broadphase", broadPhaseText,
                  "--scaling: REngine's broad phase on, off (the all-pairs reference loop) or both")
       ->needs(scalingFlag)
@@ -327,6 +331,15 @@ int Run(int argc, char** argv) {
       if (app.count("--repeats")) opt.repeats = ParseRepeats(repeatsText);
       if (!stepsText.empty()) opt.steps = ParseSteps(stepsText);
       opt.broadPhase = ParseBroadPhase(broadPhaseText);
+      opt.threads.clear();
+      for (const std::string& t : SplitList(threadsText)) {
+        char* end = nullptr;
+        const long value = std::strtol(t.c_str(), &end, 10);
+        if (t.empty() || *end != '\0' || value < 0 || value > 1024) {
+          throw UsageError{"--threads: a comma-separated list of counts 0 to 1024 (got \"" + threadsText + "\")"};
+        }
+        opt.threads.push_back(static_cast<int>(value));
+      }
     } catch (const UsageError& e) {
       std::fprintf(stderr, "error: %s\n", e.message.c_str());
       return kExitBadInput;

@@ -20,8 +20,8 @@
 //    jolt_estimate = this run's Bullet ms/step x (Jolt / Bullet) of the scene's row, and
 //    vs_jolt = REngine / jolt_estimate (<= 1: at or under Jolt).
 //
-// CSV, one row per scene and REngine setting:
-//   scene,series,bodies,steps,sleeping,broadphase,repeats,rengine_ms_per_step,
+// CSV, one row per scene and REngine setting (broad phase, threads):
+//   scene,series,bodies,steps,sleeping,broadphase,threads,repeats,rengine_ms_per_step,
 //   bullet_ms_per_step,jolt_estimate_ms_per_step,vs_jolt,rengine_table_ms_per_step,
 //   bullet_table_ms_per_step,jolt_table_ms_per_step,rengine_hash
 // bodies counts the dynamic bodies (a pile also has its static ground); the *_table columns
@@ -74,6 +74,7 @@ struct ScalingRow {
   std::size_t bodies = 0;  // dynamic
   std::uint64_t steps = 0;
   bool sleeping = true, broadPhase = true;
+  int threads = 1;
   int repeats = 0;
   double rengineMs = kNaN, bulletMs = kNaN;
   std::uint64_t hash = 0;
@@ -165,11 +166,11 @@ std::string Number(double x, const char* format) {
 }
 
 void PrintTable(const std::vector<ScalingRow>& rows) {
-  std::printf("\n%-17s %6s %5s %5s %6s %11s %11s %11s %8s  %s\n", "scene", "bodies", "steps",
-              "sleep", "bphase", "REngine ms", "Bullet ms", "Jolt est.", "vs Jolt", "hash");
+  std::printf("\n%-17s %6s %5s %5s %6s %7s %11s %11s %11s %8s  %s\n", "scene", "bodies", "steps",
+              "sleep", "bphase", "threads", "REngine ms", "Bullet ms", "Jolt est.", "vs Jolt", "hash");
   for (const ScalingRow& r : rows) {
-    std::printf("%-17s %6zu %5" PRIu64 " %5s %6s %11.4g %11s %11s %8s  %016" PRIx64 "\n",
-                r.scene->name, r.bodies, r.steps, OnOff(r.sleeping), OnOff(r.broadPhase),
+    std::printf("%-17s %6zu %5" PRIu64 " %5s %6s %7d %11.4g %11s %11s %8s  %016" PRIx64 "\n",
+                r.scene->name, r.bodies, r.steps, OnOff(r.sleeping), OnOff(r.broadPhase), r.threads,
                 r.rengineMs, Number(r.bulletMs, "%.4g").c_str(),
                 Number(r.JoltEstimate(), "%.4g").c_str(), Number(r.VsJolt(), "%.3g").c_str(),
                 r.hash);
@@ -180,13 +181,13 @@ bool WriteCsv(const std::string& path, const std::vector<ScalingRow>& rows) {
   std::FILE* file = std::fopen(path.c_str(), "wb");
   if (!file) return false;
   std::fprintf(file,
-               "scene,series,bodies,steps,sleeping,broadphase,repeats,rengine_ms_per_step,"
+               "scene,series,bodies,steps,sleeping,broadphase,threads,repeats,rengine_ms_per_step,"
                "bullet_ms_per_step,jolt_estimate_ms_per_step,vs_jolt,rengine_table_ms_per_step,"
                "bullet_table_ms_per_step,jolt_table_ms_per_step,rengine_hash\n");
   for (const ScalingRow& r : rows) {
     const ScalingScene& s = *r.scene;
-    std::fprintf(file, "%s,%s,%zu,%" PRIu64 ",%s,%s,%d,%s,%s,%s,%s,%s,%s,%s,%016" PRIx64 "\n",
-                 s.name, s.series, r.bodies, r.steps, OnOff(r.sleeping), OnOff(r.broadPhase),
+    std::fprintf(file, "%s,%s,%zu,%" PRIu64 ",%s,%s,%d,%d,%s,%s,%s,%s,%s,%s,%s,%016" PRIx64 "\n",
+                 s.name, s.series, r.bodies, r.steps, OnOff(r.sleeping), OnOff(r.broadPhase), r.threads,
                  r.repeats, Number(r.rengineMs, "%.6g").c_str(), Number(r.bulletMs, "%.6g").c_str(),
                  Number(r.JoltEstimate(), "%.6g").c_str(), Number(r.VsJolt(), "%.4g").c_str(),
                  Number(s.rengineTable, "%g").c_str(), Number(s.bulletTable, "%g").c_str(),
@@ -218,9 +219,16 @@ std::vector<const ScalingScene*> ChooseScenes(const ScalingOptions& opt) {
 // failed (reported).
 bool RunScene(const ScalingScene& def, const RScene& scene, const ScalingOptions& opt,
               std::vector<ScalingRow>& rows) {
-  std::vector<bool> broadPhases;
-  if (opt.broadPhase != ScalingOptions::BroadPhase::kOff) broadPhases.push_back(true);
-  if (opt.broadPhase != ScalingOptions::BroadPhase::kOn) broadPhases.push_back(false);
+  // REngine's settings: each broad-phase setting on each thread count.
+  struct Config {
+    bool broadPhase;
+    int threads;
+  };
+  std::vector<Config> configs;
+  for (int t : opt.threads) {
+    if (opt.broadPhase != ScalingOptions::BroadPhase::kOff) configs.push_back({true, t});
+    if (opt.broadPhase != ScalingOptions::BroadPhase::kOn) configs.push_back({false, t});
+  }
 
   std::size_t dynamic = 0;
   for (const RBodyDef& d : scene.bodies) dynamic += d.isStatic ? 0 : 1;
@@ -231,19 +239,21 @@ bool RunScene(const ScalingScene& def, const RScene& scene, const ScalingOptions
   WarnCombineMismatch(scene);
 #endif
 
-  std::vector<std::vector<double>> rengineMs(broadPhases.size());
-  std::vector<std::uint64_t> hashes(broadPhases.size());
+  std::vector<std::vector<double>> rengineMs(configs.size());
+  std::vector<std::uint64_t> hashes(configs.size());
   std::vector<double> bulletMs;
   bool ok = true;
   for (int r = 0; r < opt.repeats; ++r) {
     std::printf("  run %d:", r + 1);
-    for (std::size_t i = 0; i < broadPhases.size(); ++i) {
+    for (std::size_t i = 0; i < configs.size(); ++i) {
       // With both settings, each goes first in every other repeat.
-      const std::size_t k = r % 2 ? broadPhases.size() - 1 - i : i;
+      const std::size_t k = r % 2 ? configs.size() - 1 - i : i;
       RWorldSettings settings = scene.settings;
-      settings.shortcuts.broadPhase = broadPhases[k];
+      settings.shortcuts.broadPhase = configs[k].broadPhase;
+      settings.threads = configs[k].threads;
       const REngineRun run = RunREngine(scene, settings);
-      std::printf("  REngine%s %9.4f ms/step", broadPhases[k] ? "" : " (all pairs)", run.ms);
+      std::printf("  REngine%s x%d %9.4f ms/step", configs[k].broadPhase ? "" : " (all pairs)",
+                  configs[k].threads, run.ms);
       rengineMs[k].push_back(run.ms);
       if (!run.failure.empty()) {
         std::printf("\n  error: REngine: %s\n", run.failure.c_str());
@@ -267,19 +277,20 @@ bool RunScene(const ScalingScene& def, const RScene& scene, const ScalingOptions
   }
   for (std::size_t k = 1; k < hashes.size(); ++k) {
     if (hashes[k] != hashes[0]) {
-      std::printf("  error: the broad phase changed the final state (hash %016" PRIx64
-                  " on, %016" PRIx64 " off)\n",
+      std::printf("  error: the broad phase or the thread count changed the final state (hash %016" PRIx64
+                  ", then %016" PRIx64 ")\n",
                   hashes[0], hashes[k]);
       ok = false;
     }
   }
-  for (std::size_t k = 0; k < broadPhases.size(); ++k) {
+  for (std::size_t k = 0; k < configs.size(); ++k) {
     ScalingRow row;
     row.scene = &def;
     row.bodies = dynamic;
     row.steps = scene.steps;
     row.sleeping = scene.settings.shortcuts.sleeping;
-    row.broadPhase = broadPhases[k];
+    row.broadPhase = configs[k].broadPhase;
+    row.threads = configs[k].threads;
     row.repeats = opt.repeats;
     row.rengineMs = Median(rengineMs[k]);
     if (!bulletMs.empty()) row.bulletMs = Median(bulletMs);

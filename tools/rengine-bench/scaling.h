@@ -18,6 +18,9 @@ struct ScalingOptions {
   // REngine's broad phase (the scene key solver.broadphase): on, off (the all-pairs reference
   // loop), or both (two REngine rows per scene, timed in the same interleaving).
   enum class BroadPhase { kOn, kOff, kBoth } broadPhase = BroadPhase::kOn;
+  // REngine's thread counts (RWorldSettings::threads): one row per count and broad-phase
+  // setting, timed in the same interleaving. The figures are single-threaded.
+  std::vector<int> threads = {1};
   bool quick = false;          // smoke test: the smallest scenes, 10 steps, 1 run
   bool generateOnly = false;   // make the missing scene files, run nothing
 };
