@@ -36,6 +36,7 @@ bool SameState(const RRigidBody& a, const RRigidBody& b) {
 void ExpectSameAsAllPairs(const std::vector<RBodyDef>& defs, const RVec3& gravity, int steps) {
   RWorldSettings on, off;
   on.gravity_W = off.gravity_W = gravity;
+  on.shortcuts.broadPhaseAlways = true;  // small worlds: the sweep alone would keep the loop
   off.shortcuts.broadPhase = false;
   RIntegrator a(on), b(off);
   std::vector<RRigidBody> wa, wb;
@@ -73,7 +74,8 @@ TEST(BroadPhase, FindsTheAllPairsLoopsPairsFarFromTheOrigin) {
   ExpectSameAsAllPairs(RandomWorld(7, RVec3(1e12, -3e11, 5e11), 200, 30), RVec3::Zero(), 40);
 }
 
-// A sparse field (the broad phase's case): a body meets its few neighbours, not every other.
+// A sparse field (the broad phase's case): a body meets its few neighbours, not every other;
+// the sweep takes the trees by itself. A small dense pile keeps the loop.
 TEST(BroadPhase, TestsFewPairsInASparseField) {
   const std::vector<RBodyDef> defs = RandomWorld(13, RVec3::Zero(), 2000, 2000);
   RWorldSettings on;
@@ -86,6 +88,21 @@ TEST(BroadPhase, TestsFewPairsInASparseField) {
   // sphere tests per body still is 1% of the 2e6 pairs.
   EXPECT_LT(st.sphereTests, 20 * defs.size()) << "of " << st.pairs << " pairs";
   EXPECT_GT(st.pairs, 1000000u);
+  EXPECT_TRUE(st.broadPhase) << "a sparse field of 2000 bodies should take the trees";
+}
+
+TEST(BroadPhase, ASmallDensePileKeepsTheLoop) {
+  RWorldSettings settings;
+  settings.gravity_W = RVec3(0, -9.81, 0);
+  RIntegrator integrator(settings);
+  std::vector<RRigidBody> pile;
+  pile.emplace_back(BoxDef(RVec3(20, 0.5, 20)).At(RVec3(0, -0.5, 0)).Static().Named("ground"));
+  for (int k = 0; k < 200; ++k) {
+    pile.emplace_back(BoxDef(RVec3::Constant(0.5)).At(RVec3(1.01 * (k % 5), 0.5 + k / 25, 1.01 * (k / 5 % 5))).Mass(1).Named("b" + std::to_string(k)));
+  }
+  for (int s = 0; s < 3; ++s) integrator.Update(pile, 1.0 / 60);
+  EXPECT_FALSE(integrator.PairStats().broadPhase);
+  EXPECT_GE(integrator.Contacts().size(), 200u);  // each box on the one below, or the ground
 }
 
 TEST(BroadPhase, FindsTheAllPairsLoopsPairsInZeroGravityCrowds) {
@@ -98,6 +115,7 @@ TEST(BroadPhase, FindsTheAllPairsLoopsPairsInZeroGravityCrowds) {
 TEST(BroadPhase, FindsTheSamePairsThroughChurnAndSleep) {
   RWorldSettings on, off;
   on.gravity_W = off.gravity_W = RVec3(0, -9.81, 0);
+  on.shortcuts.broadPhaseAlways = true;
   off.shortcuts.broadPhase = false;
   RIntegrator ia(on), ib(off);
   RBodies a, b;

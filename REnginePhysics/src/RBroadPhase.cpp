@@ -88,7 +88,7 @@ void RWorldStep::TreePairs(RScalar grow) {
   m_activeTree.PairSeeds(m_passiveTree, 8 * tasks, m_seedScratch2, m_seedScratch);
   m_seeds.insert(m_seeds.end(), m_seedScratch2.begin(), m_seedScratch2.end());
   // Trees of a few hundred bodies are searched on one thread.
-  const std::size_t grain = m_activeIds.size() < 512 ? m_seeds.size() : 1;
+  const std::size_t grain = m_activeIds.size() < 256 ? m_seeds.size() : 1;
   const std::size_t used = ParallelRanges(m_jobs, m_seeds.size(), tasks, grain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.keys.clear();

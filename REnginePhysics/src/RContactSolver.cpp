@@ -95,6 +95,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   for (std::size_t t = 0; t < rowTasks; ++t) m_pairStats.warmStarted += m_warmTasks[t];
 
   m_pairStats.contactPoints = m_rows.size();
+  // Islands (bodies linked through dynamic bodies) from the rows alone: warm starting, the
+  // passes and the direct solves then work island by island.
+  BuildIslands(bodies);
   WarmStart(RPhase::kVelocity);
   SolveImpacts(bodies, dt);
   // A manifold whose impact the narrow phase, run again along the motion, found not to
@@ -184,7 +187,6 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   }
   });
 
-  BuildIslands(bodies);
   SolveBlocks(RPhase::kVelocity, iterations);
   SolveIslands(RPhase::kVelocity);
   SolveIslands(RPhase::kPosition);
@@ -334,16 +336,30 @@ void RWorldStep::SolveBlocks(RPhase phase, int iterations) {
 
 // Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when
 // the rows were built) to the solver bodies' velocities.
+// Island by island, as the passes (SolveBlocks): each island's rows in order, then its
+// patches, which is the whole world's order restricted to the island.
 void RWorldStep::WarmStart(RPhase phase) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
-  for (RContactRow& r : m_rows) {
-    const RScalar lambda = Lambda(r, phase);
-    if (lambda == 0) continue;
-    RSolverBody& sa = m_solverBodies[r.a];
-    RSolverBody& sb = m_solverBodies[r.b];
-    Push(r.n, lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-  }
-  for (const RBlock& blk : m_blocks) ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
+  ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t isl = i0; isl < i1; ++isl) {
+      const std::uint32_t first = m_blockIslands[isl].first, last = m_blockIslands[isl].second;
+      for (std::uint32_t k = first; k < last; ++k) {
+        const RBlock& blk = m_blocks[m_blockOrder[k]];
+        for (int i = 0; i < blk.count; ++i) {
+          RContactRow& r = m_rows[blk.first + i];
+          const RScalar lambda = Lambda(r, phase);
+          if (lambda == 0) continue;
+          RSolverBody& sa = m_solverBodies[r.a];
+          RSolverBody& sb = m_solverBodies[r.b];
+          Push(r.n, lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+        }
+      }
+      for (std::uint32_t k = first; k < last; ++k) {
+        const RBlock& blk = m_blocks[m_blockOrder[k]];
+        ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
+      }
+    }
+  });
 }
 
 // Applies patch impulses (tangential at the centroid, twist about the normal) to the solver

@@ -36,90 +36,14 @@ RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, 
 
 }  // namespace
 
-bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
-  m_contacts.clear();
-  m_pairStats = RPairStats{};
+// Stage 1 of the pair sweep without the broad phase: the all-pairs loop, the reference.
+// Each task takes a contiguous range of i and lists its pairs; the lists, joined in task
+// order, are the loop's order whatever the number of tasks or threads.
+void RWorldStep::AllPairs(const RStepBodies& bodies, RScalar grow) {
   const std::size_t n = bodies.size();
-  const RWorldSettings::RShortcuts& shortcuts = m_settings.shortcuts;
-  // Bounding spheres about the centres of mass, each grown by how far its surface can
-  // move within the step (speed plus the farthest point's rotation, times dt): a pair
-  // whose grown spheres are apart cannot touch before the next step. Stored as separate
-  // arrays so the sweep below is a tight loop over contiguous doubles; the arrays keep
-  // their capacity between steps.
-  // The velocities are those the body will move with this step: a missile given its
-  // launch impulse this step is as fast as one that has flown for a while.
-  // Every pair is also looked at within a fixed allowance: two bodies that rest on each
-  // other have no relative velocity at the start of a step, yet the lower one is held and
-  // the upper one is not, so they close by up to g dt^2 within the step; and a contact
-  // that overlaps by less than the slop must not flicker out when it floats up by a
-  // rounding error. A contact found early is harmless: its row pushes only if needed.
-  const RScalar allowance = m_settings.gravity_W.norm() * dt * dt + m_settings.penetrationSlop;
-  m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
-  m_moveV.resize(n), m_moveW.resize(n);
-  const RScalar halfDt = RScalar(0.5) * dt;
-  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
-    for (std::size_t i = i0; i < i1; ++i) {
-      RRigidBody& b = bodies[i];
-      const RScalar r = b.BoundingRadius();
-      m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
-      if (b.m_sleeping) {
-        // Reach and margin as if it were awake and resting (half a step of gravity), so
-        // that the margin between a sleeper and a resting neighbour is the one two awake
-        // bodies have: a neighbour beyond it while both were awake does not wake it.
-        m_moveV[i] = m_settings.gravity_W * halfDt, m_moveW[i] = 0;
-      } else if (b.m_isStatic) {
-        m_moveV[i].setZero(), m_moveW[i] = 0;
-        // Without the shortcut a static body's world form is recomputed every step, as a
-        // moving body's is.
-        if (!shortcuts.staticForms) b.m_worldForm.stamp = 0;
-      } else {
-        m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
-        const RVec3 kick_B = b.m_q_WB.conjugate() * StartAngularKick_W(b, halfDt);
-        m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
-      }
-      m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
-    }
-  });
-  // Bodies that cannot start a contact: asleep, or static, and responding (a sensor keeps
-  // reporting what sleeps on it). A pair of two of them is skipped; a sleeping body touched
-  // by any other (in the speculative margin) wakes with its island.
-  auto passive = [](const RRigidBody& b) {
-    return (b.m_sleeping || b.m_isStatic) && b.m_responds;
-  };
-  // The bodies that can start a contact, in index order. A passive body is only paired with
-  // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
-  // the pairs are still visited in (i, then j) order.
-  m_active.clear();
-  std::uint64_t passiveCount = 0, staticCount = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (passive(bodies[i])) {
-      ++passiveCount, staticCount += bodies[i].m_isStatic;
-    } else {
-      m_active.push_back(static_cast<std::uint32_t>(i));
-    }
-  }
-  // The touching band, and a relative allowance for the rounding of the squares.
-  constexpr RScalar kGrow = 1 + 1e-9;
-  const bool bounds = shortcuts.boundsRejection;
-  // The broad phase (RShortcuts::broadPhase): bounding-volume trees over the same grown
-  // spheres, one of the bodies that can start a contact (built every sweep) and one of the
-  // passive ones (rebuilt only when one of their boxes changed), so that a body meets the
-  // bodies near it instead of every other. The boxes hold the spheres with room for the
-  // rounding of their sums, and every candidate then takes the same sphere test as in the
-  // all-pairs loop, in the same (i, then j) order: the pairs found are exactly the loop's.
-  const bool tree = bounds && shortcuts.broadPhase;
-  if (tree) BuildBroadPhase(bodies);
-
-  // Stage 1: the pairs whose grown spheres touch, in (i, then j) order.
-  const std::size_t tasks = m_tasks;
-  if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
-  if (tree) {
-    TreePairs(kGrow);
-  } else {
-  // Without the trees, each task takes a contiguous range of i and lists its pairs; the
-  // lists, joined in task order, are the all-pairs loop's order whatever the number of tasks
-  // or threads.
-  const std::size_t used = ParallelRanges(m_jobs, n, tasks, 64, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+  const bool bounds = m_settings.shortcuts.boundsRejection;
+  const RScalar kGrow = grow;
+  const std::size_t used = ParallelRanges(m_jobs, n, m_tasks, 64, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.pairs.clear();
     st.sphereTests = 0;
@@ -131,11 +55,10 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     for (std::size_t i = i0; i < i1; ++i) {
       const RScalar xi = m_cx[i], yi = m_cy[i], zi = m_cz[i], ri = m_reach[i];
       while (nextActive < m_active.size() && m_active[nextActive] <= i) ++nextActive;
-      const bool passiveA = passive(bodies[i]);
+      const bool passiveA = Passive(bodies[i]);
       // The candidates j > i: every later body, or, for a passive body, the later awake
-      // ones. First the
-      // bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the grown spheres
-      // touch, in a branch-free loop over contiguous arrays that the compiler vectorises
+      // ones. First the bounding-sphere test for all of them: lim^2 - d^2, >= 0 when the
+      // grown spheres touch, in a branch-free loop over contiguous arrays that the compiler vectorises
       // (the contiguous case; a list of candidates is a gather); then the pairs that passed,
       // in index order. A body with a non-finite position passes no test: UpdateObjects
       // never leaves one so, but game code could set it.
@@ -193,7 +116,95 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     }
     m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
   }
+}
+
+bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
+  m_contacts.clear();
+  m_pairStats = RPairStats{};
+  const std::size_t n = bodies.size();
+  const RWorldSettings::RShortcuts& shortcuts = m_settings.shortcuts;
+  // Bounding spheres about the centres of mass, each grown by how far its surface can
+  // move within the step (speed plus the farthest point's rotation, times dt): a pair
+  // whose grown spheres are apart cannot touch before the next step. Stored as separate
+  // arrays so the sweep below is a tight loop over contiguous doubles; the arrays keep
+  // their capacity between steps.
+  // The velocities are those the body will move with this step: a missile given its
+  // launch impulse this step is as fast as one that has flown for a while.
+  // Every pair is also looked at within a fixed allowance: two bodies that rest on each
+  // other have no relative velocity at the start of a step, yet the lower one is held and
+  // the upper one is not, so they close by up to g dt^2 within the step; and a contact
+  // that overlaps by less than the slop must not flicker out when it floats up by a
+  // rounding error. A contact found early is harmless: its row pushes only if needed.
+  const RScalar allowance = m_settings.gravity_W.norm() * dt * dt + m_settings.penetrationSlop;
+  m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
+  m_moveV.resize(n), m_moveW.resize(n);
+  const RScalar halfDt = RScalar(0.5) * dt;
+  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      RRigidBody& b = bodies[i];
+      const RScalar r = b.BoundingRadius();
+      m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
+      if (b.m_sleeping) {
+        // Reach and margin as if it were awake and resting (half a step of gravity), so
+        // that the margin between a sleeper and a resting neighbour is the one two awake
+        // bodies have: a neighbour beyond it while both were awake does not wake it.
+        m_moveV[i] = m_settings.gravity_W * halfDt, m_moveW[i] = 0;
+      } else if (b.m_isStatic) {
+        m_moveV[i].setZero(), m_moveW[i] = 0;
+        // Without the shortcut a static body's world form is recomputed every step, as a
+        // moving body's is.
+        if (!shortcuts.staticForms) b.m_worldForm.stamp = 0;
+      } else {
+        m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+        const RVec3 kick_B = b.m_q_WB.conjugate() * StartAngularKick_W(b, halfDt);
+        m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
+      }
+      m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
+    }
+  });
+  // The bodies that can start a contact (not Passive), in index order. A passive body is only paired with
+  // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
+  // the pairs are still visited in (i, then j) order.
+  m_active.clear();
+  std::uint64_t passiveCount = 0, staticCount = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (Passive(bodies[i])) {
+      ++passiveCount, staticCount += bodies[i].m_isStatic;
+    } else {
+      m_active.push_back(static_cast<std::uint32_t>(i));
+    }
   }
+  // The touching band, and a relative allowance for the rounding of the squares.
+  constexpr RScalar kGrow = 1 + 1e-9;
+  const bool bounds = shortcuts.boundsRejection;
+  // The broad phase (RShortcuts::broadPhase, RBroadPhase.cpp): bounding-volume trees over
+  // the same grown spheres, one of the bodies that can start a contact (refitted every sweep,
+  // rebuilt when they change) and one of the passive ones (rebuilt only when one of their
+  // boxes changed), so that a body meets the bodies near it instead of every other. The
+  // boxes hold the spheres with room for the rounding of their sums, and every candidate
+  // then takes the same sphere test as in the all-pairs loop, in the same (i, then j) order:
+  // the pairs found are exactly the loop's.
+  // The trees pay where the loop's work (about half a nanosecond a pair, vectorised) is
+  // larger than theirs (tens of nanoseconds per pair found, last sweep's count as the
+  // estimate, and building them): not in a dense pile of a thousand boxes, whose bodies
+  // each meet dozens of neighbours. Either way the pairs and the result are the same.
+  const double activeCount = static_cast<double>(m_active.size());
+  const double loopWork = activeCount * (0.5 * activeCount + static_cast<double>(passiveCount));
+  const double treeWork = 64.0 * static_cast<double>(m_lastPairCount) + 256.0 * static_cast<double>(n);
+  const bool tree = bounds && shortcuts.broadPhase && (shortcuts.broadPhaseAlways || loopWork > treeWork);
+  m_pairStats.broadPhase = tree;
+  if (tree) BuildBroadPhase(bodies);
+
+  // Stage 1: the pairs whose grown spheres touch, in (i, then j) order.
+  const std::size_t tasks = m_tasks;
+  if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
+  if (tree) {
+    TreePairs(kGrow);
+  } else {
+    AllPairs(bodies, kGrow);
+  }
+
+  m_lastPairCount = m_pairs.size();
 
   // The world forms those pairs read, each computed once: on several threads they are
   // computed here, before the pairs are shared out, since a lazily computed form would be
@@ -262,13 +273,23 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     }
   });
   bool woke = false;
+  // The tasks' contacts joined in task order: with one task its list is swapped in; with
+  // several each task copies its own to its place (a contact is about 400 bytes).
+  if (pairTasks == 1) {
+    std::swap(m_contacts, m_sweepTasks[0].contacts);
+  } else if (pairTasks > 1) {
+    std::size_t total = 0;
+    for (std::size_t t = 0; t < pairTasks; ++t) m_sweepTasks[t].contactsAt = total, total += m_sweepTasks[t].contacts.size();
+    m_contacts.resize(total);
+    ParallelRanges(m_jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+      for (std::size_t t = t0; t < t1; ++t) {
+        const RSweepTask& st = m_sweepTasks[t];
+        std::copy(st.contacts.begin(), st.contacts.end(), m_contacts.begin() + static_cast<std::ptrdiff_t>(st.contactsAt));
+      }
+    });
+  }
   for (std::size_t t = 0; t < pairTasks; ++t) {
     RSweepTask& st = m_sweepTasks[t];
-    if (pairTasks == 1) {
-      std::swap(m_contacts, st.contacts);
-    } else {
-      m_contacts.insert(m_contacts.end(), st.contacts.begin(), st.contacts.end());
-    }
     for (std::uint32_t island : st.wake) m_wakeMark[island] = 1, woke = true;
     m_pairStats.rejectedFilter += st.rejectedFilter;
     m_pairStats.rejectedBoxes += st.rejectedBoxes;

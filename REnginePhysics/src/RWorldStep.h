@@ -96,6 +96,7 @@ class RWorldStep {
     std::vector<RBoundsTree::RNodePair> nodeStack;  // the trees' pair search
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch
     std::vector<RContact> contacts;          // stage 2: contacts, in pair order
+    std::size_t contactsAt = 0;              // where they go in m_contacts
     std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
     std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0;
   };
@@ -104,7 +105,13 @@ class RWorldStep {
   std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch, m_seedScratch2;  // TreePairs
   std::vector<std::uint64_t> m_pairKeys;  // TreePairs: the pairs found, (i << 32 | j)
   std::vector<std::uint32_t> m_pairStart;  // TreePairs: counting sort by i
+  std::size_t m_lastPairCount = 0;  // pairs the last sweep found (the trees' cost estimate)
   void TreePairs(RScalar grow);
+  void AllPairs(const RStepBodies& bodies, RScalar grow);
+  // Bodies that cannot start a contact: asleep, or static, and responding (a sensor keeps
+  // reporting what sleeps on it). A pair of two of them is skipped; a sleeping body touched
+  // by any other (in the speculative margin) wakes with its island.
+  static bool Passive(const RRigidBody& b) { return (b.m_sleeping || b.m_isStatic) && b.m_responds; }
   std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
   // The step's job system (null: one thread) and how many tasks a parallel stage is cut
   // into (1 on one thread). Set by RIntegrator before each step.

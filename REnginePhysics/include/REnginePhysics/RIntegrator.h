@@ -70,10 +70,12 @@ struct RWorldSettings {
     // filters allow goes to the narrow phase.
     bool boundsRejection = true;
     // With boundsRejection: bounding-volume trees find the pairs whose grown spheres may
-    // touch without visiting every pair (O(n log n) instead of O(n^2)). Exact: the same
-    // pairs in the same order as the all-pairs loop, which it replaces (scene key
-    // solver.broadphase).
+    // touch without visiting every pair (O(n log n) instead of O(n^2)), in the steps where
+    // that costs less than the loop (a dense pile of a thousand boxes keeps the loop). Exact:
+    // the same pairs in the same order as the all-pairs loop (scene key solver.broadphase).
     bool broadPhase = true;
+    // The trees every step, even where the loop costs less (tests and measurements).
+    bool broadPhaseAlways = false;
     // A static body's world form (vertices, planes, bounds) is computed once and kept until
     // the game moves it, not once per step. Exact.
     bool staticForms = true;
@@ -140,6 +142,9 @@ struct RPairStats {
   // Bounding-sphere tests made: every pair that can start a contact without the broad
   // phase, only the pairs whose boxes overlap with it (the broad phase's saving).
   std::uint64_t sphereTests = 0;
+  // Whether the last sweep used the broad phase's trees: with RShortcuts::broadPhase on, the
+  // sweep takes them only where they cost less than the loop (same pairs either way).
+  bool broadPhase = false;
   std::uint64_t rejectedFilter = 0; // static-static; then: ignore lists, the game's filter
   std::uint64_t rejectedBoxes = 0;  // then: world bounding boxes (grown by motion) apart
   // Not visited at all: both asleep, or one asleep and one static (static pairs are counted
