@@ -426,55 +426,65 @@ void RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
 // impulses are inelastic (targets of zero, never pulling): they cannot add energy.
 void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
+  // Which rows are closed at the end: each row on its own, so ranges of rows are tasks.
+  if (m_anyTasks.size() < m_tasks) m_anyTasks.resize(m_tasks);
+  const std::size_t rowTasks = ParallelRanges(m_jobs, m_rows.size(), m_tasks, 256, [&](std::size_t r0, std::size_t r1, std::size_t task) {
+    bool any = false;
+    for (std::size_t ri = r0; ri < r1; ++ri) {
+      RContactRow& r = m_rows[ri];
+      const RSolverBody& sa = m_solverBodies[r.a];
+      const RSolverBody& sb = m_solverBodies[r.b];
+      // Closed at the end: the gap after moving with this step's velocities (a touching band
+      // of a micrometre per metre of size for rounding).
+      const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
+      const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
+      const RScalar band = 1e-6 * (bodies[r.a].BoundingRadius() + bodies[r.b].BoundingRadius());
+      // A contact that closes faster than the restitution threshold is an impact, and the
+      // next step's impact phase bounces it; stopped here it would end inelastic.
+      auto accel = [&](std::uint32_t i) -> RVec3 {
+        const RRigidBody& b = bodies[i];
+        return b.m_isStatic ? RVec3::Zero() : RVec3(b.m_force_W * b.m_invMass + m_settings.gravity_W);
+      };
+      const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
+      // A body that had an impact this step is not at rest: its end-of-step velocity is the
+      // impact's outcome, left as it is.
+      const bool impacted = sa.tau > 0 || sb.tau > 0;
+      // Nor is a polyhedron whose spin carries the contact point further than the slop within
+      // the step: this impulse is solved with the lever arms of the step's start and applied
+      // at its end, and on a cube spinning at 5 rad/s the arm has turned 0.08 m by then, so an
+      // impulse that stops the approach in the solver's frame adds energy in the body's (a
+      // pair in the debris cloud gained 1e-5 of its energy in one step). A sphere's contact
+      // point does not turn with it.
+      auto arc = [&](std::uint32_t i, const RSolverBody& s, const RVec3& arm) {
+        return bodies[i].Polyhedron_B() ? s.w.norm() * arm.norm() * dt : RScalar(0);
+      };
+      const bool spinning = arc(r.a, sa, r.rA) + arc(r.b, sb, r.rB) > m_settings.penetrationSlop;
+      r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
+                            !spinning
+                        ? RScalar(0) : kNever;
+      if (r.endTarget == kNever) r.lambdaE = 0;
+      any = any || r.endTarget == 0;
+    }
+    m_anyTasks[task] = any;
+  });
   bool any = false;
-  for (RContactRow& r : m_rows) {
-    const RSolverBody& sa = m_solverBodies[r.a];
-    const RSolverBody& sb = m_solverBodies[r.b];
-    // Closed at the end: the gap after moving with this step's velocities (a touching band
-    // of a micrometre per metre of size for rounding).
-    const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
-    const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
-    const RScalar band = 1e-6 * (bodies[r.a].BoundingRadius() + bodies[r.b].BoundingRadius());
-    // A contact that closes faster than the restitution threshold is an impact, and the
-    // next step's impact phase bounces it; stopped here it would end inelastic.
-    auto accel = [&](std::uint32_t i) -> RVec3 {
-      const RRigidBody& b = bodies[i];
-      return b.m_isStatic ? RVec3::Zero() : RVec3(b.m_force_W * b.m_invMass + m_settings.gravity_W);
-    };
-    const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
-    // A body that had an impact this step is not at rest: its end-of-step velocity is the
-    // impact's outcome, left as it is.
-    const bool impacted = sa.tau > 0 || sb.tau > 0;
-    // Nor is a polyhedron whose spin carries the contact point further than the slop within
-    // the step: this impulse is solved with the lever arms of the step's start and applied
-    // at its end, and on a cube spinning at 5 rad/s the arm has turned 0.08 m by then, so an
-    // impulse that stops the approach in the solver's frame adds energy in the body's (a
-    // pair in the debris cloud gained 1e-5 of its energy in one step). A sphere's contact
-    // point does not turn with it.
-    auto arc = [&](std::uint32_t i, const RSolverBody& s, const RVec3& arm) {
-      return bodies[i].Polyhedron_B() ? s.w.norm() * arm.norm() * dt : RScalar(0);
-    };
-    const bool spinning = arc(r.a, sa, r.rA) + arc(r.b, sb, r.rB) > m_settings.penetrationSlop;
-    r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
-                          !spinning
-                      ? RScalar(0) : kNever;
-    if (r.endTarget == kNever) r.lambdaE = 0;
-    any = any || r.endTarget == 0;
-  }
+  for (std::size_t t = 0; t < rowTasks; ++t) any = any || m_anyTasks[t];
   if (!any) {
     for (RContactRow& r : m_rows) r.lambdaE = 0;
     for (RBlock& blk : m_blocks) blk.lambdaT1[1] = blk.lambdaT2[1] = blk.lambdaTwist[1] = 0;
     return;
   }
   // The end velocities: the second half-kick of the applied forces and gravity.
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const RRigidBody& b = bodies[i];
-    RSolverBody& s = m_solverBodies[i];
-    s.vMid = s.v - s.deferV;
-    if (b.m_isStatic) continue;
-    s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
-    s.w += s.invI * EndAngularKick_W(b, halfDt);
-  }
+  ParallelRanges(m_jobs, bodies.size(), m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      const RRigidBody& b = bodies[i];
+      RSolverBody& s = m_solverBodies[i];
+      s.vMid = s.v - s.deferV;
+      if (b.m_isStatic) continue;
+      s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
+      s.w += s.invI * EndAngularKick_W(b, halfDt);
+    }
+  });
   WarmStart(RPhase::kEnd);  // last step's end impulses, found with the rows
   SolveBlocks(RPhase::kEnd, std::max(1, m_settings.solverIterations));
   SolveIslands(RPhase::kEnd);

@@ -257,6 +257,7 @@ class RWorldStep {
   // index, and each task's count of warm-started rows.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_rowStart;
   std::vector<std::uint32_t> m_warmTasks;
+  std::vector<char> m_anyTasks;  // SolveEndOfStep: whether a task's rows close at the end
   struct RLeadingPoints {
     int deepest = 0;
     int count = 0;
