@@ -73,6 +73,11 @@ void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
 
 void RIntegrator::PrepareJobs() {
   RWorldStep& w = *m_w;
+  if (w.m_settings.threads < 0 || w.m_settings.threads > RWorldSettings::kMaxThreads) {
+    throw std::invalid_argument("RIntegrator::Update: RWorldSettings::threads must be 0 (what the "
+                                "machine has) to " + std::to_string(RWorldSettings::kMaxThreads) + " (got " +
+                                std::to_string(w.m_settings.threads) + ")");
+  }
   RJobSystem* jobs = m_gameJobs;
   if (!jobs) {
     const int threads = w.m_settings.threads > 0 ? w.m_settings.threads : RThreadPool::MachineThreads();
@@ -140,7 +145,7 @@ void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
 void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   RWorldStep& w = *m_w;
   const auto t0 = Clock::now();
-  PrepareJobs();
+  PrepareJobs();  // before anything moves: a bad thread count throws with the world untouched
   w.m_cacheStamp = NextCacheStamp();
   ++w.m_stepCount;
   w.WakeIslands(bodies);

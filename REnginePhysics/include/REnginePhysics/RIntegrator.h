@@ -88,8 +88,10 @@ struct RWorldSettings {
   // Threads the step runs on, the caller's included: 0 is what the machine has
   // (std::thread::hardware_concurrency), 1 runs everything on the caller. The results are
   // bit-identical for every value (see RJobSystem.h). Ignored while a job system of the
-  // game's is set (RIntegrator::SetJobSystem).
+  // game's is set (RIntegrator::SetJobSystem). Update throws std::invalid_argument for a
+  // value below 0 or above kMaxThreads.
   int threads = 0;
+  static constexpr int kMaxThreads = 1024;
 };
 
 // Wall-clock time of each stage of the last Update, milliseconds.
