@@ -6,6 +6,7 @@
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RJobSystem.h>
 
+#include "support/RandomWorlds.h"
 #include "support/TestBodies.h"
 
 #include <gtest/gtest.h>
@@ -29,14 +30,17 @@ std::vector<RBodyDef> World(std::uint64_t seed) {
   defs.push_back(BoxDef(RVec3(30, 0.5, 30)).At(RVec3(0, -0.5, 0)).Static().Named("floor"));
   for (int i = 0; i < 400; ++i) {
     const RScalar s = 0.2 + 0.5 * u(rng);
+    const RScalar aspect = 0.5 + u(rng);
     BodyDef d = i % 3 == 0   ? SphereDef(s)
-                : i % 3 == 1 ? BoxDef(RVec3(s, s * (0.5 + u(rng)), s))
+                : i % 3 == 1 ? BoxDef(RVec3(s, s * aspect, s))
                              : HullDef({RVec3(0, 0, 0), RVec3(s, 0, 0), RVec3(0, s, 0),
                                         RVec3(0, 0, s), RVec3(s, s, s) * 0.6});
-    d.At(RVec3(12 * u(rng) - 6, 0.5 + 10 * u(rng), 12 * u(rng) - 6)).Mass(0.5 + 2 * u(rng));
-    d.q_WS = RQuat(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
-    d.velocity_W = RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 6;
-    d.angularVelocity_W = RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 3;
+    // Draws in a fixed order (DrawVec3): the same world whatever the compiler.
+    const RVec3 at = DrawVec3(u, rng);
+    d.At(RVec3(12 * at.x() - 6, 0.5 + 10 * at.y(), 12 * at.z() - 6)).Mass(0.5 + 2 * u(rng));
+    d.q_WS = DrawQuat(u, rng);
+    d.velocity_W = (DrawVec3(u, rng) - RVec3::Constant(0.5)) * 6;
+    d.angularVelocity_W = (DrawVec3(u, rng) - RVec3::Constant(0.5)) * 3;
     d.restitution = u(rng);
     d.responds = u(rng) > 0.03;
     defs.push_back(d.Named("b" + std::to_string(i)));
