@@ -208,7 +208,8 @@ class RIntegrator {
   const RPairStats& PairStats() const;
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
   // answer changes for a pair must Wake() its dynamic body. On more than one thread the
-  // filter is called from several threads at once (for different pairs): it must only read.
+  // filter is called from several threads at once (for different pairs): it must only read,
+  // and must not throw (an exception on a worker thread ends the program).
   void SetPairFilter(RPairFilter filter, void* user);
   // Runs the step's parallel stages on the game's job system instead of the integrator's
   // own threads (RWorldSettings::threads); null goes back to those. The job system must
