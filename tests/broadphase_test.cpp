@@ -230,12 +230,12 @@ TEST(BoundsTree, FindsEveryOverlapOnceAgainstBruteForce) {
         EXPECT_EQ(found, mode == 0 ? self : cross) << n << " boxes, " << want << " starts, mode " << mode;
       }
     }
-    // Queries above an index.
+    // Queries.
     for (std::size_t i = 0; i < a.size(); i += 7) {
-      std::vector<std::uint32_t> hits, expected;
-      ta.Query(a[i], hits, static_cast<std::int64_t>(i));
+      std::vector<std::uint32_t> hits, expected, queryStack;
+      ta.Query(a[i], hits, queryStack);
       std::sort(hits.begin(), hits.end());
-      for (std::size_t j = i + 1; j < a.size(); ++j) {
+      for (std::size_t j = 0; j < a.size(); ++j) {
         if (overlap(a[i], a[j])) expected.push_back(static_cast<std::uint32_t>(j));
       }
       EXPECT_EQ(hits, expected) << n << " boxes, query " << i;

@@ -30,17 +30,9 @@ std::uint32_t RBoundsTree::BuildNode(std::uint32_t begin, std::uint32_t end) {
   const auto index = static_cast<std::uint32_t>(m_nodes.size());
   m_nodes.emplace_back();
   RBox bounds = m_input[m_order[begin]];
-  for (std::uint32_t k = begin + 1; k < end; ++k) {
-    const RBox& b = m_input[m_order[k]];
-    for (int a = 0; a < 3; ++a) {
-      bounds.lo[a] = std::min(bounds.lo[a], b.lo[a]);
-      bounds.hi[a] = std::max(bounds.hi[a], b.hi[a]);
-    }
-  }
+  for (std::uint32_t k = begin + 1; k < end; ++k) Merge(bounds, m_input[m_order[k]]);
   if (end - begin <= kLeafSize) {
-    std::uint32_t maxId = 0;
-    for (std::uint32_t k = begin; k < end; ++k) maxId = std::max(maxId, m_inputIds[m_order[k]]);
-    m_nodes[index] = RNode{bounds, static_cast<std::uint32_t>(m_items.size()), end - begin, maxId};
+    m_nodes[index] = RNode{bounds, static_cast<std::uint32_t>(m_items.size()), end - begin};
     for (std::uint32_t k = begin; k < end; ++k) {
       m_items.push_back(m_inputIds[m_order[k]]);
       m_boxes.push_back(m_input[m_order[k]]);
@@ -69,7 +61,7 @@ std::uint32_t RBoundsTree::BuildNode(std::uint32_t begin, std::uint32_t end) {
                    });
   BuildNode(begin, mid);  // the left child is the next node
   const std::uint32_t right = BuildNode(mid, end);
-  m_nodes[index] = RNode{bounds, right, 0, std::max(m_nodes[index + 1].maxId, m_nodes[right].maxId)};
+  m_nodes[index] = RNode{bounds, right, 0};
   return index;
 }
 
@@ -80,33 +72,14 @@ void RBoundsTree::PairSeeds(const RBoundsTree& other, std::size_t want,
   const bool self = &other == this;
   seeds.push_back({0, 0});
   // Breadth first, one level at a time, until there are enough starts or none can be split.
+  auto push = [&scratch](RNodePair p) { scratch.push_back(p); };
   for (bool split = true; split && seeds.size() < want;) {
     split = false;
     scratch.clear();
     for (const RNodePair& p : seeds) {
-      const RNode& x = m_nodes[p.a];
-      if (self && p.a == p.b) {
-        if (x.count > 0) {
-          scratch.push_back(p);
-        } else {
-          scratch.push_back({p.a + 1, p.a + 1});
-          scratch.push_back({x.first, x.first});
-          scratch.push_back({p.a + 1, x.first});
-          split = true;
-        }
-        continue;
-      }
-      const RNode& y = other.m_nodes[p.b];
-      if (!Overlap(x.box, y.box)) continue;
-      if (x.count > 0 && y.count > 0) {
-        scratch.push_back(p);
-      } else if (SplitFirst(x, y)) {
-        scratch.push_back({p.a + 1, p.b}), scratch.push_back({x.first, p.b});
-        split = true;
-      } else {
-        scratch.push_back({p.a, p.b + 1}), scratch.push_back({p.a, y.first});
-        split = true;
-      }
+      const RStep step = Split(other, self, p, push);
+      if (step == RStep::kLeaves) scratch.push_back(p);
+      split = split || step == RStep::kSplit;
     }
     std::swap(seeds, scratch);
   }
@@ -118,29 +91,18 @@ void RBoundsTree::Refit(const RBox* byId) {
   // meets its children already refitted.
   for (std::size_t index = m_nodes.size(); index-- > 0;) {
     RNode& node = m_nodes[index];
-    const RBox* a;
-    const RBox* b;
-    std::uint32_t count;
     if (node.count > 0) {
-      a = &m_boxes[node.first], b = nullptr, count = node.count;
+      node.box = m_boxes[node.first];
+      for (std::uint32_t k = 1; k < node.count; ++k) Merge(node.box, m_boxes[node.first + k]);
     } else {
-      a = &m_nodes[index + 1].box, b = &m_nodes[node.first].box, count = 0;
+      node.box = m_nodes[index + 1].box;
+      Merge(node.box, m_nodes[node.first].box);
     }
-    RBox box = *a;
-    auto grow = [&box](const RBox& x) {
-      for (int axis = 0; axis < 3; ++axis) {
-        box.lo[axis] = std::min(box.lo[axis], x.lo[axis]);
-        box.hi[axis] = std::max(box.hi[axis], x.hi[axis]);
-      }
-    };
-    for (std::uint32_t k = 1; k < count; ++k) grow(a[k]);
-    if (b) grow(*b);
-    node.box = box;
   }
 }
 
 void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,
-                        std::vector<std::uint32_t>& stack, std::int64_t after) const {
+                        std::vector<std::uint32_t>& stack) const {
   if (m_nodes.empty()) return;
   stack.clear();
   stack.push_back(0);
@@ -148,10 +110,10 @@ void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,
     const RNode& node = m_nodes[stack.back()];
     const std::uint32_t self = stack.back();
     stack.pop_back();
-    if (std::int64_t(node.maxId) <= after || !Overlap(node.box, box)) continue;
+    if (!Overlap(node.box, box)) continue;
     if (node.count > 0) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-        if (std::int64_t(m_items[k]) > after && Overlap(m_boxes[k], box)) out.push_back(m_items[k]);
+        if (Overlap(m_boxes[k], box)) out.push_back(m_items[k]);
       }
     } else {
       stack.push_back(node.first);  // right

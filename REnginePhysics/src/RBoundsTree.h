@@ -7,6 +7,7 @@
 
 #include <REngineMath/RMath.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -41,18 +42,11 @@ class RBoundsTree {
              const Found& found) const;
   // New boxes for the same items, the tree's shape kept: byId[id] is item id's box. O(n).
   void Refit(const RBox* byId);
-  void Clear() { m_nodes.clear(), m_items.clear(), m_boxes.clear(); }
-  std::size_t Size() const { return m_items.size(); }
 
-  // Appends to `out` the id of every item whose box overlaps `box` (closed intervals) and
-  // whose id is above `after` (the pair sweep asks body i for its partners j > i: a subtree
-  // whose largest id is not above it is skipped whole), in the tree's order.
-  void Query(const RBox& box, std::vector<std::uint32_t>& out, std::int64_t after = -1) const {
-    Query(box, out, m_stack, after);
-  }
-  // The same with the caller's traversal stack: queries from several threads at once.
-  void Query(const RBox& box, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& stack,
-             std::int64_t after = -1) const;
+  // Appends to `out` the id of every item whose box overlaps `box` (closed intervals), in
+  // the tree's order; `stack` is the caller's traversal scratch (queries from several
+  // threads at once). For queries (rays, overlaps) between steps.
+  void Query(const RBox& box, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& stack) const;
 
  private:
   static constexpr std::uint32_t kLeafSize = 4;
@@ -60,20 +54,44 @@ class RBoundsTree {
     RBox box;
     std::uint32_t first;  // leaf: first item; inner: index of the right child (left: next)
     std::uint32_t count;  // leaf: items (> 0); inner: 0
-    std::uint32_t maxId;  // the largest id below it
   };
   static bool Overlap(const RBox& a, const RBox& b) {
     return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
            a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
   }
+  static void Merge(RBox& box, const RBox& other) {
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = std::min(box.lo[a], other.lo[a]);
+      box.hi[a] = std::max(box.hi[a], other.hi[a]);
+    }
+  }
   std::uint32_t BuildNode(std::uint32_t begin, std::uint32_t end);
-  // Which of a node pair's nodes to descend: the inner one, the larger when both are.
-  static bool SplitFirst(const RNode& a, const RNode& b) {
-    if (b.count > 0) return true;
-    if (a.count > 0) return false;
-    RScalar sa = 0, sb = 0;
-    for (int k = 0; k < 3; ++k) sa += a.box.hi[k] - a.box.lo[k], sb += b.box.hi[k] - b.box.lo[k];
-    return !(sa < sb);
+  // One step of the pair search from node pair p (see Pairs): kApart when the nodes' boxes
+  // are apart, kLeaves when the pair is to be searched item by item (two leaves, or, with
+  // self, one leaf with itself), kSplit after handing its children to push: the inner node
+  // is descended, the larger when both are; within one subtree (a == b, self), its two
+  // children each with itself and with each other.
+  enum class RStep { kApart, kLeaves, kSplit };
+  template <class Push>
+  RStep Split(const RBoundsTree& other, bool self, RNodePair p, const Push& push) const {
+    const RNode& x = m_nodes[p.a];
+    if (self && p.a == p.b) {
+      if (x.count > 0) return RStep::kLeaves;
+      push(RNodePair{p.a + 1, x.first}), push(RNodePair{x.first, x.first});
+      push(RNodePair{p.a + 1, p.a + 1});
+      return RStep::kSplit;
+    }
+    const RNode& y = other.m_nodes[p.b];
+    if (!Overlap(x.box, y.box)) return RStep::kApart;
+    if (x.count > 0 && y.count > 0) return RStep::kLeaves;
+    RScalar sx = 0, sy = 0;
+    for (int k = 0; k < 3; ++k) sx += x.box.hi[k] - x.box.lo[k], sy += y.box.hi[k] - y.box.lo[k];
+    if (y.count > 0 || (x.count == 0 && !(sx < sy))) {
+      push(RNodePair{x.first, p.b}), push(RNodePair{p.a + 1, p.b});
+    } else {
+      push(RNodePair{p.a, y.first}), push(RNodePair{p.a, p.b + 1});
+    }
+    return RStep::kSplit;
   }
 
   std::vector<RNode> m_nodes;
@@ -84,7 +102,6 @@ class RBoundsTree {
   std::vector<RScalar> m_centre;
   const RBox* m_input = nullptr;
   const std::uint32_t* m_inputIds = nullptr;
-  mutable std::vector<std::uint32_t> m_stack;
 };
 
 template <class Found>
@@ -94,39 +111,26 @@ void RBoundsTree::Pairs(const RBoundsTree& other, RNodePair start, std::vector<R
   const bool self = &other == this;
   stack.clear();
   stack.push_back(start);
+  auto push = [&stack](RNodePair p) { stack.push_back(p); };
   while (!stack.empty()) {
     const RNodePair p = stack.back();
     stack.pop_back();
+    if (Split(other, self, p, push) != RStep::kLeaves) continue;
     const RNode& x = m_nodes[p.a];
     if (self && p.a == p.b) {
-      if (x.count > 0) {
-        for (std::uint32_t k = x.first; k < x.first + x.count; ++k) {
-          for (std::uint32_t l = k + 1; l < x.first + x.count; ++l) {
-            if (Overlap(m_boxes[k], m_boxes[l])) found(m_items[k], m_items[l]);
-          }
+      for (std::uint32_t k = x.first; k < x.first + x.count; ++k) {
+        for (std::uint32_t l = k + 1; l < x.first + x.count; ++l) {
+          if (Overlap(m_boxes[k], m_boxes[l])) found(m_items[k], m_items[l]);
         }
-      } else {
-        stack.push_back({p.a + 1, x.first});
-        stack.push_back({x.first, x.first});
-        stack.push_back({p.a + 1, p.a + 1});
       }
       continue;
     }
     const RNode& y = other.m_nodes[p.b];
-    if (!Overlap(x.box, y.box)) continue;
-    if (x.count > 0 && y.count > 0) {
-      for (std::uint32_t k = x.first; k < x.first + x.count; ++k) {
-        if (!Overlap(m_boxes[k], y.box)) continue;
-        for (std::uint32_t l = y.first; l < y.first + y.count; ++l) {
-          if (Overlap(m_boxes[k], other.m_boxes[l])) found(m_items[k], other.m_items[l]);
-        }
+    for (std::uint32_t k = x.first; k < x.first + x.count; ++k) {
+      if (!Overlap(m_boxes[k], y.box)) continue;
+      for (std::uint32_t l = y.first; l < y.first + y.count; ++l) {
+        if (Overlap(m_boxes[k], other.m_boxes[l])) found(m_items[k], other.m_items[l]);
       }
-    } else if (SplitFirst(x, y)) {
-      stack.push_back({x.first, p.b});
-      stack.push_back({p.a + 1, p.b});
-    } else {
-      stack.push_back({p.a, y.first});
-      stack.push_back({p.a, p.b + 1});
     }
   }
 }

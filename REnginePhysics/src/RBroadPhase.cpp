@@ -91,36 +91,34 @@ void RWorldStep::TreePairs(RScalar grow) {
   const std::size_t grain = m_activeIds.size() < 256 ? m_seeds.size() : 1;
   const std::size_t used = ParallelRanges(m_jobs, m_seeds.size(), tasks, grain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
-    st.keys.clear();
+    st.pairs.clear();
     st.sphereTests = 0;
     auto found = [&](std::uint32_t x, std::uint32_t y) {
       ++st.sphereTests;
       const std::uint32_t i = std::min(x, y), j = std::max(x, y);
       const RScalar dx = m_cx[j] - m_cx[i], dy = m_cy[j] - m_cy[i], dz = m_cz[j] - m_cz[i];
       const RScalar lim = (m_reach[i] + m_reach[j]) * grow;
-      if (lim * lim - (dx * dx + dy * dy + dz * dz) >= 0) {
-        st.keys.push_back((std::uint64_t(i) << 32) | j);
-      }
+      if (lim * lim - (dx * dx + dy * dy + dz * dz) >= 0) st.pairs.emplace_back(i, j);
     };
     for (std::size_t k = k0; k < k1; ++k) {
       const RBoundsTree& other = k < selfSeeds ? m_activeTree : m_passiveTree;
       m_activeTree.Pairs(other, m_seeds[k], st.nodeStack, found);
     }
   });
-  m_pairKeys.clear();
-  for (std::size_t t = 0; t < used; ++t) {
-    m_pairKeys.insert(m_pairKeys.end(), m_sweepTasks[t].keys.begin(), m_sweepTasks[t].keys.end());
-    m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
-  }
-  // Into (i, then j) order: a counting sort by i (O(pairs + bodies)), then each body's few
-  // partners by insertion.
+  // Into (i, then j) order: a counting sort by i (O(pairs + bodies)) of the tasks' lists,
+  // then each body's few partners by insertion.
   const std::size_t n = m_cx.size();
   m_pairStart.assign(n + 1, 0);
-  for (std::uint64_t key : m_pairKeys) ++m_pairStart[(key >> 32) + 1];
+  std::size_t total = 0;
+  for (std::size_t t = 0; t < used; ++t) {
+    for (const auto& [i, j] : m_sweepTasks[t].pairs) ++m_pairStart[i + 1];
+    total += m_sweepTasks[t].pairs.size();
+    m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
+  }
   for (std::size_t i = 0; i < n; ++i) m_pairStart[i + 1] += m_pairStart[i];
-  m_pairs.resize(m_pairKeys.size());
-  for (std::uint64_t key : m_pairKeys) {
-    m_pairs[m_pairStart[key >> 32]++] = {static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key)};
+  m_pairs.resize(total);
+  for (std::size_t t = 0; t < used; ++t) {
+    for (const auto& pair : m_sweepTasks[t].pairs) m_pairs[m_pairStart[pair.first]++] = pair;
   }
   for (std::size_t first = 0, i = 0; i < n; first = m_pairStart[i++]) {
     const std::size_t last = m_pairStart[i];

@@ -154,37 +154,37 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // minimum-norm least-squares inverse is precomputed once per step; when its answer
   // would pull at a point, that manifold falls back to one point at a time.
   ParallelRanges(m_jobs, m_blocks.size(), m_tasks, 64, [&](std::size_t b0, std::size_t b1, std::size_t) {
-  for (std::size_t bi = b0; bi < b1; ++bi) {
-    RBlock& blk = m_blocks[bi];
-    if (!blk.useBlock) continue;
-    const std::uint32_t first = blk.first;
-    const RSolverBody& sa = m_solverBodies[m_rows[first].a];
-    const RSolverBody& sb = m_solverBodies[m_rows[first].b];
-    // Padded with zeros to 4 x 4: the padding's eigenvalues are 0 and drop out of the
-    // inverse, so one fixed-size symmetric eigensolver serves every point count.
-    Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero();
-    for (int i = 0; i < blk.count; ++i) {
-      const RDirection& di = m_rows[first + i].n;
-      for (int j = 0; j <= i; ++j) {
-        const RDirection& dj = m_rows[first + j].n;
-        K(i, j) = K(j, i) =
-            (sa.invM + sb.invM) * di.d.dot(dj.d) + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
+    for (std::size_t bi = b0; bi < b1; ++bi) {
+      RBlock& blk = m_blocks[bi];
+      if (!blk.useBlock) continue;
+      const std::uint32_t first = blk.first;
+      const RSolverBody& sa = m_solverBodies[m_rows[first].a];
+      const RSolverBody& sb = m_solverBodies[m_rows[first].b];
+      // Padded with zeros to 4 x 4: the padding's eigenvalues are 0 and drop out of the
+      // inverse, so one fixed-size symmetric eigensolver serves every point count.
+      Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero();
+      for (int i = 0; i < blk.count; ++i) {
+        const RDirection& di = m_rows[first + i].n;
+        for (int j = 0; j <= i; ++j) {
+          const RDirection& dj = m_rows[first + j].n;
+          K(i, j) = K(j, i) =
+              (sa.invM + sb.invM) * di.d.dot(dj.d) + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
+        }
+      }
+      // Minimum-norm inverse: sum of v v^T / s over the eigenpairs with s above 1e-12 of the
+      // largest. The directions below are the coplanar points' null space (exactly 0 but for
+      // rounding, ~1e-16 of the largest); the softest real direction, a heavy body's, is
+      // shared with the light body it touches and stays near the light body's stiffness.
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<RScalar, 4, 4>> eigen(K);
+      const Eigen::Matrix<RScalar, 4, 1>& s = eigen.eigenvalues();  // ascending
+      const RScalar floor = RScalar(1e-14) * s[3];
+      blk.pinv.setZero();
+      for (int k = 0; k < 4; ++k) {
+        if (!(s[k] > floor)) continue;
+        const Eigen::Matrix<RScalar, 4, 1> v = eigen.eigenvectors().col(k);
+        blk.pinv += (v / s[k]) * v.transpose();
       }
     }
-    // Minimum-norm inverse: sum of v v^T / s over the eigenpairs with s above 1e-12 of the
-    // largest. The directions below are the coplanar points' null space (exactly 0 but for
-    // rounding, ~1e-16 of the largest); the softest real direction, a heavy body's, is
-    // shared with the light body it touches and stays near the light body's stiffness.
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<RScalar, 4, 4>> eigen(K);
-    const Eigen::Matrix<RScalar, 4, 1>& s = eigen.eigenvalues();  // ascending
-    const RScalar floor = RScalar(1e-14) * s[3];
-    blk.pinv.setZero();
-    for (int k = 0; k < 4; ++k) {
-      if (!(s[k] > floor)) continue;
-      const Eigen::Matrix<RScalar, 4, 1> v = eigen.eigenvectors().col(k);
-      blk.pinv += (v / s[k]) * v.transpose();
-    }
-  }
   });
 
   SolveBlocks(RPhase::kVelocity, iterations);
@@ -313,21 +313,18 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
 // sweep restricted to its manifolds, in the same order: the islands are solved apart, on
 // as many threads as there are, with bit-identical results.
 void RWorldStep::SolveBlocks(RPhase phase, int iterations) {
-  ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t) {
-    for (std::size_t isl = i0; isl < i1; ++isl) {
-      const std::uint32_t first = m_blockIslands[isl].first, last = m_blockIslands[isl].second;
-      for (int it = 0; it < iterations; ++it) {
-        for (std::uint32_t k = first; k < last; ++k) {
-          RBlock& blk = m_blocks[m_blockOrder[(it % 2 == 0) ? k : last - 1 - (k - first)]];
-          RContactRow* rows = &m_rows[blk.first];
-          if (phase == RPhase::kVelocity) {
-            SolveNormalBlock(blk, rows, RPhase::kVelocity);
-            SolvePatch(blk, false, RPhase::kVelocity);
-            SolveNormalBlock(blk, rows, RPhase::kPosition);
-          } else {
-            SolveNormalBlock(blk, rows, RPhase::kEnd);
-            SolvePatch(blk, false, RPhase::kEnd);
-          }
+  ForEachBlockIsland([&](std::uint32_t first, std::uint32_t last) {
+    for (int it = 0; it < iterations; ++it) {
+      for (std::uint32_t k = first; k < last; ++k) {
+        RBlock& blk = m_blocks[m_blockOrder[(it % 2 == 0) ? k : last - 1 - (k - first)]];
+        RContactRow* rows = &m_rows[blk.first];
+        if (phase == RPhase::kVelocity) {
+          SolveNormalBlock(blk, rows, RPhase::kVelocity);
+          SolvePatch(blk, false, RPhase::kVelocity);
+          SolveNormalBlock(blk, rows, RPhase::kPosition);
+        } else {
+          SolveNormalBlock(blk, rows, RPhase::kEnd);
+          SolvePatch(blk, false, RPhase::kEnd);
         }
       }
     }
@@ -340,24 +337,21 @@ void RWorldStep::SolveBlocks(RPhase phase, int iterations) {
 // patches, which is the whole world's order restricted to the island.
 void RWorldStep::WarmStart(RPhase phase) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
-  ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t) {
-    for (std::size_t isl = i0; isl < i1; ++isl) {
-      const std::uint32_t first = m_blockIslands[isl].first, last = m_blockIslands[isl].second;
-      for (std::uint32_t k = first; k < last; ++k) {
-        const RBlock& blk = m_blocks[m_blockOrder[k]];
-        for (int i = 0; i < blk.count; ++i) {
-          RContactRow& r = m_rows[blk.first + i];
-          const RScalar lambda = Lambda(r, phase);
-          if (lambda == 0) continue;
-          RSolverBody& sa = m_solverBodies[r.a];
-          RSolverBody& sb = m_solverBodies[r.b];
-          Push(r.n, lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-        }
+  ForEachBlockIsland([&](std::uint32_t first, std::uint32_t last) {
+    for (std::uint32_t k = first; k < last; ++k) {
+      const RBlock& blk = m_blocks[m_blockOrder[k]];
+      for (int i = 0; i < blk.count; ++i) {
+        RContactRow& r = m_rows[blk.first + i];
+        const RScalar lambda = Lambda(r, phase);
+        if (lambda == 0) continue;
+        RSolverBody& sa = m_solverBodies[r.a];
+        RSolverBody& sb = m_solverBodies[r.b];
+        Push(r.n, lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
       }
-      for (std::uint32_t k = first; k < last; ++k) {
-        const RBlock& blk = m_blocks[m_blockOrder[k]];
-        ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
-      }
+    }
+    for (std::uint32_t k = first; k < last; ++k) {
+      const RBlock& blk = m_blocks[m_blockOrder[k]];
+      ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
     }
   });
 }
@@ -443,7 +437,7 @@ void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
       // next step's impact phase bounces it; stopped here it would end inelastic.
       auto accel = [&](std::uint32_t i) -> RVec3 {
         const RRigidBody& b = bodies[i];
-        return b.m_isStatic ? RVec3::Zero() : RVec3(b.m_force_W * b.m_invMass + m_settings.gravity_W);
+        return b.m_isStatic ? RVec3::Zero() : Acceleration(b, m_settings.gravity_W);
       };
       const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
       // A body that had an impact this step is not at rest: its end-of-step velocity is the

@@ -35,22 +35,12 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
     const RContactManifold m =
         RCollisionSolver::Manifold(shapeA, shapeB, X, std::numeric_limits<RScalar>::max());
     if (m.pointCount == 0) return false;
-    int deepest = 0;
-    for (int i = 1; i < m.pointCount; ++i) {
-      if (m.points[i].separation < m.points[deepest].separation) deepest = i;
-    }
-    const RScalar lead = m.points[deepest].separation;
-    RVec3 centre_A = RVec3::Zero();
-    int leads = 0;
-    for (int i = 0; i < m.pointCount; ++i) {
-      if (m.points[i].separation <= lead + m_settings.penetrationSlop) {
-        centre_A += m.points[i].position, ++leads;
-      }
-    }
+    const RLeadingPoints leading = LeadingPoints(m);
     // No point within the slop of the deepest: the separations are not numbers (bodies
     // flung to 1e300 m/s overflow the pair's pose). No impact to find (found by fuzz_world).
-    if (leads == 0) return false;
-    centre_A /= leads;
+    if (leading.count == 0) return false;
+    const RScalar lead = m.points[leading.deepest].separation;
+    const RVec3& centre_A = leading.centre;
     // World, relative to each body's centre of mass at t.
     const RVec3 n = R_WA * m.normal;
     const RVec3 p = R_WA * centre_A + sa.moved;  // from A's centre at the start

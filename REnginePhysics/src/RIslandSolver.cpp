@@ -106,23 +106,20 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
     m_blockOrder[m_blockStart[m_islandOfBlock[k]]++] = static_cast<std::uint32_t>(k);
   }
 
+  // Their rows, island by island in increasing order (a block's rows are consecutive), and
+  // the islands solved directly: several manifolds (one alone is already solved exactly by
+  // its block), at most kDirectRows rows.
   m_islandRows.clear();
-  for (std::uint32_t i = 0; i < m_rows.size(); ++i) {
-    const RContactRow& r = m_rows[i];
-    m_islandRows.emplace_back(m_islandSets.Find(bodies[r.a].m_isStatic ? r.b : r.a), i);
-  }
-  std::sort(m_islandRows.begin(), m_islandRows.end());
   m_islands.clear();
-  for (std::size_t first = 0; first < m_islandRows.size();) {
-    std::size_t last = first + 1;
-    while (last < m_islandRows.size() && m_islandRows[last].first == m_islandRows[first].first) {
-      ++last;
+  for (const auto& [first, last] : m_blockIslands) {
+    const std::size_t rowsFirst = m_islandRows.size();
+    for (std::uint32_t k = first; k < last; ++k) {
+      const RBlock& blk = m_blocks[m_blockOrder[k]];
+      for (int i = 0; i < blk.count; ++i) m_islandRows.push_back(blk.first + static_cast<std::uint32_t>(i));
     }
-    // One manifold alone is already solved exactly by its block.
-    const bool several = m_rows[m_islandRows[first].second].contact !=
-                         m_rows[m_islandRows[last - 1].second].contact;
-    if (several && last - first <= std::size_t(kDirectRows)) m_islands.emplace_back(first, last);
-    first = last;
+    if (last - first > 1 && m_islandRows.size() - rowsFirst <= std::size_t(kDirectRows)) {
+      m_islands.emplace_back(rowsFirst, m_islandRows.size());
+    }
   }
 }
 
@@ -134,8 +131,8 @@ void RWorldStep::SolveIslands(RPhase phase) {
     RIslandScratch& sc = m_islandScratch[task];
     for (std::size_t island = i0; island < i1; ++island) {
       const auto [first, last] = m_islands[island];
-      sc.index.clear();
-      for (std::size_t k = first; k < last; ++k) sc.index.push_back(m_islandRows[k].second);
+      sc.index.assign(m_islandRows.begin() + static_cast<std::ptrdiff_t>(first),
+                      m_islandRows.begin() + static_cast<std::ptrdiff_t>(last));
       sc.kReady = false;
       SolveIslandDirect(phase, sc);
     }

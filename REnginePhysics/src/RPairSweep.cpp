@@ -210,7 +210,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // computed here, before the pairs are shared out, since a lazily computed form would be
   // written by whichever threads asked at once.
   constexpr std::size_t kPairGrain = 32;  // pairs per task, at least
-  if (m_jobs && std::min(tasks, m_pairs.size() / kPairGrain) > 1) {
+  if (m_jobs && RangeCount(m_pairs.size(), tasks, kPairGrain) > 1) {
     m_formNeeded.assign(n, 0);
     for (const auto& [i, j] : m_pairs) m_formNeeded[i] = m_formNeeded[j] = 1;
     ParallelRanges(m_jobs, n, tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {

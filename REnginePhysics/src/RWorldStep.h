@@ -92,9 +92,8 @@ class RWorldStep {
   struct RSweepTask {
     std::vector<RScalar> near;               // one body's candidates, lim^2 - d^2 (m^2)
     std::vector<std::uint32_t> candidates;   // those with lim^2 - d^2 >= 0
-    std::vector<std::uint64_t> keys;         // stage 1 with the trees: (i << 32 | j)
     std::vector<RBoundsTree::RNodePair> nodeStack;  // the trees' pair search
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch (i < j)
     std::vector<RContact> contacts;          // stage 2: contacts, in pair order
     std::size_t contactsAt = 0;              // where they go in m_contacts
     std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
@@ -103,7 +102,6 @@ class RWorldStep {
   std::vector<RSweepTask> m_sweepTasks;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
   std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch, m_seedScratch2;  // TreePairs
-  std::vector<std::uint64_t> m_pairKeys;  // TreePairs: the pairs found, (i << 32 | j)
   std::vector<std::uint32_t> m_pairStart;  // TreePairs: counting sort by i
   std::size_t m_lastPairCount = 0;  // pairs the last sweep found (the trees' cost estimate)
   void TreePairs(RScalar grow);
@@ -277,10 +275,19 @@ class RWorldStep {
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
   void BuildIslands(const RStepBodies& bodies);
   void SolveBlocks(RPhase phase, int iterations);
-  // The manifolds grouped by island (BuildIslands), for SolveBlocks: m_blockOrder lists
-  // block indices island by island, m_blockIslands each island's [first, last) in it.
+  // The manifolds grouped by island (BuildIslands): m_blockOrder lists block indices island
+  // by island, each island's in increasing order; m_blockIslands holds each island's
+  // [first, last) in it.
   std::vector<std::uint32_t> m_blockOrder, m_islandOfBlock, m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
+  // Runs f(first, last) for every island's range of m_blockOrder, islands as tasks: they
+  // share no body an impulse moves (WarmStart, SolveBlocks).
+  template <class F>
+  void ForEachBlockIsland(const F& f) {
+    ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t) {
+      for (std::size_t isl = i0; isl < i1; ++isl) f(m_blockIslands[isl].first, m_blockIslands[isl].second);
+    });
+  }
   void SolveIslands(RPhase phase);
   // One island's direct solve: its rows and the dense scratch (kDirectRows^2 at most),
   // one per task so that islands are solved side by side.
@@ -299,7 +306,7 @@ class RWorldStep {
   // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
   RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_islandRows;  // (island, row)
+  std::vector<std::uint32_t> m_islandRows;  // rows island by island (as m_blockOrder's blocks)
   std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   std::size_t m_warmBodyCount = 0;

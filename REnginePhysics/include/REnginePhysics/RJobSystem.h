@@ -72,11 +72,18 @@ class RThreadPool final : public RJobSystem {
 // runs inline, as one range), on the job system when there is one and more than one range.
 // Returns how many ranges there were (0 for an empty range): task k's outputs are those of
 // range k. The ranges depend only on count, tasks and grain, never on the threads.
+// How many ranges ParallelRanges cuts [0, count) into: at most `tasks`, none of fewer than
+// `grain` items (0 for an empty range).
+inline std::size_t RangeCount(std::size_t count, std::size_t tasks, std::size_t grain) {
+  if (count == 0) return 0;
+  return std::min(tasks, std::max<std::size_t>(1, count / std::max<std::size_t>(1, grain)));
+}
+
 template <class Body>
 std::size_t ParallelRanges(RJobSystem* jobs, std::size_t count, std::size_t tasks,
                            std::size_t grain, const Body& body) {
   if (count == 0) return 0;
-  tasks = std::min(tasks, std::max<std::size_t>(1, count / std::max<std::size_t>(1, grain)));
+  tasks = RangeCount(count, tasks, grain);
   if (!jobs || tasks <= 1) {
     body(std::size_t{0}, count, std::size_t{0});
     return 1;
