@@ -12,11 +12,7 @@ rengine_install_deps clang libclang-rt-14-dev
 # fuzzer-no-link: coverage instrumentation, so the same build also holds the libFuzzer
 # targets of tests/fuzz (tools/fuzz.sh); the tests' own mains are unaffected.
 flags="-fsanitize=address,undefined,float-cast-overflow,float-divide-by-zero,fuzzer-no-link -fno-sanitize-recover=all -fno-omit-frame-pointer"
-if [ ! -f build-asan/build.ninja ]; then
-  CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DRENGINE_BUILD_FUZZERS=ON \
-    -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags"
-fi
+rengine_clang_configure build-asan "$flags" -DRENGINE_BUILD_FUZZERS=ON
 cmake --build build-asan
 [ "${RENGINE_SANITIZE_BUILD_ONLY:-0}" = 1 ] && exit 0
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1

@@ -9,11 +9,7 @@ cd "$(dirname "$0")/.."
 source tools/deps.sh
 rengine_install_deps clang libclang-rt-14-dev
 flags="-fsanitize=thread -fno-omit-frame-pointer"
-if [ ! -f build-tsan/build.ninja ]; then
-  CC=clang CXX=clang++ cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DRENGINE_BUILD_TOOLS=OFF \
-    -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags"
-fi
+rengine_clang_configure build-tsan "$flags" -DRENGINE_BUILD_TOOLS=OFF
 cmake --build build-tsan --target threads_tests broadphase_tests
 export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 build-tsan/bin/threads_tests
