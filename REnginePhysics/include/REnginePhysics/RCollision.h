@@ -104,6 +104,13 @@ class RCollisionSolver {
   // contacts of shapes that may close the gap within a step.
   static RContactManifold Manifold(const RConvexShape& a, const RConvexShape& b,
                                    const RRelativePose& X_AB, RScalar margin);
+  // The same, stopping at a proof that two polyhedra are farther apart than `cutoff` (m):
+  // the query's separation is then only a lower bound above it, with no witnesses, and
+  // there are no points. CheckCollision's form, with a cutoff just above the margin.
+  static RDistanceResult DistanceWithin(const RConvexShape& a, const RConvexShape& b,
+                                        const RRelativePose& X_AB, RScalar cutoff);
+  static RContactManifold ManifoldWithin(const RConvexShape& a, const RConvexShape& b,
+                                         const RRelativePose& X_AB, RScalar margin, RScalar cutoff);
 
   // The pair of bodies in world terms, the narrow phase CollisionDetection calls: whether
   // they touch now or are within the speculative margin (m) of touching, and if so the
