@@ -166,9 +166,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
   // the pairs are still visited in (i, then j) order.
   m_active.clear();
+  m_passive.resize(n);
   std::uint64_t passiveCount = 0, staticCount = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (Passive(bodies[i])) {
+    m_passive[i] = Passive(bodies[i]);
+    if (m_passive[i]) {
       ++passiveCount, staticCount += bodies[i].m_isStatic;
     } else {
       m_active.push_back(static_cast<std::uint32_t>(i));
@@ -177,30 +179,30 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // The touching band, and a relative allowance for the rounding of the squares.
   constexpr RScalar kGrow = 1 + 1e-9;
   const bool bounds = shortcuts.boundsRejection;
-  // The broad phase (RShortcuts::broadPhase, RBroadPhase.cpp): bounding-volume trees over
-  // the same grown spheres, one of the bodies that can start a contact (refitted every sweep,
-  // rebuilt when they change) and one of the passive ones (rebuilt only when one of their
-  // boxes changed), so that a body meets the bodies near it instead of every other. The
-  // boxes hold the spheres with room for the rounding of their sums, and every candidate
-  // then takes the same sphere test as in the all-pairs loop, in the same (i, then j) order:
-  // the pairs found are exactly the loop's.
-  // The trees pay where the loop's work (about half a nanosecond a pair, vectorised) is
-  // larger than theirs (tens of nanoseconds per pair found, last sweep's count as the
-  // estimate, and building them): not in a dense pile of a thousand boxes, whose bodies
-  // each meet dozens of neighbours. Either way the pairs and the result are the same.
+  // The broad phase (RShortcuts::broadPhase, RBroadPhase.cpp): a tree of boxes that hold
+  // the same grown spheres and grown world boxes, with a list of the pairs whose boxes are
+  // near, kept from step to step; every listed pair whose boxes overlap then takes the same
+  // sphere test as in the all-pairs loop, in the same (i, then j) order: the pairs found
+  // are exactly the loop's. The broad phase pays where the loop's work (about half a
+  // nanosecond a pair, vectorised) is larger than its own (tens of nanoseconds a body and a
+  // few a listed pair): beyond a hundred bodies or so. Once in use it stays unless the
+  // loop costs half as much (its list would have to be built again). Either way the pairs
+  // and the result are the same.
   const double activeCount = static_cast<double>(m_active.size());
   const double loopWork = activeCount * (0.5 * activeCount + static_cast<double>(passiveCount));
-  const double treeWork = 64.0 * static_cast<double>(m_lastPairCount) + 256.0 * static_cast<double>(n);
+  const double listed = m_fatValid ? static_cast<double>(m_fatPairs.size()) : 4.0 * static_cast<double>(m_lastPairCount);
+  const double treeWork = (64.0 * static_cast<double>(n) + 8.0 * listed) * (m_fatValid ? 0.5 : 1.0);
   const bool tree = bounds && shortcuts.broadPhase && (shortcuts.broadPhaseAlways || loopWork > treeWork);
   m_pairStats.broadPhase = tree;
-  if (tree) BuildBroadPhase(bodies);
 
   // Stage 1: the pairs whose grown spheres touch, in (i, then j) order.
   const std::size_t tasks = m_tasks;
   if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
   if (tree) {
+    UpdateBroadPhase(bodies);
     TreePairs(kGrow);
   } else {
+    m_fatValid = false;  // the list is not kept up to date by the loop
     AllPairs(bodies, kGrow);
   }
 
@@ -231,19 +233,22 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       const std::size_t i = m_pairs[k].first, j = m_pairs[k].second;
       const RRigidBody& a = bodies[i];
       const RRigidBody& b = bodies[j];
-      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
-          (m_filter && !m_filter(a, b, m_filterUser))) {
-        ++st.rejectedFilter;
-        continue;
-      }
       // Bounding boxes from the stamped world forms, grown the same way: they reject the
       // many pairs whose spheres overlap only because a body is long or flat (the ground).
+      // They come before the filters, as a broad phase's proof that a pair is apart does:
+      // the broad phase's trees hold these boxes too (SweepBox), and the game's filter
+      // sees the same pairs with them or without.
       const RWorldForm& fa = a.WorldForm(m_cacheStamp);
       const RWorldForm& fb = b.WorldForm(m_cacheStamp);
       const RScalar grow = (m_reach[i] - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
       if (bounds && (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
                      ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any())) {
         ++st.rejectedBoxes;
+        continue;
+      }
+      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
+          (m_filter && !m_filter(a, b, m_filterUser))) {
+        ++st.rejectedFilter;
         continue;
       }
       ++st.narrowPhase;

@@ -140,15 +140,18 @@ using RPairFilter = bool (*)(const RRigidBody& a, const RRigidBody& b, void* use
 // Counts of the last step's pair loop, for profiling and for tests.
 struct RPairStats {
   std::uint64_t pairs = 0;          // i < j pairs considered
-  std::uint64_t rejectedBounds = 0; // bounding spheres (grown by motion) apart
+  // Bounding spheres (grown by motion) apart; with the broad phase, also the pairs whose
+  // boxes it found apart without testing them (rejectedBounds + rejectedBoxes is the same
+  // with it or without).
+  std::uint64_t rejectedBounds = 0;
   // Bounding-sphere tests made: every pair that can start a contact without the broad
   // phase, only the pairs whose boxes overlap with it (the broad phase's saving).
   std::uint64_t sphereTests = 0;
   // Whether the last sweep used the broad phase's trees: with RShortcuts::broadPhase on, the
   // sweep takes them only where they cost less than the loop (same pairs either way).
   bool broadPhase = false;
-  std::uint64_t rejectedFilter = 0; // static-static; then: ignore lists, the game's filter
-  std::uint64_t rejectedBoxes = 0;  // then: world bounding boxes (grown by motion) apart
+  std::uint64_t rejectedFilter = 0; // after the boxes: static-static, ignore lists, the game's filter
+  std::uint64_t rejectedBoxes = 0;  // world bounding boxes (grown by motion) apart
   // Not visited at all: both asleep, or one asleep and one static (static pairs are counted
   // in rejectedFilter).
   std::uint64_t rejectedSleeping = 0;
@@ -206,6 +209,7 @@ class RIntegrator {
   // Contacts found by the last Update (valid until the next), in the pair sweep's order.
   const std::vector<RContact>& Contacts() const;
   const RPairStats& PairStats() const;
+  // Asked only for pairs whose bounding boxes, grown by the step's motion, overlap.
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
   // answer changes for a pair must Wake() its dynamic body. On more than one thread the
   // filter is called from several threads at once (for different pairs): it must only read,
