@@ -198,8 +198,8 @@ TEST(FreeMotion, CacheStampAdvancesEveryStep) {
 }
 
 // Manifold reuse (RShortcuts::contactReuse): a settled stack keeps its manifolds, moved with
-// the bodies, and ends where it ends without the shortcut to within what the touching band
-// allows; a sliding box, whose pose changes by far more than the band, never reuses one and
+// the bodies, and their blocks' inverses, and ends where it ends without the shortcut to
+// within what the touching band allows; a sliding box, whose pose changes by far more than the band, never reuses one and
 // moves bit for bit as without the shortcut.
 TEST(Shortcuts, ContactReuseKeepsASettledStackWithinTheTouchingBand) {
   RWorldSettings on = EarthGravity();
@@ -222,8 +222,10 @@ TEST(Shortcuts, ContactReuseKeepsASettledStackWithinTheTouchingBand) {
     reused += ia.PairStats().reusedManifolds;
     EXPECT_EQ(ib.PairStats().reusedManifolds, 0u);
   }
-  // At rest every contact keeps its manifold.
+  // At rest every contact keeps its manifold, and the solver its block's inverse.
   EXPECT_EQ(ia.PairStats().reusedManifolds, 10u);
+  EXPECT_EQ(ia.PairStats().reusedInverses, 10u);
+  EXPECT_EQ(ib.PairStats().reusedInverses, 0u);
   EXPECT_GT(reused, 2000u);
   // A reused point is off by at most the band, 1e-9 of the pair's size (1.7e-9 m for two
   // unit cubes); ten contacts in series: 2e-8 m. The bound is five times that.

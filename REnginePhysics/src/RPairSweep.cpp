@@ -228,7 +228,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   const bool reuse = shortcuts.contactReuse;
   const std::size_t pairTasks = ParallelRanges(m_jobs, m_pairs.size(), tasks, kPairGrain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
-    st.contacts.clear(), st.wake.clear(), st.manifolds.clear();
+    st.contacts.clear(), st.wake.clear(), st.manifolds.clear(), st.contactMemory.clear();
     st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = st.reused = 0;
     // Last step's manifolds from this range's first pair on (both lists in (i, j) order).
     auto before = [](const RManifoldMemory& mem, const std::pair<std::uint32_t, std::uint32_t>& p) {
@@ -274,6 +274,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       bool touching = false;
       while (memory < m_manifolds.size() && before(m_manifolds[memory], m_pairs[k])) ++memory;
       const RManifoldMemory* kept = nullptr;
+      const std::size_t remembered = st.manifolds.size();
       if (memory < m_manifolds.size() && m_manifolds[memory].i == i && m_manifolds[memory].j == j) {
         const RManifoldMemory& mem = m_manifolds[memory];
         // How far any point of B has moved in A's frame since then, and the margin the
@@ -323,6 +324,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         contact.handleA = bodies.handles[ia], contact.handleB = bodies.handles[ib];
         contact.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], contact.manifold, dt);
         st.contacts.push_back(contact);
+        st.contactMemory.push_back(st.manifolds.size() > remembered ? static_cast<std::uint32_t>(remembered) : kNoMemory);
       }
     }
   });
@@ -350,9 +352,12 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     m_pairStats.narrowPhase += st.narrowPhase;
     m_pairStats.reusedManifolds += st.reused;
   }
-  // This step's manifolds, joined in task order: the (i, j) order for the next step.
-  m_manifolds.clear();
+  // This step's manifolds, joined in task order: the (i, j) order for the next step; and
+  // each contact's entry among them.
+  m_manifolds.clear(), m_contactMemory.clear();
   for (std::size_t t = 0; t < pairTasks; ++t) {
+    const auto base = static_cast<std::uint32_t>(m_manifolds.size());
+    for (std::uint32_t k : m_sweepTasks[t].contactMemory) m_contactMemory.push_back(k == kNoMemory ? k : base + k);
     m_manifolds.insert(m_manifolds.end(), m_sweepTasks[t].manifolds.begin(), m_sweepTasks[t].manifolds.end());
   }
   // Pairs never visited: two passive static bodies (counted with the filter's), or two
