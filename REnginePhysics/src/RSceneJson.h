@@ -69,6 +69,8 @@ std::uint64_t ReadInteger(const json& j, const std::string& path, std::uint64_t 
 std::uint64_t ReadSteps(const json& j, const std::string& path);
 int ReadIterations(const json& j, const std::string& path);
 bool ReadBool(const json& j, const std::string& path);
+// Filter bits (category, mask): an unsigned 32-bit integer.
+std::uint32_t ReadBits(const json& j, const std::string& path);
 // A non-empty name without control characters.
 std::string ReadName(const json& j, const std::string& path);
 // One of a fixed set of strings, mapped to its value.
