@@ -48,6 +48,26 @@ class RBoundsTree {
   // threads at once). For queries (rays, overlaps) between steps.
   void Query(const RBox& box, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& stack) const;
 
+  // A segment through the tree, for ray and shape casts: the points origin + t dir with t in
+  // [0, tMax], each node's and item's box grown by grow[a] on both sides along axis a (a
+  // swept box's half extents; zero for a ray). Calls visit(id, tMax) for every item whose
+  // grown box the segment meets, nearer nodes first; visit returns the new tMax, so a search
+  // for the nearest hit shrinks it and skips every node that starts beyond it (a node entered
+  // exactly at tMax is still visited: ties are the caller's to break). dir need not be unit
+  // and may have zero components. The slab test is conservative only up to rounding: callers
+  // pad item boxes by more than the rounding of their coordinates (RQueries does).
+  struct RRayEntry {
+    std::uint32_t node;
+    RScalar tEnter;
+  };
+  template <class Visit>
+  void Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMax, const RScalar grow[3],
+           std::vector<RRayEntry>& stack, const Visit& visit) const;
+  // Sum of the inner nodes' box surface areas, m^2: the expected cost of a query through the
+  // tree, up to a factor. A refitted tree whose cost has grown well beyond its cost when
+  // built is worth building again.
+  RScalar InnerArea() const;
+
  private:
   static constexpr std::uint32_t kLeafSize = 4;
   struct RNode {
@@ -103,6 +123,64 @@ class RBoundsTree {
   const RBox* m_input = nullptr;
   const std::uint32_t* m_inputIds = nullptr;
 };
+
+template <class Visit>
+void RBoundsTree::Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMax,
+                      const RScalar grow[3], std::vector<RRayEntry>& stack,
+                      const Visit& visit) const {
+  if (m_nodes.empty() || !(tMax >= 0)) return;
+  // Per axis: 1/dir (infinite for a zero component, whose slab is then a containment test).
+  RScalar inv[3];
+  bool flat[3];
+  for (int a = 0; a < 3; ++a) flat[a] = dir[a] == 0, inv[a] = flat[a] ? 0 : 1 / dir[a];
+  // Entry and exit of the segment through a box, or false when it misses [0, tMax].
+  auto clip = [&](const RBox& b, RScalar limit, RScalar& enter) {
+    RScalar t0 = 0, t1 = limit;
+    for (int a = 0; a < 3; ++a) {
+      const RScalar lo = b.lo[a] - grow[a], hi = b.hi[a] + grow[a];
+      if (flat[a]) {
+        if (origin[a] < lo || origin[a] > hi) return false;
+        continue;
+      }
+      RScalar ta = (lo - origin[a]) * inv[a], tb = (hi - origin[a]) * inv[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    }
+    enter = t0;
+    return t0 <= t1;
+  };
+  stack.clear();
+  RScalar enter = 0;
+  if (!clip(m_nodes[0].box, tMax, enter)) return;
+  stack.push_back({0, enter});
+  while (!stack.empty()) {
+    const RRayEntry e = stack.back();
+    stack.pop_back();
+    if (e.tEnter > tMax) continue;  // a nearer hit was found after this node was pushed
+    const RNode& node = m_nodes[e.node];
+    if (node.count > 0) {
+      for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+        if (clip(m_boxes[k], tMax, enter)) tMax = visit(m_items[k], tMax);
+      }
+      continue;
+    }
+    // Both children: the nearer is pushed last, so it is searched first.
+    const std::uint32_t left = e.node + 1, right = node.first;
+    RScalar tl = 0, tr = 0;
+    const bool hl = clip(m_nodes[left].box, tMax, tl), hr = clip(m_nodes[right].box, tMax, tr);
+    if (hl && hr) {
+      if (tl <= tr) {
+        stack.push_back({right, tr}), stack.push_back({left, tl});
+      } else {
+        stack.push_back({left, tl}), stack.push_back({right, tr});
+      }
+    } else if (hl) {
+      stack.push_back({left, tl});
+    } else if (hr) {
+      stack.push_back({right, tr});
+    }
+  }
+}
 
 template <class Found>
 void RBoundsTree::Pairs(const RBoundsTree& other, RNodePair start, std::vector<RNodePair>& stack,
