@@ -8,6 +8,7 @@
 #include <REngineMath/RMath.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -55,14 +56,11 @@ class RBoundsTree {
   // for the nearest hit shrinks it and skips every node that starts beyond it (a node entered
   // exactly at tMax is still visited: ties are the caller's to break). dir need not be unit
   // and may have zero components. The slab test is conservative only up to rounding: callers
-  // pad item boxes by more than the rounding of their coordinates (RQueries does).
-  struct RRayEntry {
-    std::uint32_t node;
-    RScalar tEnter;
-  };
+  // pad item boxes by more than the rounding of their coordinates (RQueries does). No
+  // scratch: the traversal stack is a fixed array (the tree is at most 30 levels deep).
   template <class Visit>
   void Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMax, const RScalar grow[3],
-           std::vector<RRayEntry>& stack, const Visit& visit) const;
+           const Visit& visit) const;
   // Sum of the inner nodes' box surface areas, m^2: the expected cost of a query through the
   // tree, up to a factor. A refitted tree whose cost has grown well beyond its cost when
   // built is worth building again.
@@ -86,6 +84,10 @@ class RBoundsTree {
     }
   }
   std::uint32_t BuildNode(std::uint32_t begin, std::uint32_t end);
+  struct RRayEntry {  // Ray's stack: a node and where the segment enters its box
+    std::uint32_t node;
+    RScalar tEnter;
+  };
   // One step of the pair search from node pair p (see Pairs): kApart when the nodes' boxes
   // are apart, kLeaves when the pair is to be searched item by item (two leaves, or, with
   // self, one leaf with itself), kSplit after handing its children to push: the inner node
@@ -126,36 +128,44 @@ class RBoundsTree {
 
 template <class Visit>
 void RBoundsTree::Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMax,
-                      const RScalar grow[3], std::vector<RRayEntry>& stack,
-                      const Visit& visit) const {
+                      const RScalar grow[3], const Visit& visit) const {
   if (m_nodes.empty() || !(tMax >= 0)) return;
-  // Per axis: 1/dir (infinite for a zero component, whose slab is then a containment test).
-  RScalar inv[3];
-  bool flat[3];
-  for (int a = 0; a < 3; ++a) flat[a] = dir[a] == 0, inv[a] = flat[a] ? 0 : 1 / dir[a];
-  // Entry and exit of the segment through a box, or false when it misses [0, tMax].
+  // The slab test without branches (Williams et al. 2005, with Barnes' NaN rule): per axis
+  // 1/dir, infinite for a zero component; the near side of each slab is chosen by its sign,
+  // and the grown box's sides are folded into the origin. A zero component whose origin lies
+  // outside the slab gives +inf as its entry (a miss); one exactly on a side gives 0 * inf =
+  // NaN, which max/min written as below ignore (the side counts as inside). Rounding is
+  // monotone, so a node's interval always holds each of its items' intervals.
+  RScalar inv[3], oNear[3], oFar[3];
+  int nearSide[3], farSide[3];
+  for (int a = 0; a < 3; ++a) {
+    inv[a] = 1 / dir[a];
+    const bool neg = std::signbit(inv[a]);
+    nearSide[a] = neg ? 3 + a : a, farSide[a] = neg ? a : 3 + a;
+    oNear[a] = neg ? origin[a] - grow[a] : origin[a] + grow[a];
+    oFar[a] = neg ? origin[a] + grow[a] : origin[a] - grow[a];
+  }
   auto clip = [&](const RBox& b, RScalar limit, RScalar& enter) {
+    const RScalar* side = &b.lo[0];  // lo[0..2] then hi[0..2]
     RScalar t0 = 0, t1 = limit;
     for (int a = 0; a < 3; ++a) {
-      const RScalar lo = b.lo[a] - grow[a], hi = b.hi[a] + grow[a];
-      if (flat[a]) {
-        if (origin[a] < lo || origin[a] > hi) return false;
-        continue;
-      }
-      RScalar ta = (lo - origin[a]) * inv[a], tb = (hi - origin[a]) * inv[a];
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+      const RScalar tn = (side[nearSide[a]] - oNear[a]) * inv[a];
+      const RScalar tf = (side[farSide[a]] - oFar[a]) * inv[a];
+      t0 = tn > t0 ? tn : t0;  // NaN: keeps t0
+      t1 = tf < t1 ? tf : t1;  // NaN: keeps t1
     }
     enter = t0;
     return t0 <= t1;
   };
-  stack.clear();
+  // Depth-first, the nearer child first; a median-split tree over fewer than 2^31 items is
+  // at most 30 levels deep, and the stack holds at most one entry per level and one more.
+  RRayEntry stack[64];
+  int top = 0;
   RScalar enter = 0;
   if (!clip(m_nodes[0].box, tMax, enter)) return;
-  stack.push_back({0, enter});
-  while (!stack.empty()) {
-    const RRayEntry e = stack.back();
-    stack.pop_back();
+  stack[top++] = {0, enter};
+  while (top > 0) {
+    const RRayEntry e = stack[--top];
     if (e.tEnter > tMax) continue;  // a nearer hit was found after this node was pushed
     const RNode& node = m_nodes[e.node];
     if (node.count > 0) {
@@ -164,20 +174,19 @@ void RBoundsTree::Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMa
       }
       continue;
     }
-    // Both children: the nearer is pushed last, so it is searched first.
     const std::uint32_t left = e.node + 1, right = node.first;
     RScalar tl = 0, tr = 0;
     const bool hl = clip(m_nodes[left].box, tMax, tl), hr = clip(m_nodes[right].box, tMax, tr);
     if (hl && hr) {
       if (tl <= tr) {
-        stack.push_back({right, tr}), stack.push_back({left, tl});
+        stack[top++] = {right, tr}, stack[top++] = {left, tl};
       } else {
-        stack.push_back({left, tl}), stack.push_back({right, tr});
+        stack[top++] = {left, tl}, stack[top++] = {right, tr};
       }
     } else if (hl) {
-      stack.push_back({left, tl});
+      stack[top++] = {left, tl};
     } else if (hr) {
-      stack.push_back({right, tr});
+      stack[top++] = {right, tr};
     }
   }
 }

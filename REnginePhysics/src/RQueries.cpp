@@ -131,7 +131,7 @@ void Segment(RQueryState& s, bool useTree, const RVec3& origin, const RVec3& dir
     for (std::uint32_t i = 0; i < s.proxies.size(); ++i) test(i);
     return;
   }
-  s.tree.Ray(origin.data(), dir.data(), Slack(tMax), grow.data(), s.rayStack,
+  s.tree.Ray(origin.data(), dir.data(), Slack(tMax), grow.data(),
              [&test](std::uint32_t i, RScalar) { return Slack(test(i)); });
 }
 

@@ -44,7 +44,6 @@ struct RQueryState {
 
   // Scratch, kept for its capacity.
   std::vector<std::uint32_t> candidates, stack;
-  std::vector<RBoundsTree::RRayEntry> rayStack;
   // OverlapBox's box, kept while its half extents stay the same.
   RVec3 boxHalf = RVec3::Constant(-1);
   RConvexPolyhedron boxPolyhedron;
