@@ -536,3 +536,36 @@ TEST(Scene, LimitsNameTheFieldThatExceedsThem) {
   }
   EXPECT_NO_THROW(ParseScene(three, "limits.json", {1 << 20, 3, 5, 10, 30}));
 }
+
+// "rays": read with their defaults (mask all bits, nearest only), sorted by step stably, the
+// path kept for messages.
+TEST(Scene, RaysAreReadSortedByStepWithTheirDefaults) {
+  const RScene s = ParseScene(OneBody(kSphere, R"("steps": 9, "rays": [
+      {"name": "b", "step": 4, "origin": [1, 2, 3], "direction": [0, 0, 2], "max_distance": 0},
+      {"name": "a", "step": 2, "origin": [0, 0, 0], "direction": [1, 0, 0], "max_distance": 5,
+       "mask": 6, "all": true},
+      {"name": "c", "step": 4, "origin": [0, 0, 0], "direction": [1e-300, 0, 0], "max_distance": 5}])"),
+                              "s.json");
+  ASSERT_EQ(s.rays.size(), 3u);
+  EXPECT_EQ(s.rays[0].name, "a");
+  EXPECT_EQ(s.rays[0].path, "rays[1]");
+  EXPECT_EQ(s.rays[0].mask, 6u);
+  EXPECT_TRUE(s.rays[0].all);
+  EXPECT_EQ(s.rays[1].name, "b");
+  EXPECT_EQ(s.rays[1].step, 4u);
+  EXPECT_EQ(s.rays[1].origin_W, RVec3(1, 2, 3));
+  EXPECT_EQ(s.rays[1].direction_W, RVec3(0, 0, 2));
+  EXPECT_EQ(s.rays[1].maxDistance, 0.0);
+  EXPECT_EQ(s.rays[1].mask, 4294967295u);
+  EXPECT_FALSE(s.rays[1].all);
+  EXPECT_EQ(s.rays[2].name, "c");
+  EXPECT_TRUE(ParseScene(OneBody(kSphere), "s.json").rays.empty());
+  try {
+    ParseScene(OneBody(kSphere, R"("steps": 3, "rays": [
+        {"name": "a", "step": 4, "origin": [0, 0, 0], "direction": [1, 0, 0], "max_distance": 1}])"),
+               "s.json");
+    FAIL() << "a ray after the last step was accepted";
+  } catch (const RSceneError& e) {
+    EXPECT_EQ(e.JsonPath(), "rays[0].step");
+  }
+}

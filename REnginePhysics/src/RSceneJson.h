@@ -147,4 +147,7 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
 // each step (scene.bodies must be read already), sorted by step.
 void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits);
 
+// The scene's "rays" (RSceneRays.cpp): read, checked, sorted by step.
+void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
+
 }  // namespace REngine::scenejson
