@@ -552,7 +552,7 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
     const char* scene;
     const char* hash;
   } pins[] = {
-      {"box_pile_1000", "4e573835cc43f667"},     {"box_stack_10", "b93c00dd45e2d91c"},
+      {"box_pile_1000", "fcff41a0dec60921"},     {"box_stack_10", "552719f2dfbe8961"},
       {"debris_cloud_1000", "4a21507c31948404"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };

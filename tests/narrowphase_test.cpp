@@ -90,9 +90,11 @@ TEST(Collision, SignedDistanceSweptThroughZero) {
 }
 
 TEST(Collision, SeparatedBoxesGiveDistanceAndWitnesses) {
-  // Corner (1,1,1) of A against face x = 2.5 - 0.5 of B: distance 1 along x.
-  const RContactManifold m = Check(BoxDef(RVec3(1, 1, 1)),
-                                   BoxDef(RVec3(0.5, 3, 3)).At(RVec3(2.5, 0, 0)));
+  // Corner (1,1,1) of A against face x = 2.5 - 0.5 of B: distance 1 along x. (Manifold,
+  // not CheckCollision: a pair beyond its margin leaves CheckCollision's output unspecified.
+  // A sits at the origin unturned, so its frame is the world's.)
+  const RRigidBody a(BoxDef(RVec3(1, 1, 1))), b(BoxDef(RVec3(0.5, 3, 3)).At(RVec3(2.5, 0, 0)));
+  const RContactManifold m = RCollisionSolver::Manifold(ShapeOf(a), ShapeOf(b), RelativePose(a, b), 0);
   EXPECT_EQ(m.query.status, RCollisionStatus::kSeparated);
   EXPECT_NEAR(m.query.separation, 1.0, 1e-14);
   EXPECT_LT((m.query.normal - RVec3(1, 0, 0)).norm(), 1e-14);

@@ -172,7 +172,7 @@ RVec3 RPairSupport::SupportB(const RVec3& d_A) {
   return X.R_AB * v[m_lastB] + X.t_AB;
 }
 
-RGjkResult Gjk(RPairSupport& sup, bool booleanOnly) {
+RGjkResult Gjk(RPairSupport& sup, bool booleanOnly, RScalar stopAbove) {
   RGjkResult r;
   const RScalar size = sup.a.boundingRadius + sup.b.boundingRadius;
   // Below this |v| the origin is on D's boundary to rounding: touching.
@@ -200,10 +200,13 @@ RGjkResult Gjk(RPairSupport& sup, bool booleanOnly) {
     const RScalar vw = v.dot(w);
     const RScalar norm = std::sqrt(vv);
     r.lowerBound = std::max(r.lowerBound, vw / norm);
-    if (booleanOnly && r.lowerBound > band) {  // the plane normal to v separates them
+    if ((booleanOnly && r.lowerBound > band) || r.lowerBound > stopAbove) {
+      // The plane normal to v separates them by more than asked.
       r.overlap = false;
       r.distance = norm;  // an upper bound only
       r.converged = true;
+      r.beyond = true;
+      r.closest = v;
       return r;
     }
     bool duplicate = false;

@@ -38,14 +38,17 @@ struct RGjkResult {
   RVec3 closest = RVec3::Zero();  // v = witnessA - witnessB
   RVec3 witnessA = RVec3::Zero(), witnessB = RVec3::Zero();
   int iterations = 0;
+  bool beyond = false;  // stopped early: lowerBound is above the band or stopAbove
   int simplexSize = 0;
   RSimplexPoint simplex[4];
 };
 
 // GJK on the cores of the two shapes (spheres are points here). booleanOnly: stop at the
-// first direction that separates them by more than the touching band (distance is then only
-// an upper bound, lowerBound above the band).
-RGjkResult Gjk(RPairSupport& support, bool booleanOnly);
+// first direction that separates them by more than the touching band; stopAbove (m): stop at
+// the first that separates them by more than that. Either way distance is then only an
+// upper bound, lowerBound above the band or stopAbove (and `beyond` is set).
+RGjkResult Gjk(RPairSupport& support, bool booleanOnly,
+               RScalar stopAbove = std::numeric_limits<RScalar>::infinity());
 
 struct REpaResult {
   // false: no verdict (the polytope could not be started or grown, or the iteration cap):

@@ -166,9 +166,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
   // the pairs are still visited in (i, then j) order.
   m_active.clear();
+  m_passive.resize(n);
   std::uint64_t passiveCount = 0, staticCount = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (Passive(bodies[i])) {
+    m_passive[i] = Passive(bodies[i]);
+    if (m_passive[i]) {
       ++passiveCount, staticCount += bodies[i].m_isStatic;
     } else {
       m_active.push_back(static_cast<std::uint32_t>(i));
@@ -177,30 +179,30 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // The touching band, and a relative allowance for the rounding of the squares.
   constexpr RScalar kGrow = 1 + 1e-9;
   const bool bounds = shortcuts.boundsRejection;
-  // The broad phase (RShortcuts::broadPhase, RBroadPhase.cpp): bounding-volume trees over
-  // the same grown spheres, one of the bodies that can start a contact (refitted every sweep,
-  // rebuilt when they change) and one of the passive ones (rebuilt only when one of their
-  // boxes changed), so that a body meets the bodies near it instead of every other. The
-  // boxes hold the spheres with room for the rounding of their sums, and every candidate
-  // then takes the same sphere test as in the all-pairs loop, in the same (i, then j) order:
-  // the pairs found are exactly the loop's.
-  // The trees pay where the loop's work (about half a nanosecond a pair, vectorised) is
-  // larger than theirs (tens of nanoseconds per pair found, last sweep's count as the
-  // estimate, and building them): not in a dense pile of a thousand boxes, whose bodies
-  // each meet dozens of neighbours. Either way the pairs and the result are the same.
+  // The broad phase (RShortcuts::broadPhase, RBroadPhase.cpp): a tree of boxes that hold
+  // the same grown spheres and grown world boxes, with a list of the pairs whose boxes are
+  // near, kept from step to step; every listed pair whose boxes overlap then takes the same
+  // sphere test as in the all-pairs loop, in the same (i, then j) order: the pairs found
+  // are exactly the loop's. The broad phase pays where the loop's work (about half a
+  // nanosecond a pair, vectorised) is larger than its own (tens of nanoseconds a body and a
+  // few a listed pair): beyond a hundred bodies or so. Once in use it stays unless the
+  // loop costs half as much (its list would have to be built again). Either way the pairs
+  // and the result are the same.
   const double activeCount = static_cast<double>(m_active.size());
   const double loopWork = activeCount * (0.5 * activeCount + static_cast<double>(passiveCount));
-  const double treeWork = 64.0 * static_cast<double>(m_lastPairCount) + 256.0 * static_cast<double>(n);
+  const double listed = m_fatValid ? static_cast<double>(m_fatPairs.size()) : 4.0 * static_cast<double>(m_lastPairCount);
+  const double treeWork = (64.0 * static_cast<double>(n) + 8.0 * listed) * (m_fatValid ? 0.5 : 1.0);
   const bool tree = bounds && shortcuts.broadPhase && (shortcuts.broadPhaseAlways || loopWork > treeWork);
   m_pairStats.broadPhase = tree;
-  if (tree) BuildBroadPhase(bodies);
 
   // Stage 1: the pairs whose grown spheres touch, in (i, then j) order.
   const std::size_t tasks = m_tasks;
   if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
   if (tree) {
+    UpdateBroadPhase(bodies);
     TreePairs(kGrow);
   } else {
+    m_fatValid = false;  // the list is not kept up to date by the loop
     AllPairs(bodies, kGrow);
   }
 
@@ -223,27 +225,37 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // Stage 2: each pair through the filters, the bounding boxes and the narrow phase. Tasks
   // take contiguous ranges of the pairs; their contacts, joined in task order, keep the
   // pairs' order.
+  const bool reuse = shortcuts.contactReuse;
   const std::size_t pairTasks = ParallelRanges(m_jobs, m_pairs.size(), tasks, kPairGrain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
-    st.contacts.clear(), st.wake.clear();
-    st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = 0;
+    st.contacts.clear(), st.wake.clear(), st.manifolds.clear();
+    st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = st.reused = 0;
+    // Last step's manifolds from this range's first pair on (both lists in (i, j) order).
+    auto before = [](const RManifoldMemory& mem, const std::pair<std::uint32_t, std::uint32_t>& p) {
+      return mem.i < p.first || (mem.i == p.first && mem.j < p.second);
+    };
+    std::size_t memory = reuse && k0 < k1 ? static_cast<std::size_t>(
+        std::lower_bound(m_manifolds.begin(), m_manifolds.end(), m_pairs[k0], before) - m_manifolds.begin()) : m_manifolds.size();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::size_t i = m_pairs[k].first, j = m_pairs[k].second;
       const RRigidBody& a = bodies[i];
       const RRigidBody& b = bodies[j];
-      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
-          (m_filter && !m_filter(a, b, m_filterUser))) {
-        ++st.rejectedFilter;
-        continue;
-      }
       // Bounding boxes from the stamped world forms, grown the same way: they reject the
       // many pairs whose spheres overlap only because a body is long or flat (the ground).
+      // They come before the filters, as a broad phase's proof that a pair is apart does:
+      // the broad phase's trees hold these boxes too (SweepBox), and the game's filter
+      // sees the same pairs with them or without.
       const RWorldForm& fa = a.WorldForm(m_cacheStamp);
       const RWorldForm& fb = b.WorldForm(m_cacheStamp);
       const RScalar grow = (m_reach[i] - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
       if (bounds && (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
                      ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any())) {
         ++st.rejectedBoxes;
+        continue;
+      }
+      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
+          (m_filter && !m_filter(a, b, m_filterUser))) {
+        ++st.rejectedFilter;
         continue;
       }
       ++st.narrowPhase;
@@ -256,8 +268,50 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       const std::size_t ia = flip ? j : i, ib = flip ? i : j;
       const RRigidBody& A = bodies[ia];
       const RRigidBody& B = bodies[ib];
-      if (RCollisionSolver::CheckCollision(A, B, RMargin{approach * dt + allowance},
-                                           contact.manifold)) {
+      const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+      const RRelativePose X = RelativePose(A, B);
+      const RMargin margin{approach * dt + allowance};
+      bool touching = false;
+      while (memory < m_manifolds.size() && before(m_manifolds[memory], m_pairs[k])) ++memory;
+      const RManifoldMemory* kept = nullptr;
+      if (memory < m_manifolds.size() && m_manifolds[memory].i == i && m_manifolds[memory].j == j) {
+        const RManifoldMemory& mem = m_manifolds[memory];
+        // How far any point of B has moved in A's frame since then, and the margin the
+        // narrow phase would use now (CheckCollisionInA's): the same points are kept while
+        // every kept one stays within it and every dropped one beyond it.
+        const RScalar size = A.BoundingRadius() + B.BoundingRadius();
+        const RScalar moved = (X.t_AB - mem.X.t_AB).norm() + (X.R_AB - mem.X.R_AB).norm() * size;
+        const RScalar within = margin.metres + RCollisionSolver::kTouchingTolerance * size;
+        if (mem.handleA == bodies.handles[ia] && mem.handleB == bodies.handles[ib] &&
+            moved <= RCollisionSolver::kTouchingTolerance * size && mem.keptMax + moved <= within &&
+            mem.droppedMin - moved > within) {
+          kept = &mem;
+        }
+      }
+      if (kept) {
+        contact.manifold = kept->manifold_A;
+        st.manifolds.push_back(*kept);
+        ++st.reused;
+        touching = true;
+      } else {
+        RScalar droppedMin = 0;
+        touching = RCollisionSolver::CheckCollisionInA(shapeA, shapeB, X, margin, contact.manifold, &droppedMin);
+        if (touching && reuse && contact.manifold.pointCount > 0) {
+          RManifoldMemory mem;
+          mem.i = static_cast<std::uint32_t>(i), mem.j = static_cast<std::uint32_t>(j);
+          mem.handleA = bodies.handles[ia], mem.handleB = bodies.handles[ib];
+          mem.X = X;
+          mem.manifold_A = contact.manifold;
+          mem.keptMax = contact.manifold.query.separation;
+          for (int p = 0; p < contact.manifold.pointCount; ++p) {
+            mem.keptMax = std::max(mem.keptMax, contact.manifold.points[p].separation);
+          }
+          mem.droppedMin = droppedMin;
+          if (std::isfinite(mem.keptMax)) st.manifolds.push_back(mem);
+        }
+      }
+      if (touching) RCollisionSolver::ToWorld(A, contact.manifold);
+      if (touching) {
         // A sleeping body touched by one that responds wakes, with its island. A sensor
         // or a laser (does not respond) is reported against it without waking it.
         if ((a.m_sleeping || b.m_sleeping) && a.m_responds && b.m_responds) {
@@ -294,6 +348,12 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     m_pairStats.rejectedFilter += st.rejectedFilter;
     m_pairStats.rejectedBoxes += st.rejectedBoxes;
     m_pairStats.narrowPhase += st.narrowPhase;
+    m_pairStats.reusedManifolds += st.reused;
+  }
+  // This step's manifolds, joined in task order: the (i, j) order for the next step.
+  m_manifolds.clear();
+  for (std::size_t t = 0; t < pairTasks; ++t) {
+    m_manifolds.insert(m_manifolds.end(), m_sweepTasks[t].manifolds.begin(), m_sweepTasks[t].manifolds.end());
   }
   // Pairs never visited: two passive static bodies (counted with the filter's), or two
   // passive bodies of which one at least sleeps. (Counts are those of the last sweep when

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <stdexcept>
 
 namespace REngine {
@@ -114,6 +115,13 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   m_p_BS = shape.p_BS;
   m_polyhedron_B = shape.polyhedron_B.get();
   m_boundingRadius = shape.boundingRadius;
+  if (m_polyhedron_B) {
+    RVec3 lo = RVec3::Constant(std::numeric_limits<RScalar>::infinity()), hi = -lo;
+    for (const RVec3& v : m_polyhedron_B->Vertices()) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    m_boxCenter_B = RScalar(0.5) * (lo + hi), m_boxHalf_B = RScalar(0.5) * (hi - lo);
+  } else {
+    m_boxHalf_B = RVec3::Constant(m_boundingRadius);
+  }
   if (!m_isStatic) {
     if (def.mass) {
       Require(PositiveFinite(*def.mass), "mass", "must be finite and > 0");

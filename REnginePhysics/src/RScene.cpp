@@ -171,9 +171,11 @@ RScene LoadScene(const std::string& path, const RSceneLimits& limits) {
 std::vector<RRigidBody> CreateBodies(const RScene& scene) {
   std::vector<RRigidBody> bodies;
   bodies.reserve(scene.bodies.size());
+  scenejson::ShapeCache shapes;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     try {
       RBodyDef def = scene.bodies[i];
+      if (!def.prepared) def.prepared = shapes.Get(def.shape);
       def.id = static_cast<std::uint32_t>(i);
       for (std::size_t j : scene.ignore[i]) def.ignore.push_back(static_cast<std::uint32_t>(j));
       bodies.emplace_back(def);

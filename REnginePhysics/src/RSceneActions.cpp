@@ -11,31 +11,6 @@ namespace REngine::scenejson {
 
 namespace {
 
-// Equal shapes share one prepared shape: a scene that spawns a thousand missiles builds
-// their hull once, at load.
-class ShapeCache {
- public:
-  std::shared_ptr<const RPreparedShape> Get(const RShape& s) {
-    Key key{s.type, s.radius, {s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}, {}};
-    for (const RVec3& p : s.points) key.points.push_back({p.x(), p.y(), p.z()});
-    auto it = m_cache.find(key);
-    if (it == m_cache.end()) it = m_cache.emplace(std::move(key), PrepareShape(s)).first;
-    return it->second;
-  }
-
- private:
-  struct Key {
-    RShapeType type;
-    RScalar radius;
-    std::array<RScalar, 3> half;
-    std::vector<std::array<RScalar, 3>> points;
-    bool operator<(const Key& o) const {
-      return std::tie(type, radius, half, points) < std::tie(o.type, o.radius, o.half, o.points);
-    }
-  };
-  std::map<Key, std::shared_ptr<const RPreparedShape>> m_cache;
-};
-
 RSceneAction ReadAction(const json& j, const std::string& path, const RSceneLimits& limits) {
   const Object action(j, path, {"step", "add", "remove", "impulse", "set_velocity"});
   RSceneAction a;

@@ -5,16 +5,19 @@
 #pragma once
 
 #include <REngineMath/RMath.h>
+#include <REnginePhysics/RRigidBody.h>
 #include <REnginePhysics/RScene.h>
 
 #include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <initializer_list>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -149,5 +152,31 @@ void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits);
 
 // The scene's "rays" (RSceneRays.cpp): read, checked, sorted by step.
 void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
+
+// Equal shapes share one prepared shape: a scene of a thousand equal boxes, or one that
+// spawns a thousand missiles, builds their hull once, and its bodies share one copy of it
+// (one set of vertices in the cache instead of a thousand).
+class ShapeCache {
+ public:
+  std::shared_ptr<const RPreparedShape> Get(const RShape& s) {
+    Key key{s.type, s.radius, {s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}, {}};
+    for (const RVec3& p : s.points) key.points.push_back({p.x(), p.y(), p.z()});
+    auto it = m_cache.find(key);
+    if (it == m_cache.end()) it = m_cache.emplace(std::move(key), PrepareShape(s)).first;
+    return it->second;
+  }
+
+ private:
+  struct Key {
+    RShapeType type;
+    RScalar radius;
+    std::array<RScalar, 3> half;
+    std::vector<std::array<RScalar, 3>> points;
+    bool operator<(const Key& o) const {
+      return std::tie(type, radius, half, points) < std::tie(o.type, o.radius, o.half, o.points);
+    }
+  };
+  std::map<Key, std::shared_ptr<const RPreparedShape>> m_cache;
+};
 
 }  // namespace REngine::scenejson

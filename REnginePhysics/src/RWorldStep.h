@@ -2,7 +2,8 @@
 // the step's outputs, behind RIntegrator (which holds one through a pointer, so none of this
 // is in an installed header). Each subsystem's functions are defined in its own file:
 //   RPairSweep.cpp      DetectPairs, TimeOfImpact
-//   RBroadPhase.cpp     BuildBroadPhase, SweepBox, TreePairs (trees: RBoundsTree.cpp)
+//   RBroadPhase.cpp     UpdateBroadPhase, RebuildFatPairs, SweepBox, FatBox, TreePairs
+//                       (trees: RBoundsTree.cpp)
 //   RContactSolver.cpp  FindImpulses, SolveBlocks, WarmStart, SolvePatch, SolveNormalBlock,
 //                       SolveEndOfStep
 //   RContactRows.cpp    BuildContactRows, LeadingPoints
@@ -78,31 +79,52 @@ class RWorldStep {
   // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
   // one of whose bodies the game woke (or all, when the body count or gravity changed);
   // after it, puts to sleep the islands that have rested long enough.
-  // The broad phase's trees for this sweep (see DetectPairs), and a body's box in them.
-  void BuildBroadPhase(const RStepBodies& bodies);
-  RBoundsTree::RBox SweepBox(std::size_t i) const;
-  RBoundsTree m_activeTree, m_passiveTree;
-  std::vector<RBoundsTree::RBox> m_treeBoxes, m_passiveBoxes;  // scratch; the passive tree's
-  std::vector<std::uint32_t> m_treeIds, m_passiveIds;
+  // The broad phase (RBroadPhase.cpp): a body's sweep box (where the all-pairs loop can
+  // pair it this sweep) and fat box (a sweep box it may move inside without a new search),
+  // the tree of fat boxes and the sorted list of their overlapping pairs, kept between
+  // steps while the broad phase is in use.
+  void UpdateBroadPhase(const RStepBodies& bodies);
+  void RebuildFatPairs(const RStepBodies& bodies);
+  RBoundsTree::RBox SweepBox(const RRigidBody& b, std::size_t i) const;
+  RBoundsTree::RBox FatBox(const RRigidBody& b, std::size_t i) const;
   std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
-  std::vector<std::uint32_t> m_activeIds;       // the active tree's bodies
-  int m_activeRefits = 0;                       // refits since it was last built
+  std::vector<RBoundsTree::RBox> m_fatBoxes;    // per body
+  RBoundsTree m_fatTree;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_fatPairs, m_fatScratch;  // (i < j), sorted
+  std::vector<std::uint32_t> m_treeIds, m_moved;
+  std::vector<char> m_movedMark, m_passive;  // per body
+  bool m_fatValid = false;  // the list matches the fat boxes (false after a sweep without it)
+  int m_fatRefits = 0;      // steps since the tree was built: it is rebuilt every kFatRefits
+  static constexpr int kFatRefits = 64;
+  // Manifold memory (RShortcuts::contactReuse): each contact's manifold in its A frame with
+  // the relative pose it was computed at, in the sweep's (i, then j) order, kept for the
+  // next step's sweep. The margins between keptMax and droppedMin keep the same points.
+  struct RManifoldMemory {
+    std::uint32_t i = 0, j = 0;      // dense indices, the sweep's order
+    RBodyHandle handleA, handleB;    // identity (A: the lower slot)
+    RRelativePose X;                 // B's pose in A's frame when it was computed
+    RContactManifold manifold_A;     // in A's frame
+    RScalar keptMax = 0, droppedMin = 0;  // m
+  };
+  std::vector<RManifoldMemory> m_manifolds;
   // The pair sweep's work, cut into tasks (see DetectPairs): each task's scratch and
   // outputs, kept between steps so that no step allocates.
   struct RSweepTask {
     std::vector<RScalar> near;               // one body's candidates, lim^2 - d^2 (m^2)
     std::vector<std::uint32_t> candidates;   // those with lim^2 - d^2 >= 0
-    std::vector<RBoundsTree::RNodePair> nodeStack;  // the trees' pair search
+    std::vector<RBoundsTree::RNodePair> nodeStack;  // the tree's pair search
+    std::vector<std::uint32_t> query, queryStack;   // the tree's queries
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch (i < j)
     std::vector<RContact> contacts;          // stage 2: contacts, in pair order
     std::size_t contactsAt = 0;              // where they go in m_contacts
     std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
-    std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0;
+    std::vector<RManifoldMemory> manifolds;  // stage 2: this step's manifold memory
+    std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0, reused = 0;
   };
   std::vector<RSweepTask> m_sweepTasks;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
-  std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch, m_seedScratch2;  // TreePairs
-  std::vector<std::uint32_t> m_pairStart;  // TreePairs: counting sort by i
+  std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch;  // RebuildFatPairs
+  std::vector<std::uint32_t> m_pairStart;  // RebuildFatPairs: counting sort by i
   std::size_t m_lastPairCount = 0;  // pairs the last sweep found (the trees' cost estimate)
   void TreePairs(RScalar grow);
   void AllPairs(const RStepBodies& bodies, RScalar grow);

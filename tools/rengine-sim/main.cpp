@@ -388,6 +388,13 @@ int Run(int argc, char** argv) {
     std::fprintf(stderr, "profile_ms: collision_detection=%.4g find_impulses=%.4g update_objects=%.4g total=%.4g\n",
                  profileSum.collisionDetection / n, profileSum.findImpulses / n,
                  profileSum.updateObjects / n, profileSum.total / n);
+    const RPairStats& st = integrator.PairStats();
+    std::fprintf(stderr,
+                 "last_step: sphere_tests=%" PRIu64 " broad_phase=%d rejected_boxes=%" PRIu64
+                 " narrow_phase=%" PRIu64 " reused=%" PRIu64 " contacts=%" PRIu64 " contact_points=%" PRIu64
+                 " warm_started=%" PRIu64 " sleeping=%" PRIu64 "\n",
+                 st.sphereTests, st.broadPhase ? 1 : 0, st.rejectedBoxes, st.narrowPhase, st.reusedManifolds,
+                 st.contacts, st.contactPoints, st.warmStarted, st.sleepingBodies);
   }
   std::fprintf(stderr, "steps=%" PRIu64 " bodies=%zu ms_per_step=%.6g hash=%016" PRIx64 "\n",
                scene.steps, world->Live().size(), msPerStep, StateHash(*world));

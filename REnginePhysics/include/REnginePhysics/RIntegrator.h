@@ -79,6 +79,12 @@ struct RWorldSettings {
     // A static body's world form (vertices, planes, bounds) is computed once and kept until
     // the game moves it, not once per step. Exact.
     bool staticForms = true;
+    // A pair whose relative pose has moved less than the touching band (1e-9 of the pair's
+    // size, RCollisionSolver::kTouchingTolerance) since its manifold was computed keeps that
+    // manifold, moved with the bodies, instead of running the narrow phase again (the
+    // resting contacts of a pile, after it settles). Not bit-identical: a point is off by at
+    // most that band, as a contact within the band counts as touching.
+    bool contactReuse = true;
   } shortcuts;
   // Sleeping: the speed (m/s) below which a body counts as at rest, for its centre of mass
   // and for the farthest point of its bounding sphere (|omega| times its radius) ...
@@ -140,21 +146,25 @@ using RPairFilter = bool (*)(const RRigidBody& a, const RRigidBody& b, void* use
 // Counts of the last step's pair loop, for profiling and for tests.
 struct RPairStats {
   std::uint64_t pairs = 0;          // i < j pairs considered
-  std::uint64_t rejectedBounds = 0; // bounding spheres (grown by motion) apart
+  // Bounding spheres (grown by motion) apart; with the broad phase, also the pairs whose
+  // boxes it found apart without testing them (rejectedBounds + rejectedBoxes is the same
+  // with it or without).
+  std::uint64_t rejectedBounds = 0;
   // Bounding-sphere tests made: every pair that can start a contact without the broad
   // phase, only the pairs whose boxes overlap with it (the broad phase's saving).
   std::uint64_t sphereTests = 0;
   // Whether the last sweep used the broad phase's trees: with RShortcuts::broadPhase on, the
   // sweep takes them only where they cost less than the loop (same pairs either way).
   bool broadPhase = false;
-  std::uint64_t rejectedFilter = 0; // static-static; then: ignore lists, the game's filter
-  std::uint64_t rejectedBoxes = 0;  // then: world bounding boxes (grown by motion) apart
+  std::uint64_t rejectedFilter = 0; // after the boxes: static-static, ignore lists, the game's filter
+  std::uint64_t rejectedBoxes = 0;  // world bounding boxes (grown by motion) apart
   // Not visited at all: both asleep, or one asleep and one static (static pairs are counted
   // in rejectedFilter).
   std::uint64_t rejectedSleeping = 0;
   std::uint64_t sleepingBodies = 0;    // bodies asleep after the step
   std::uint64_t wakeRuns = 0;          // pair loops re-run this step because islands woke
-  std::uint64_t narrowPhase = 0;    // CheckCollision calls
+  std::uint64_t narrowPhase = 0;    // CheckCollision calls (manifolds reused included)
+  std::uint64_t reusedManifolds = 0;  // of those, manifolds kept from an earlier step (contactReuse)
   std::uint64_t contacts = 0;       // pairs reported
   std::uint64_t contactPoints = 0;  // solver rows (points of resolved contacts)
   std::uint64_t warmStarted = 0;    // rows that found last step's impulses
@@ -206,6 +216,7 @@ class RIntegrator {
   // Contacts found by the last Update (valid until the next), in the pair sweep's order.
   const std::vector<RContact>& Contacts() const;
   const RPairStats& PairStats() const;
+  // Asked only for pairs whose bounding boxes, grown by the step's motion, overlap.
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
   // answer changes for a pair must Wake() its dynamic body. On more than one thread the
   // filter is called from several threads at once (for different pairs): it must only read,

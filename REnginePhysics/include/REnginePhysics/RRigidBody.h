@@ -265,6 +265,10 @@ class RRigidBody {
 
   const RConvexPolyhedron* m_polyhedron_B = nullptr;  // m_prepared's, null for a sphere
   RScalar m_boundingRadius = 0;
+  // The shape's axis-aligned box in the body frame (centre and half extents about the
+  // centre of mass), m: turned with the body it bounds the world box without visiting
+  // vertices (the broad phase's boxes). A sphere's is its bounding cube.
+  RVec3 m_boxCenter_B = RVec3::Zero(), m_boxHalf_B = RVec3::Zero();
   void ComputeWorldForm(std::uint64_t stamp) const;
   mutable RWorldForm m_worldForm;
   mutable std::uint64_t m_worldFormComputations = 0;
