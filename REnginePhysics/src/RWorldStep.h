@@ -108,7 +108,7 @@ class RWorldStep {
     // The contact solver's block matrix and its minimum-norm inverse, when computed for
     // this manifold (FindImpulses): kept while the matrix stays within 1e-12 of it.
     bool hasInverse = false;
-    Eigen::Matrix<RScalar, 4, 4> K, pinv;
+    Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero(), pinv = Eigen::Matrix<RScalar, 4, 4>::Zero();
   };
   std::vector<RManifoldMemory> m_manifolds;
   std::vector<std::uint32_t> m_contactMemory;  // per contact: its m_manifolds entry, or kNoMemory
