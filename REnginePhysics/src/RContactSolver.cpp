@@ -273,6 +273,8 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     const RContactRow& r = m_rows[blk.first];
     accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[0] * blk.t[0].d + blk.lambdaT2[0] * blk.t[1].d);
     accumulateEnd(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[1] * blk.t[0].d + blk.lambdaT2[1] * blk.t[1].d);
+    m_contacts[r.contact].frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
+                                              (blk.lambdaT2[0] + blk.lambdaT2[1]) * blk.t[1].d;
     // The twist: a pure torque about the normal.
     if (!bodies[r.a].m_isStatic) {
       bodies[r.a].m_angularImpulse_W -= blk.lambdaTwist[0] * blk.normal;
@@ -293,6 +295,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     if (!A.m_isStatic) A.m_linearImpulse_W -= r.impulse, A.m_angularImpulse_W -= r.angularA;
     if (!B.m_isStatic) B.m_linearImpulse_W += r.impulse, B.m_angularImpulse_W += r.angularB;
     m_contacts[r.contact].normalImpulse[r.point] += r.lambdaN;
+    m_contacts[r.contact].frictionImpulse_W += r.frictionImpulse;
   }
   // Impacts within the step: the bodies move with their piecewise path's velocity and get
   // the rest at the end (SolveImpacts).

@@ -138,6 +138,7 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
       if (d2 != 0) Push(dir[2], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
       const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
       r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
+      r.frictionImpulse += d1 * dir[1].d + d2 * dir[2].d;
     }
     if (!any) break;
   }

@@ -68,6 +68,7 @@ const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
   return m_w->m_nonFiniteLast;
 }
 const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
+const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_events; }
 const RPairStats& RIntegrator::PairStats() const { return m_w->m_pairStats; }
 void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
 
@@ -155,14 +156,19 @@ void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   w.WakeIslands(bodies);
   CollisionDetection(bodies, dt);
   const auto t1 = Clock::now();
+  w.KeepStartPoses(bodies);  // the contact events compare the poses before and after
   UpdateObjects(bodies, dt);
+  const auto t2 = Clock::now();
+  // Contact events: begin, persist, end, from the contacts and the motion (RContactEvents.h).
+  w.FindContactEvents(bodies);
   // The bodies moved: a new stamp, so world forms that detection cached at the old poses
   // are recomputed when game code asks after the step.
   w.m_cacheStamp = NextCacheStamp();
-  const auto t2 = Clock::now();
+  const auto t3 = Clock::now();
   w.m_profile.collisionDetection = Ms(t1 - t0) - w.m_profile.findImpulses;
   w.m_profile.updateObjects = Ms(t2 - t1);
-  w.m_profile.total = Ms(t2 - t0);
+  w.m_profile.contactEvents = Ms(t3 - t2);
+  w.m_profile.total = Ms(t3 - t0);
 }
 
 void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {

@@ -11,6 +11,7 @@
 //   RIslandSolver.cpp   BuildIslands, SolveIslands, SolveIslandDirect
 //   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
 //   RIntegration.cpp    Integrate (the motion)
+//   RContactEvents.cpp  KeepStartPoses, FindContactEvents (after the motion)
 // Stages that run as tasks (RJobSystem, m_jobs and m_tasks) write only their own outputs:
 // per-task scratch, or slots counted beforehand; the results do not depend on the threads.
 #pragma once
@@ -208,6 +209,7 @@ class RWorldStep {
     // The impulse on B (world, N s) and its moments about each centre of mass, N m s: the
     // lever arms depend on when within the step each application happened.
     RVec3 impulse, angularA, angularB;
+    RVec3 frictionImpulse;     // the tangential part of impulse (contact events), N s
     bool miss;                 // found, along the motion, not to meet within the step
   };
   // Working state of a body during the solve: velocities that include every pending change.
@@ -365,6 +367,32 @@ class RWorldStep {
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;
+  // Contact events (RContactEvents.cpp, RWorldSettings::contactEvents): the poses before
+  // the motion (KeepStartPoses, before UpdateObjects); after it, which of this step's
+  // contacts touched within the step and at its end, merged with the pairs that touched at
+  // the end of the last step into m_events. Every vector keeps its capacity.
+  void KeepStartPoses(const RStepBodies& bodies);
+  void FindContactEvents(const RStepBodies& bodies);
+  struct RStartPose {
+    RVec3 x_W;   // centre of mass, m
+    RQuat q_WB;
+  };
+  std::vector<RStartPose> m_startPoses;  // per body, this step
+  // A pair that touched at the end of the last step (or sleeps in contact since), with
+  // the point and normal last reported; sorted by (a, b).
+  struct RTouchingPair {
+    RBodyHandle a, b;
+    RVec3 point_W, normal_W;
+  };
+  std::vector<RTouchingPair> m_touching, m_touchingNext;
+  // Per contact of this step: what it did (REventFlags) and the point and normal to report.
+  struct REventContact {
+    std::uint8_t flags;
+    RVec3 point_W, normal_W;
+  };
+  std::vector<REventContact> m_eventContacts;
+  std::vector<std::uint32_t> m_eventOrder;  // this step's contacts, sorted by handles
+  std::vector<RContactEvent> m_events;
   // Identity handles for the plain-vector path (RStepBodies::byIndex).
   std::vector<RBodyHandle> m_indexHandles;
   std::vector<std::uint32_t> m_indexSlots;

@@ -18,6 +18,7 @@
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RContactEvents.h>
 #include <REnginePhysics/RJobSystem.h>
 #include <REnginePhysics/RRigidBody.h>
 
@@ -98,6 +99,11 @@ struct RWorldSettings {
   // value below 0 or above kMaxThreads.
   int threads = 0;
   static constexpr int kMaxThreads = 1024;
+  // Contact events (RIntegrator::Events, RContactEvents.h): begin, persist and end of every
+  // touching pair, found after the motion. Off: Events() stays empty and the step skips
+  // their work (a pass over the contacts, and the narrow phase again for pairs that moved
+  // by more than the touching band). They only observe: the motion is the same either way.
+  bool contactEvents = true;
 };
 
 // Wall-clock time of each stage of the last Update, milliseconds.
@@ -105,6 +111,7 @@ struct RStepProfile {
   double collisionDetection = 0;  // pair loop and narrow phase
   double findImpulses = 0;        // contact solver (included in neither of the others)
   double updateObjects = 0;
+  double contactEvents = 0;       // RIntegrator::Events' work, after the motion
   double total = 0;
 };
 
@@ -130,6 +137,10 @@ struct RContact {
   // Normal impulse the solver applied at each manifold point this step, N s (0 when either
   // body does not respond: such contacts are reported, not resolved).
   RScalar normalImpulse[4] = {0, 0, 0, 0};
+  // The step's friction impulse on B (A gets its opposite), world, N s: the manifold's
+  // friction patch at the start and the end of the step and the impact's (0 when not
+  // resolved). The twist about the normal (N m s) is not in it.
+  RVec3 frictionImpulse_W = RVec3::Zero();
   // Both bodies respond, at least one is dynamic, and the manifold has points.
   bool resolved = false;
   // When within the step the bodies touch (s from its start; 0: touching or overlapping at
@@ -216,6 +227,10 @@ class RIntegrator {
 
   // Contacts found by the last Update (valid until the next), in the pair sweep's order.
   const std::vector<RContact>& Contacts() const;
+  // Contact events of the last Update (valid until the next; RContactEvents.h says what
+  // each means), sorted by handleA, handleB, then begin, persist, end. Empty when
+  // RWorldSettings::contactEvents is off.
+  const std::vector<RContactEvent>& Events() const;
   const RPairStats& PairStats() const;
   // Asked only for pairs whose bounding boxes, grown by the step's motion, overlap.
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose

@@ -1,0 +1,65 @@
+// Contact events: when two bodies begin to touch, go on touching and stop touching, handed
+// out after each step (RIntegrator::Events), for every pair the pair sweep looks at, bodies
+// that do not respond (sensors, missiles) included. Computed in RContactEvents.cpp.
+//
+// What "touching" means. A pair touches when its separation is at most the narrow phase's
+// touching band (RCollisionSolver::kTouchingTolerance times the sum of the two bounding
+// radii: 1e-9 of the pair's size), at some moment within the step; a pair that only comes
+// within the speculative margin does not. A pair touched during a step when it touched at
+// its start, touches at its end, bounced within it (the impact phase applied an impulse at
+// the moment of contact), or, for a pair the solver does not resolve (a body that does not
+// respond), its relative motion over the step carries one through the other: a straight
+// shape cast of B against A along the step's relative displacement, orientations as at the
+// start (a 3 km/s missile crossing a 10 cm sensor plate inside one 1/60 s step is found).
+//
+// Per pair and step, at most one of:
+//   begin            it did not touch at the step's start and touches at its end
+//   begin, then end  it touched only within the step (a bounce, a missile through a sensor)
+//   persist          it touched at the start and touches at the end
+//   end              it touched at the start and does not at the end; or one of its bodies
+//                    was removed or disabled since the last step (the event names its
+//                    handle, now stale)
+// A pair that falls asleep in contact stays in contact: no end, and no persist events while
+// it sleeps (the pair sweep does not look at it); waking it gives no new begin.
+//
+// Order: by handleA, then handleB (RBodyHandle's operator<: slot, then generation), then
+// begin, persist, end. The same for any thread count and job system.
+#pragma once
+
+#include <REngineMath/RMath.h>
+#include <REnginePhysics/RBodies.h>
+
+#include <cstdint>
+
+namespace REngine {
+
+enum class RContactEventType : std::uint8_t { kBegin, kPersist, kEnd };
+
+// "begin", "persist", "end" (the CLI's words).
+const char* ToString(RContactEventType type);
+
+struct RContactEvent {
+  RContactEventType type = RContactEventType::kBegin;
+  // The two bodies; handleA has the lower slot (as RContact's). In a plain vector of bodies
+  // (RIntegrator::Update's other overload) a handle is {index, 0}.
+  RBodyHandle handleA, handleB;
+  // The deepest point of the pair's contact manifold and its normal, from A to B (unit),
+  // world frame, m. The manifold is the one the pair sweep found at the start of the step:
+  // for a pair that came into touch within the step its points are speculative (midway
+  // across the gap that closed). For a body that does not respond crossing or entering
+  // another, the point where the swept shapes first touch and the normal there. An end
+  // without a contact this step (a body removed, or taken beyond the margin by game code)
+  // repeats the last ones reported.
+  RVec3 point_W = RVec3::Zero();
+  RVec3 normal_W = RVec3::UnitX();
+  // The step's total normal impulse between the two (N s, >= 0): every manifold point's, at
+  // the start and end of the step, and the impact's (restitution). 0 for a pair the solver
+  // does not resolve (a sensor touches without pushing).
+  RScalar normalImpulse = 0;
+  // The magnitude of the step's total friction impulse (N s): the manifold's friction patch
+  // at the start and the end of the step and the impact's, summed as vectors. The twist
+  // about the normal (a torque impulse, N m s) is not in it.
+  RScalar frictionImpulse = 0;
+};
+
+}  // namespace REngine
