@@ -1,7 +1,8 @@
 // Threads (RWorldSettings::threads, RIntegrator::SetJobSystem): the same world stepped on
 // 1, 2 and 4 threads, and on a game's job system that runs its tasks backwards, is the same
-// world bit for bit after every step: contacts in the same order, the same states. As in
-// Jolt's and Box2D's determinism tests, the comparison is step by step, not only at the end.
+// world bit for bit after every step: contacts and contact events in the same order, the same
+// states. As in Jolt's and Box2D's determinism tests, the comparison is step by step, not
+// only at the end.
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RJobSystem.h>
@@ -89,6 +90,7 @@ TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
   }
   std::mt19937_64 rng(3);
   std::uint64_t contacts = 0, sleepers = 0;
+  std::uint64_t eventCounts[3] = {0, 0, 0};  // begin, persist, end
   // Six seconds, and on (to ten at most) until something sleeps: when the pile first comes
   // to rest depends on rounding (the chaos of a pile), and the sleeping path must be stepped.
   for (int s = 0; s < 600 && (s < 360 || sleepers == 0); ++s) {
@@ -113,6 +115,16 @@ TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
         ASSERT_EQ(c0[c].handleA.index, ck[c].handleA.index) << "step " << s << " contact " << c;
         ASSERT_EQ(c0[c].handleB.index, ck[c].handleB.index) << "step " << s << " contact " << c;
       }
+      // Contact events: the same, in the same order, bit for bit.
+      const std::vector<RContactEvent>& e0 = integrators[0].Events();
+      const std::vector<RContactEvent>& ek = integrators[k].Events();
+      ASSERT_EQ(e0.size(), ek.size()) << "step " << s << ", world " << k;
+      for (std::size_t e = 0; e < e0.size(); ++e) {
+        ASSERT_TRUE(e0[e].type == ek[e].type && e0[e].handleA == ek[e].handleA && e0[e].handleB == ek[e].handleB &&
+                    e0[e].point_W == ek[e].point_W && e0[e].normal_W == ek[e].normal_W &&
+                    e0[e].normalImpulse == ek[e].normalImpulse && e0[e].frictionImpulse == ek[e].frictionImpulse)
+            << "step " << s << ", world " << k << ", event " << e;
+      }
       ASSERT_EQ(worlds[0].Size(), worlds[k].Size());
       for (std::size_t i = 0; i < worlds[0].Size(); ++i) {
         ASSERT_TRUE(SameState(worlds[0].At(i), worlds[k].At(i)))
@@ -120,10 +132,14 @@ TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
       }
     }
     contacts += integrators[0].Contacts().size();
+    for (const RContactEvent& e : integrators[0].Events()) ++eventCounts[static_cast<int>(e.type)];
     sleepers = std::max<std::uint64_t>(sleepers, integrators[0].PairStats().sleepingBodies);
   }
   EXPECT_GT(contacts, 10000u) << "too few contacts to test the solver's order";
   EXPECT_GT(sleepers, 0u) << "nothing slept";
+  EXPECT_GT(eventCounts[0], 100u) << "too few begin events";
+  EXPECT_GT(eventCounts[1], 1000u) << "too few persist events";
+  EXPECT_GT(eventCounts[2], 100u) << "too few end events";
   EXPECT_GT(backwards.tasks.load(), 0u) << "the game's job system was never used";
 }
 

@@ -1,0 +1,401 @@
+// Contact events (RIntegrator::Events, RContactEvents.h) against closed forms: the step of a
+// free fall's first touch and of an elastic ball's bounces, a bounce and a sensor crossing
+// inside one step, a missile through a crate, removal, disabling and sleep, and the impulses
+// reported against the bodies' momentum balance.
+#include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RIntegrator.h>
+
+#include "support/TestBodies.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+using namespace REngine;
+using namespace REngine::test;
+
+namespace {
+
+constexpr RScalar kDt = RScalar(1) / 60;
+constexpr RScalar kG = 9.81;
+constexpr RScalar kEps = std::numeric_limits<RScalar>::epsilon();
+
+// One event as the tests compare it: step, type and the two handles.
+struct Seen {
+  std::uint64_t step;
+  RContactEventType type;
+  RBodyHandle a, b;
+  RContactEvent event;
+};
+
+std::string Describe(const std::vector<Seen>& seen) {
+  std::string s;
+  for (const Seen& e : seen) {
+    s += "  step " + std::to_string(e.step) + " " + ToString(e.type) + " (" + std::to_string(e.a.index) + "," +
+         std::to_string(e.b.index) + ")\n";
+  }
+  return s;
+}
+
+// Steps `steps` times, collecting every event with its step (1-based: step k runs from
+// (k - 1) dt to k dt).
+template <class Bodies>
+std::vector<Seen> StepAndCollect(RIntegrator& integrator, Bodies& bodies, int steps, std::uint64_t& step) {
+  std::vector<Seen> seen;
+  for (int s = 0; s < steps; ++s) {
+    integrator.Update(bodies, kDt);
+    ++step;
+    for (const RContactEvent& e : integrator.Events()) seen.push_back({step, e.type, e.handleA, e.handleB, e});
+  }
+  return seen;
+}
+
+// The free-fall height (of a ball's bottom above the ground) that makes first contact come
+// half-way through step 28: t = 27.5 dt, so that no rounding can move it across a boundary.
+RScalar DropHeight() { return 0.5 * kG * (27.5 * kDt) * (27.5 * kDt); }
+
+// The closed form: the step during which a body falling from rest through h first touches.
+std::uint64_t StepOfTouch(RScalar h) { return static_cast<std::uint64_t>(std::ceil(std::sqrt(2 * h / kG) / kDt)); }
+
+}  // namespace
+
+// A ball (e = 0) dropped on the ground: begin in the step the free fall's closed form gives,
+// then persist every step while it rests, never an end. Every event's normal impulse is
+// the ball's momentum balance over its step, m (v1 - v0) + m g dt, to rounding.
+TEST(ContactEvents, DroppedBallBeginsAtTheStepOfFirstTouchAndPersistsWhileResting) {
+  const RScalar h = DropHeight();
+  ASSERT_EQ(StepOfTouch(h), 28u);
+  std::vector<RRigidBody> bodies = MakeBodies(std::vector<BodyDef>{
+      GroundDef(), SphereDef(0.5).Mass(2).Restitution(0).At(RVec3(0, 0.5 + h, 0)).Named("ball")});
+  RWorldSettings settings = EarthGravity();
+  settings.shortcuts.sleeping = false;
+  RIntegrator integrator(settings);
+  std::uint64_t step = 0;
+  const RScalar m = bodies[1].Mass();
+  std::vector<Seen> seen;
+  for (int s = 0; s < 120; ++s) {
+    const RScalar v0 = bodies[1].Velocity_W().y();
+    integrator.Update(bodies, kDt);
+    ++step;
+    const RScalar v1 = bodies[1].Velocity_W().y();
+    for (const RContactEvent& e : integrator.Events()) {
+      seen.push_back({step, e.type, e.handleA, e.handleB, e});
+      // Momentum balance along y: the contact's impulse is all that acts besides gravity.
+      const RScalar balance = m * (v1 - v0) + m * kG * kDt;
+      EXPECT_NEAR(e.normalImpulse, balance, 16 * kEps * m * (std::abs(v0) + kG * kDt)) << "step " << step;
+      EXPECT_NEAR(e.frictionImpulse, 0, 1e-12 * balance) << "step " << step;
+      EXPECT_NEAR(e.normal_W.y(), 1, 1e-12);  // ground (A) to ball (B)
+    }
+  }
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.front().step, 28u) << Describe(seen);
+  EXPECT_EQ(seen.front().type, RContactEventType::kBegin);
+  EXPECT_EQ(seen.front().a.index, 0u);
+  EXPECT_EQ(seen.front().b.index, 1u);
+  // Resting: one persist each step from 29 to the end, and no end.
+  ASSERT_EQ(seen.size(), 120u - 27u) << Describe(seen);
+  for (std::size_t k = 1; k < seen.size(); ++k) {
+    EXPECT_EQ(seen[k].type, RContactEventType::kPersist) << "step " << seen[k].step;
+    EXPECT_EQ(seen[k].step, 28u + k);
+  }
+  // At rest the impulse is the weight's over a step.
+  EXPECT_NEAR(seen.back().event.normalImpulse, m * kG * kDt, 1e-9 * m * kG * kDt);
+}
+
+// An elastic ball (e = 1, no friction) bounces with period 2 t1 (t1 = sqrt(2 h / g)): each
+// bounce begins and ends inside the step that holds it, at t1, 3 t1, 5 t1 ..., and nothing
+// happens between. The impulse is m (1 + e) v: the engine bounces the step's mid-step
+// approach speed, within g dt / 2 of the speed at the moment of contact, so within
+// 2 m g dt / 2 of 2 m sqrt(2 g h).
+TEST(ContactEvents, ElasticBallBeginsAndEndsAtTheClosedFormBounceSteps) {
+  const RScalar h = DropHeight();
+  std::vector<RRigidBody> bodies = MakeBodies(std::vector<BodyDef>{
+      GroundDef().Restitution(1).Friction(0),
+      SphereDef(0.5).Mass(3).Restitution(1).Friction(0).At(RVec3(0, 0.5 + h, 0)).Named("ball")});
+  RIntegrator integrator(EarthGravity());
+  std::uint64_t step = 0;
+  const std::vector<Seen> seen = StepAndCollect(integrator, bodies, 200, step);
+  const RScalar t1 = std::sqrt(2 * h / kG);
+  const RScalar m = bodies[1].Mass();
+  std::vector<std::uint64_t> bounces;
+  for (int n = 1; (2 * n - 1) * t1 < 200 * kDt; ++n) {
+    bounces.push_back(static_cast<std::uint64_t>(std::ceil((2 * n - 1) * t1 / kDt)));
+  }
+  ASSERT_EQ(bounces, (std::vector<std::uint64_t>{28, 83, 138, 193}));
+  ASSERT_EQ(seen.size(), 2 * bounces.size()) << Describe(seen);
+  for (std::size_t n = 0; n < bounces.size(); ++n) {
+    const Seen& begin = seen[2 * n];
+    const Seen& end = seen[2 * n + 1];
+    EXPECT_EQ(begin.step, bounces[n]);
+    EXPECT_EQ(begin.type, RContactEventType::kBegin);
+    EXPECT_EQ(end.step, bounces[n]);
+    EXPECT_EQ(end.type, RContactEventType::kEnd);
+    EXPECT_NEAR(begin.event.normalImpulse, 2 * m * std::sqrt(2 * kG * h), m * kG * kDt) << "bounce " << n;
+    EXPECT_EQ(begin.event.normalImpulse, end.event.normalImpulse);
+  }
+}
+
+// In zero g a ball 5 cm from a wall at 10 m/s touches it 5 ms into the first step and leaves
+// within it: begin and end in step 1, impulse 2 m v to rounding; then nothing.
+TEST(ContactEvents, BallBouncingInsideOneStepBeginsAndEndsInThatStep) {
+  RBodies bodies;
+  const RBodyHandle wall = bodies.Add(BoxDef(RVec3(0.5, 5, 5)).Static().Restitution(1).Friction(0).At(RVec3(0.5, 0, 0)));
+  const RBodyHandle ball = bodies.Add(
+      SphereDef(0.5).Mass(1.5).Restitution(1).Friction(0).At(RVec3(-0.55, 0, 0)).Moving(RVec3(10, 0, 0)));
+  RIntegrator integrator;
+  std::uint64_t step = 0;
+  const std::vector<Seen> seen = StepAndCollect(integrator, bodies, 10, step);
+  ASSERT_EQ(seen.size(), 2u) << Describe(seen);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(seen[k].step, 1u);
+    EXPECT_EQ(seen[k].a, wall);
+    EXPECT_EQ(seen[k].b, ball);
+    EXPECT_NEAR(seen[k].event.normalImpulse, 2 * 1.5 * 10, 1e-12 * 30);
+    EXPECT_NEAR((seen[k].event.normal_W - RVec3(-1, 0, 0)).norm(), 0, 1e-12);
+  }
+  EXPECT_EQ(seen[0].type, RContactEventType::kBegin);
+  EXPECT_EQ(seen[1].type, RContactEventType::kEnd);
+  EXPECT_NEAR(bodies[ball].Velocity_W().x(), -10, 1e-12);
+}
+
+// A 3 km/s missile crosses a 10 cm sensor plate inside one 1/60 s step (50 m): begin and end
+// in that step, at the plate's face, with no impulse, and it flies on untouched, whichever of
+// the two does not respond. Beside the plate's edge by 5 cm it touches nothing, though its
+// deepest point closes within the step (the time of impact alone would call it a hit).
+TEST(ContactEvents, MissileCrossingAThinSensorInsideOneStepBeginsAndEnds) {
+  struct Case {
+    bool missileResponds, plateResponds;
+  };
+  for (const Case& k : {Case{false, false}, Case{true, false}, Case{false, true}}) {
+    for (const RScalar offset : {RScalar(0), RScalar(5.15)}) {
+      SCOPED_TRACE(testing::Message() << "missile responds " << k.missileResponds << ", plate responds "
+                                      << k.plateResponds << ", offset " << offset);
+      RBodies bodies;
+      BodyDef plateDef = BoxDef(RVec3(0.05, 5, 5)).Static().At(RVec3::Zero());
+      plateDef.responds = k.plateResponds;
+      BodyDef missileDef = BoxDef(RVec3(0.2, 0.1, 0.1)).Mass(5).At(RVec3(-20.37, offset, 0)).Moving(RVec3(3000, 0, 0));
+      missileDef.responds = k.missileResponds;
+      const RBodyHandle plate = bodies.Add(plateDef);
+      const RBodyHandle missile = bodies.Add(missileDef);
+      RIntegrator integrator;
+      integrator.Update(bodies, kDt);
+      // The pair was looked at, closing within the step.
+      ASSERT_EQ(integrator.Contacts().size(), 1u);
+      ASSERT_TRUE(std::isfinite(integrator.Contacts()[0].timeOfImpact));
+      std::vector<Seen> seen;
+      for (const RContactEvent& e : integrator.Events()) seen.push_back({1, e.type, e.handleA, e.handleB, e});
+      std::uint64_t step = 1;
+      const std::vector<Seen> later = StepAndCollect(integrator, bodies, 4, step);
+      EXPECT_TRUE(later.empty()) << Describe(later);
+      EXPECT_EQ(bodies[missile].Velocity_W(), RVec3(3000, 0, 0));
+      EXPECT_NEAR(bodies[missile].Position_W().x(), -20.37 + 3000 * 5 * kDt, 1e-9);
+      if (offset != 0) {
+        EXPECT_TRUE(seen.empty()) << Describe(seen);
+        continue;
+      }
+      ASSERT_EQ(seen.size(), 2u) << Describe(seen);
+      EXPECT_EQ(seen[0].type, RContactEventType::kBegin);
+      EXPECT_EQ(seen[1].type, RContactEventType::kEnd);
+      for (const Seen& e : seen) {
+        EXPECT_EQ(e.a, plate);
+        EXPECT_EQ(e.b, missile);
+        EXPECT_EQ(e.event.normalImpulse, 0);
+        // First touch: the plate's face x = -0.05, within the missile's cross-section.
+        EXPECT_NEAR(e.event.point_W.x(), -0.05, 1e-9);
+        EXPECT_LE(std::abs(e.event.point_W.y()), 0.1 + 1e-9);
+        EXPECT_NEAR((e.event.normal_W - RVec3(-1, 0, 0)).norm(), 0, 1e-9);
+      }
+    }
+  }
+}
+
+// A missile that does not respond passes through a crate at rest: reported (begin in the
+// step its nose reaches the crate, persist while inside, end in the step its tail leaves:
+// closed form from its speed) and not bounced: neither body's velocity changes.
+TEST(ContactEvents, NonRespondingMissileThroughACrateIsReportedNotBounced) {
+  for (const RScalar speed : {RScalar(30), RScalar(3000)}) {
+    SCOPED_TRACE(testing::Message() << "speed " << speed);
+    RBodies bodies;
+    const RBodyHandle crate = bodies.Add(UnitBoxDef(RVec3::Zero()));
+    BodyDef missileDef = BoxDef(RVec3::Constant(0.1)).Mass(2).At(RVec3(-2.37, 0.2, 0)).Moving(RVec3(speed, 0, 0));
+    missileDef.responds = false;
+    const RBodyHandle missile = bodies.Add(missileDef);
+    RIntegrator integrator;
+    std::uint64_t step = 0;
+    const std::vector<Seen> seen = StepAndCollect(integrator, bodies, 12, step);
+    // The nose (x + 0.1) reaches the crate's face (-0.5) after 1.77 m, the tail (x - 0.1)
+    // leaves the far face (0.5) after 2.97 m.
+    const auto stepAt = [&](RScalar distance) {
+      return static_cast<std::uint64_t>(std::ceil(distance / speed / kDt));
+    };
+    const std::uint64_t first = stepAt(1.77), last = stepAt(2.97);
+    ASSERT_EQ(seen.size(), last - first + 1 + (first == last)) << Describe(seen);
+    EXPECT_EQ(seen.front().step, first);
+    EXPECT_EQ(seen.front().type, RContactEventType::kBegin);
+    EXPECT_EQ(seen.back().step, last);
+    EXPECT_EQ(seen.back().type, RContactEventType::kEnd);
+    for (std::size_t k = 1; k + 1 < seen.size(); ++k) EXPECT_EQ(seen[k].type, RContactEventType::kPersist);
+    for (const Seen& e : seen) {
+      EXPECT_EQ(e.a, crate);
+      EXPECT_EQ(e.b, missile);
+      EXPECT_EQ(e.event.normalImpulse, 0);
+    }
+    EXPECT_EQ(bodies[crate].Velocity_W(), RVec3::Zero());
+    EXPECT_EQ(bodies[crate].AngularVelocity_W(), RVec3::Zero());
+    EXPECT_EQ(bodies[missile].Velocity_W(), RVec3(speed, 0, 0));
+  }
+}
+
+// Removing or disabling a body ends its contacts in the next step's events, naming its
+// (now stale) handle; the other pairs carry on; enabling it again begins anew.
+TEST(ContactEvents, RemovingOrDisablingABodyEndsItsContacts) {
+  RBodies bodies;
+  const RBodyHandle ground = bodies.Add(GroundDef());
+  const RBodyHandle box1 = bodies.Add(UnitBoxDef(RVec3(-2, 0.5, 0)));
+  const RBodyHandle box2 = bodies.Add(UnitBoxDef(RVec3(2, 0.5, 0)));
+  RWorldSettings settings = EarthGravity();
+  settings.shortcuts.sleeping = false;
+  RIntegrator integrator(settings);
+  const auto events = [&] {
+    integrator.Update(bodies, kDt);
+    std::vector<Seen> seen;
+    for (const RContactEvent& e : integrator.Events()) seen.push_back({0, e.type, e.handleA, e.handleB, e});
+    return seen;
+  };
+  std::vector<Seen> seen = events();
+  ASSERT_EQ(seen.size(), 2u) << Describe(seen);  // resting from the start: begin, both
+  for (int s = 0; s < 5; ++s) seen = events();
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0].type, RContactEventType::kPersist);
+  EXPECT_EQ(seen[1].type, RContactEventType::kPersist);
+
+  bodies.Remove(box1);
+  seen = events();
+  ASSERT_EQ(seen.size(), 2u) << Describe(seen);
+  EXPECT_EQ(seen[0].type, RContactEventType::kEnd);
+  EXPECT_EQ(seen[0].a, ground);
+  EXPECT_EQ(seen[0].b, box1);
+  EXPECT_EQ(seen[0].event.normalImpulse, 0);
+  EXPECT_NEAR(seen[0].event.normal_W.y(), 1, 1e-12);  // the last one reported
+  EXPECT_EQ(seen[1].type, RContactEventType::kPersist);
+  EXPECT_EQ(seen[1].b, box2);
+
+  bodies.Disable(box2);
+  seen = events();
+  ASSERT_EQ(seen.size(), 1u) << Describe(seen);
+  EXPECT_EQ(seen[0].type, RContactEventType::kEnd);
+  EXPECT_EQ(seen[0].b, box2);
+  seen = events();
+  EXPECT_TRUE(seen.empty()) << Describe(seen);
+
+  bodies.Enable(box2);
+  seen = events();
+  ASSERT_EQ(seen.size(), 1u) << Describe(seen);
+  EXPECT_EQ(seen[0].type, RContactEventType::kBegin);
+  EXPECT_EQ(seen[0].b, box2);
+}
+
+// A box resting on the ground falls asleep in contact: no end, no events while it sleeps,
+// and no begin when it wakes (persist again). Removed while asleep, its contact ends.
+TEST(ContactEvents, ASleepingPairStaysInContactAndWakesWithoutABegin) {
+  RBodies bodies;
+  bodies.Add(GroundDef());
+  const RBodyHandle box = bodies.Add(UnitBoxDef(RVec3(0, 0.5, 0)));
+  RIntegrator integrator(EarthGravity());
+  std::uint64_t step = 0;
+  std::vector<Seen> seen = StepAndCollect(integrator, bodies, 1, step);
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].type, RContactEventType::kBegin);
+  for (int s = 0; s < 200 && !bodies[box].IsSleeping(); ++s) {
+    seen = StepAndCollect(integrator, bodies, 1, step);
+    ASSERT_EQ(seen.size(), 1u) << "step " << step;
+    ASSERT_EQ(seen[0].type, RContactEventType::kPersist) << "step " << step;
+  }
+  ASSERT_TRUE(bodies[box].IsSleeping());
+  seen = StepAndCollect(integrator, bodies, 30, step);
+  EXPECT_TRUE(seen.empty()) << Describe(seen);
+  bodies[box].Wake();
+  seen = StepAndCollect(integrator, bodies, 1, step);
+  ASSERT_EQ(seen.size(), 1u) << Describe(seen);
+  EXPECT_EQ(seen[0].type, RContactEventType::kPersist);
+  // Asleep again, then removed: its contact ends.
+  for (int s = 0; s < 200 && !bodies[box].IsSleeping(); ++s) StepAndCollect(integrator, bodies, 1, step);
+  ASSERT_TRUE(bodies[box].IsSleeping());
+  bodies.Remove(box);
+  seen = StepAndCollect(integrator, bodies, 1, step);
+  ASSERT_EQ(seen.size(), 1u) << Describe(seen);
+  EXPECT_EQ(seen[0].type, RContactEventType::kEnd);
+  EXPECT_EQ(seen[0].b, box);
+}
+
+// A box resting on the ground: the normal impulse of each step is its weight's, m g dt. By
+// the box's momentum balance over the step, J - m g dt = m (v1 - v0)_y exactly, so the
+// tolerance is the box's change of velocity, which the solver at rest holds to rounding
+// (asserted too), plus the rounding of the sum (a few ulps of m g dt).
+TEST(ContactEvents, RestingBoxNormalImpulseIsItsWeightTimesTheStep) {
+  std::vector<RRigidBody> bodies = MakeBodies(std::vector<BodyDef>{GroundDef(), UnitBoxDef(RVec3(0, 0.5, 0)).Mass(2.5)});
+  RWorldSettings settings = EarthGravity();
+  settings.shortcuts.sleeping = false;
+  RIntegrator integrator(settings);
+  const RScalar m = bodies[1].Mass(), weight = m * kG * kDt;
+  RScalar worst = 0;
+  for (int s = 0; s < 120; ++s) {
+    const RScalar v0 = bodies[1].Velocity_W().y();
+    integrator.Update(bodies, kDt);
+    const RScalar dv = bodies[1].Velocity_W().y() - v0;
+    ASSERT_EQ(integrator.Events().size(), 1u);
+    const RContactEvent& e = integrator.Events()[0];
+    EXPECT_EQ(e.type, s == 0 ? RContactEventType::kBegin : RContactEventType::kPersist);
+    EXPECT_LE(std::abs(dv), 1e-12 * kG * kDt) << "step " << s + 1;
+    EXPECT_NEAR(e.normalImpulse, weight, m * std::abs(dv) + 8 * kEps * weight) << "step " << s + 1;
+    worst = std::max(worst, std::abs(e.normalImpulse / weight - 1));
+  }
+  std::printf("resting box: worst |J / (m g dt) - 1| = %.2e\n", worst);
+}
+
+// A box sliding on the ground (mu 0.5): while it slides, the friction impulse of each step
+// is mu times its normal impulse (Coulomb), and equals the box's loss of momentum.
+TEST(ContactEvents, SlidingBoxFrictionImpulseIsMuTimesTheNormalImpulse) {
+  std::vector<RRigidBody> bodies =
+      MakeBodies(std::vector<BodyDef>{GroundDef(), UnitBoxDef(RVec3(0, 0.5, 0)).Moving(RVec3(3, 0, 0))});
+  RWorldSettings settings = EarthGravity();
+  RIntegrator integrator(settings);
+  const RScalar m = bodies[1].Mass();
+  int sliding = 0;
+  for (int s = 0; s < 30; ++s) {
+    const RScalar v0 = bodies[1].Velocity_W().x();
+    integrator.Update(bodies, kDt);
+    const RScalar v1 = bodies[1].Velocity_W().x();
+    ASSERT_EQ(integrator.Events().size(), 1u);
+    const RContactEvent& e = integrator.Events()[0];
+    EXPECT_NEAR(e.frictionImpulse, m * (v0 - v1), 1e-12 * m * v0) << "step " << s + 1;
+    if (v1 > 0.1) {  // slid the whole step
+      ++sliding;
+      EXPECT_NEAR(e.frictionImpulse, 0.5 * e.normalImpulse, 1e-12 * e.normalImpulse) << "step " << s + 1;
+    }
+  }
+  EXPECT_GT(sliding, 20);
+}
+
+// Events off: none, and the motion is the same bit for bit.
+TEST(ContactEvents, TurnedOffThereAreNoneAndTheMotionIsTheSame) {
+  const std::vector<BodyDef> defs{GroundDef(), UnitBoxDef(RVec3(0, 0.7, 0)).Moving(RVec3(1, 0, 0)).Spinning(RVec3(0, 2, 1))};
+  std::vector<RRigidBody> on = MakeBodies(defs), off = MakeBodies(defs);
+  RWorldSettings settings = EarthGravity();
+  RIntegrator withEvents(settings);
+  settings.contactEvents = false;
+  RIntegrator without(settings);
+  std::size_t events = 0;
+  for (int s = 0; s < 120; ++s) {
+    withEvents.Update(on, kDt);
+    without.Update(off, kDt);
+    events += withEvents.Events().size();
+    EXPECT_TRUE(without.Events().empty());
+    ASSERT_EQ(on[1].Position_W(), off[1].Position_W()) << "step " << s + 1;
+    ASSERT_EQ(on[1].Orientation_WB().coeffs(), off[1].Orientation_WB().coeffs()) << "step " << s + 1;
+  }
+  EXPECT_GT(events, 30u);
+}
