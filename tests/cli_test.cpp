@@ -728,3 +728,81 @@ TEST_F(Cli, BadRaysExitTwoNamingThePath) {
   EXPECT_EQ(dir.code, 2);
   EXPECT_NE(dir.err.find("no/such/dir/r.csv"), std::string::npos) << dir.err;
 }
+
+// --events: begin and end rows (SCENE_FORMAT.md, "Events") in zero g, dt 0.01 s. A crate
+// rests on the wall's top from the start (begin in step 1) and is removed after step 10 (end
+// in step 11); a missile that does not respond crosses a 10 cm sensor at 1000 m/s inside
+// step 1 (begin and end); a ball added after step 0 in the slot "tmp" freed (so created
+// after the wall, named second though its handle is lower) meets the wall 0.53 m away at
+// 10 m/s, 0.053 s in, and bounces off (e = 1) inside step 6 with impulse 2 m v = 40 N s.
+// Normals point from body_a to body_b; the hash is the same without --events.
+TEST_F(Cli, EventsAreWrittenAsBeginAndEndRows) {
+  const std::string scene = R"({"dt": 0.01, "steps": 20, "bodies": [
+      {"name": "tmp", "shape": {"type": "sphere", "radius": 0.1}, "position": [0, 50, 0]},
+      {"name": "wall", "shape": {"type": "box", "half_extents": [0.5, 5, 5]}, "static": true,
+       "restitution": 1, "friction": 0},
+      {"name": "sensor", "shape": {"type": "box", "half_extents": [0.05, 5, 5]}, "static": true,
+       "responds": false, "position": [10, 0, 0]},
+      {"name": "missile", "shape": {"type": "box", "half_extents": [0.1, 0.1, 0.1]},
+       "responds": false, "position": [5.37, 0, 0], "velocity": [1000, 0, 0]},
+      {"name": "crate", "shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+       "position": [0, 5.5, 0]}],
+    "actions": [{"step": 0, "remove": "tmp"},
+      {"step": 0, "add": {"name": "ball", "shape": {"type": "sphere", "radius": 0.5}, "mass": 2,
+       "position": [-1.53, 0, 0], "velocity": [10, 0, 0], "restitution": 1, "friction": 0}},
+      {"step": 10, "remove": "crate"}]})";
+  const Result r = Run(Quote(Write("e.json", scene)) + " --out " + Quote(Path("t.csv")) + " --events " +
+                       Quote(Path("events.csv")));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream in(ReadFile(Path("events.csv")));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "step,time,event,body_a,body_b,x,y,z,nx,ny,nz,normal_impulse,tangent_impulse");
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) rows.push_back(Split(line));
+  struct Expect {
+    std::string step, time, event, a, b;
+    RVec3 normal;
+    double normalImpulse;
+  };
+  const std::vector<Expect> expect = {
+      {"1", "0.01", "begin", "wall", "crate", RVec3(0, 1, 0), 0},
+      {"1", "0.01", "begin", "sensor", "missile", RVec3(-1, 0, 0), 0},
+      {"1", "0.01", "end", "sensor", "missile", RVec3(-1, 0, 0), 0},
+      {"6", "0.059999999999999998", "begin", "wall", "ball", RVec3(-1, 0, 0), 40},
+      {"6", "0.059999999999999998", "end", "wall", "ball", RVec3(-1, 0, 0), 40},
+      {"11", "0.11", "end", "wall", "crate", RVec3(0, 1, 0), 0}};
+  ASSERT_EQ(rows.size(), expect.size()) << ReadFile(Path("events.csv"));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::vector<std::string>& f = rows[i];
+    ASSERT_EQ(f.size(), 13u) << i;
+    EXPECT_EQ(f[0], expect[i].step) << i;
+    EXPECT_EQ(f[1], expect[i].time) << i;
+    EXPECT_EQ(f[2], expect[i].event) << i;
+    EXPECT_EQ(f[3], expect[i].a) << i;
+    EXPECT_EQ(f[4], expect[i].b) << i;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(std::stod(f[8 + k]), expect[i].normal[k], 1e-12) << i;
+    EXPECT_NEAR(std::stod(f[11]), expect[i].normalImpulse, 1e-12 * 40) << i;
+    EXPECT_EQ(std::stod(f[12]), 0) << i;
+  }
+  // The missile enters the sensor at its face, x = 9.95.
+  EXPECT_NEAR(std::stod(rows[1][5]), 9.95, 1e-9);
+  // Events observe: the same trajectory and hash without them.
+  const Result plain = Run(Quote(Path("e.json")) + " --out " + Quote(Path("t2.csv")));
+  EXPECT_EQ(plain.LastErrLine().substr(plain.LastErrLine().find("hash=")),
+            r.LastErrLine().substr(r.LastErrLine().find("hash=")));
+  EXPECT_EQ(ReadFile(Path("t.csv")), ReadFile(Path("t2.csv")));
+}
+
+// An events file that cannot be written: exit 2 naming it, before any step.
+TEST_F(Cli, UnwritableEventsFileExitsTwoNamingIt) {
+  const std::string scene = R"({"dt": 0.01, "steps": 5, "bodies": [
+      {"name": "a", "shape": {"type": "sphere", "radius": 1}}]})";
+  const Result r = Run(Quote(Write("s.json", scene)) + " --out " + Quote(Path("t.csv")) + " --events " +
+                       Quote(Path("no/such/dir/e.csv")));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("no/such/dir/e.csv: cannot open for writing"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("hash="), std::string::npos) << r.err;
+  // --describe writes no events: the two do not go together.
+  EXPECT_EQ(Run(Quote(Path("s.json")) + " --describe --events " + Quote(Path("e.csv"))).code, 2);
+}

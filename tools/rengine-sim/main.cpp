@@ -1,7 +1,7 @@
 // rengine-sim: runs a scene file and writes its trajectory (../shared/SCENE_FORMAT.md).
 //
 //   rengine-sim SCENE.json [--out TRAJ.csv] [--steps N] [--dt S] [--every K] [--quiet]
-//               [--max-seconds S] [--rays RAYS.csv]
+//               [--max-seconds S] [--rays RAYS.csv] [--events EVENTS.csv]
 //   rengine-sim SCENE.json --describe
 //
 // Exit codes: 0 success; 2 bad input (scene, options, files); 1 a failure during the run.
@@ -9,6 +9,7 @@
 #include <REnginePhysics/RScene.h>
 
 #include "csv.h"
+#include "events.h"
 #include "rays.h"
 
 #include <CLI/CLI.hpp>
@@ -110,10 +111,10 @@ class TrajectoryWriter {
     for (RBodyHandle h : world.Live()) {
       const RRigidBody& b = world.Bodies()[h];
       m_buffer.append(stepText, stepLength);
-      Number(time);
+      sim::AppendNumber(m_buffer, time);
       m_buffer += ',';
       m_buffer += CsvName(h, b);
-      for (RScalar value : State(b)) Number(value);
+      for (RScalar value : State(b)) sim::AppendNumber(m_buffer, value);
       m_buffer += '\n';
       if (m_buffer.size() >= kChunk) Flush();
     }
@@ -130,16 +131,6 @@ class TrajectoryWriter {
 
  private:
   static constexpr std::size_t kChunk = std::size_t(1) << 20;
-
-  // std::to_chars with a precision writes exactly what printf's %.17g does (the standard
-  // defines it so), three times faster than snprintf.
-  void Number(RScalar value) {
-    char text[40];
-    text[0] = ',';
-    const char* end = std::to_chars(text + 1, text + sizeof text, value,
-                                    std::chars_format::general, 17).ptr;
-    m_buffer.append(text, static_cast<std::size_t>(end - text));
-  }
 
   // The body's name as a CSV field, kept per slot (and generation) once made.
   const std::string& CsvName(RBodyHandle h, const RRigidBody& b) {
@@ -159,6 +150,13 @@ class TrajectoryWriter {
   std::string m_buffer;
   bool m_failed = false;
 };
+
+// An output file opened for writing, or null after saying why (the caller exits 2).
+std::FILE* OpenOutput(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) std::fprintf(stderr, "error: %s: cannot open for writing: %s\n", path.c_str(), std::strerror(errno));
+  return f;
+}
 
 // "step 1234/36000 (3%)" on a terminal, redrawn at most 10 times a second.
 class Progress {
@@ -227,7 +225,7 @@ void Describe(const RSceneWorld& world) {
 int Run(int argc, char** argv) {
   CLI::App app{"Runs a REngine scene (rengine-scene/1) and writes its trajectory as CSV.",
                "rengine-sim"};
-  std::string scenePath, outPath, stepsText, dtText, everyText, maxSecondsText, raysPath;
+  std::string scenePath, outPath, stepsText, dtText, everyText, maxSecondsText, raysPath, eventsPath;
   int threads = 0;
   bool quiet = false, describe = false, profile = false;
   app.add_option("scene", scenePath, "Scene file (JSON)")->required();
@@ -242,6 +240,9 @@ int Run(int argc, char** argv) {
   auto* rays = app.add_option("--rays", raysPath,
                               "Answer the scene's rays into this CSV (step,ray,body,distance,x,y,z,"
                               "nx,ny,nz)");
+  auto* events = app.add_option("--events", eventsPath,
+                                "Write the contact events into this CSV (step,time,event,body_a,body_b,"
+                                "x,y,z,nx,ny,nz,normal_impulse,tangent_impulse)");
   app.add_flag("--quiet", quiet, "No progress display");
   app.add_option("--threads", threads,
                  "Threads the step runs on (default 0: what the machine has); the hash does not "
@@ -251,7 +252,7 @@ int Run(int argc, char** argv) {
                "Also print the mean time per step of each stage (RStepProfile), ms");
   app.add_flag("--describe", describe,
                "Print each body's mass, centre of mass and principal axes as JSON, then exit")
-      ->excludes(out, steps, dt, every, rays);
+      ->excludes(out, steps, dt, every, rays, events);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -293,28 +294,21 @@ int Run(int argc, char** argv) {
   }
 
   // Opened only now, so that a bad scene never truncates an existing trajectory.
-  std::FILE* file = stdout;
-  if (out->count()) {
-    file = std::fopen(outPath.c_str(), "wb");
-    if (!file) {
-      std::fprintf(stderr, "error: %s: cannot open for writing: %s\n", outPath.c_str(),
-                   std::strerror(errno));
-      return kExitBadInput;
-    }
-  }
-  std::FILE* raysFile = nullptr;
-  if (rays->count()) {
-    raysFile = std::fopen(raysPath.c_str(), "wb");
-    if (!raysFile) {
-      std::fprintf(stderr, "error: %s: cannot open for writing: %s\n", raysPath.c_str(),
-                   std::strerror(errno));
-      if (file != stdout) std::fclose(file);
-      return kExitBadInput;
-    }
+  // (On a failure, the files opened before it are closed.)
+  std::FILE* file = out->count() ? OpenOutput(outPath) : stdout;
+  std::FILE* raysFile = file && rays->count() ? OpenOutput(raysPath) : nullptr;
+  const bool raysOpen = !rays->count() || raysFile;
+  std::FILE* eventsFile = file && raysOpen && events->count() ? OpenOutput(eventsPath) : nullptr;
+  if (!file || !raysOpen || (events->count() && !eventsFile)) {
+    if (file && file != stdout) std::fclose(file);
+    if (raysFile) std::fclose(raysFile);
+    return kExitBadInput;
   }
   TrajectoryWriter writer(file);
   std::optional<sim::RayWriter> rayWriter;
   if (raysFile) rayWriter.emplace(scene, raysFile);
+  std::optional<sim::EventWriter> eventWriter;
+  if (eventsFile) eventWriter.emplace(eventsFile);
   const auto finishOutput = [&] {
     bool ok = writer.Flush();
     if (file != stdout) ok = std::fclose(file) == 0 && ok;
@@ -328,6 +322,13 @@ int Run(int argc, char** argv) {
         std::fprintf(stderr, "error: %s: write failed: %s\n", raysPath.c_str(), std::strerror(errno));
       }
       ok = ok && raysOk;
+    }
+    if (eventsFile) {
+      const bool eventsOk = eventWriter->Flush() && std::fclose(eventsFile) == 0;
+      if (!eventsOk) {
+        std::fprintf(stderr, "error: %s: write failed: %s\n", eventsPath.c_str(), std::strerror(errno));
+      }
+      ok = ok && eventsOk;
     }
     return ok;
   };
@@ -346,7 +347,10 @@ int Run(int argc, char** argv) {
     stepping += t1 - t0;
     const RStepProfile& p = integrator.Profile();
     profileSum.collisionDetection += p.collisionDetection, profileSum.findImpulses += p.findImpulses;
-    profileSum.updateObjects += p.updateObjects, profileSum.total += p.total;
+    profileSum.updateObjects += p.updateObjects, profileSum.contactEvents += p.contactEvents;
+    profileSum.total += p.total;
+    // The events of step k, before its actions (a body removed after it is still named).
+    if (eventWriter) eventWriter->Write(step, scene.dt, integrator.Events(), world->Bodies());
     // What the game does after step k, before step k + 1; the rows of step k show it (a body
     // added has its first row, a body removed had its last in step k - 1).
     try {
@@ -385,9 +389,9 @@ int Run(int argc, char** argv) {
                              static_cast<double>(scene.steps);
   if (profile && scene.steps > 0) {
     const double n = static_cast<double>(scene.steps);
-    std::fprintf(stderr, "profile_ms: collision_detection=%.4g find_impulses=%.4g update_objects=%.4g total=%.4g\n",
-                 profileSum.collisionDetection / n, profileSum.findImpulses / n,
-                 profileSum.updateObjects / n, profileSum.total / n);
+    std::fprintf(stderr, "profile_ms: collision_detection=%.4g find_impulses=%.4g update_objects=%.4g "
+                 "contact_events=%.4g total=%.4g\n", profileSum.collisionDetection / n, profileSum.findImpulses / n,
+                 profileSum.updateObjects / n, profileSum.contactEvents / n, profileSum.total / n);
     const RPairStats& st = integrator.PairStats();
     std::fprintf(stderr,
                  "last_step: sphere_tests=%" PRIu64 " broad_phase=%d rejected_boxes=%" PRIu64

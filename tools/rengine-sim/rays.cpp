@@ -3,8 +3,6 @@
 
 #include "csv.h"
 
-#include <charconv>
-
 namespace REngine::sim {
 
 RayWriter::RayWriter(const RScene& scene, std::FILE* out) : m_scene(scene), m_out(out) {
@@ -42,19 +40,10 @@ void RayWriter::Row(std::uint64_t step, const RSceneRay& ray, const RRayHit* hit
     return;
   }
   m_buffer += CsvField(world.Bodies()[hit->body].Name());
-  Number(hit->distance);
-  for (int a = 0; a < 3; ++a) Number(hit->point_W[a]);
-  for (int a = 0; a < 3; ++a) Number(hit->normal_W[a]);
+  AppendNumber(m_buffer, hit->distance);
+  for (int a = 0; a < 3; ++a) AppendNumber(m_buffer, hit->point_W[a]);
+  for (int a = 0; a < 3; ++a) AppendNumber(m_buffer, hit->normal_W[a]);
   m_buffer += '\n';
-}
-
-// %.17g, as the trajectory's numbers (std::to_chars with that precision is defined so).
-void RayWriter::Number(double value) {
-  char text[40];
-  text[0] = ',';
-  const char* end =
-      std::to_chars(text + 1, text + sizeof text, value, std::chars_format::general, 17).ptr;
-  m_buffer.append(text, static_cast<std::size_t>(end - text));
 }
 
 bool RayWriter::Flush() {

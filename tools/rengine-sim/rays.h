@@ -24,7 +24,6 @@ class RayWriter {
 
  private:
   void Row(std::uint64_t step, const RSceneRay& ray, const RRayHit* hit, const RSceneWorld& world);
-  void Number(double value);
 
   const RScene& m_scene;
   std::FILE* m_out;

@@ -1,0 +1,51 @@
+// rengine-sim --events FILE: the contact events of every step (SCENE_FORMAT.md, "Events")
+// into the CSV step,time,event,body_a,body_b,x,y,z,nx,ny,nz,normal_impulse,tangent_impulse.
+#pragma once
+
+#include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RContactEvents.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace REngine::sim {
+
+class EventWriter {
+ public:
+  // Writes the header at once; `out` stays the caller's to close.
+  explicit EventWriter(std::FILE* out);
+  // The begin and end rows of step `step` (RIntegrator::Events after its Update, before
+  // that step's actions; persist events are not rows of the format). `time` is step * dt,
+  // the end of the step, as the trajectory's row of that step. body_a is the body created
+  // first (the scene's order, then the order of `add` actions: RRigidBody::Id), the normal
+  // points from it to body_b, and rows are sorted by body_a, body_b, begin before end.
+  void Write(std::uint64_t step, double dt, const std::vector<RContactEvent>& events, const RBodies& bodies);
+  // Writes what is buffered; false when any write failed.
+  bool Flush();
+
+ private:
+  // A body as the rows name it: creation order and CSV name, kept by (slot, generation)
+  // from the first event that names it, so that an end after its removal still can.
+  struct Known {
+    std::uint32_t id = 0;
+    std::string name;
+  };
+  const Known& Body(RBodyHandle h, const RBodies& bodies);
+  struct Row {
+    std::uint32_t idA, idB;
+    RContactEventType type;
+    bool swapped;  // body_a is the event's B
+    std::size_t event;
+  };
+
+  std::FILE* m_out;
+  std::unordered_map<std::uint64_t, Known> m_known;
+  std::vector<Row> m_rows;
+  std::string m_buffer;
+  bool m_failed = false;
+};
+
+}  // namespace REngine::sim
