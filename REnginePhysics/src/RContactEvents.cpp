@@ -4,6 +4,8 @@
 // end of the last step, both in handle order, into begin, persist and end events.
 #include "RWorldStep.h"
 
+#include "RGjkEpa.h"
+
 #include <REnginePhysics/RQueries.h>
 
 #include <algorithm>
@@ -113,7 +115,15 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
       if (s0 + moved <= band) {
         end = true;
       } else if (!(s0 - moved > band)) {
-        end = RCollisionSolver::Intersect(shapeA, shapeB, X1);
+        // The gap along the start's normal (kept in A's frame) at the end, from the two
+        // supports: the gap along any direction bounds the distance from below, so a pair
+        // apart along it by more than the band is apart (a speculative contact of bodies
+        // that did not meet) without the narrow phase.
+        const RVec3 n_A = q_AW0 * m.query.normal;
+        RPairSupport support(shapeA, shapeB, X1);
+        const RScalar gap = n_A.dot(support.SupportB(-n_A)) - shapeB.radius -
+                            n_A.dot(support.SupportA(n_A)) - shapeA.radius;
+        end = !(gap > band) && RCollisionSolver::Intersect(shapeA, shapeB, X1);
       }
       bool during = start || end || (e.flags & kImpact) != 0;
       // A pair the solver leaves alone (a body that does not respond) moves through: B swept
