@@ -244,7 +244,6 @@ class RRigidBody {
   RVec3 m_torque_W = RVec3::Zero();
   RVec3 m_linearImpulse_W = RVec3::Zero();
   RVec3 m_angularImpulse_W = RVec3::Zero();
-  RFreeRotation m_rotation;
 
   // Sleeping: whether the body sleeps, how long (s) it has been slower than the sleep
   // speed, and the island it fell asleep with (the integrator's index of the island's
@@ -270,6 +269,10 @@ class RRigidBody {
   // vertices (the broad phase's boxes). A sphere's is its bounding cube.
   RVec3 m_boxCenter_B = RVec3::Zero(), m_boxHalf_B = RVec3::Zero();
   void ComputeWorldForm(std::uint64_t stamp) const;
+  // Last, apart from the state every per-body pass of a step reads (above, a few cache
+  // lines): the rotation's cached elliptic constants (only the motion reads them) and the
+  // world form (only pairs near each other).
+  RFreeRotation m_rotation;
   mutable RWorldForm m_worldForm;
   mutable std::uint64_t m_worldFormComputations = 0;
 };
