@@ -84,6 +84,12 @@ void RWorldStep::TurnLocked(RRigidBody& b, RScalar dt) {
   b.m_w_B = b.m_q_WB.conjugate() * w;
 }
 
+RVec3 RWorldStep::KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScalar dt, bool end) {
+  if (!b.m_isKinematic || b.m_w_W.isZero(0)) return RVec3::Zero();
+  const RVec3 chord = QuatExp(b.m_w_W * dt) * r_W - r_W;  // the point's displacement, m
+  return end ? RVec3(b.m_w_W.cross(chord)) : RVec3(chord / dt - b.m_w_W.cross(r_W));
+}
+
 RScalar RWorldStep::GravitySpread(const RStepBodies& bodies) {
   RScalar lo = 0, hi = 0;
   for (const RRigidBody& b : bodies) {

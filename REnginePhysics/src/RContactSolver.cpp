@@ -408,8 +408,8 @@ void RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
     // Both tangents at once, through the 2 x 2 effective mass: one at a time the answer
     // would depend on which two tangents the basis picked, and that choice jumps when the
     // normal's z component changes sign (a slope moved 1e6 m away slid 1e-5 m further).
-    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w),
-                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w), sa, sb);
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][0],
+                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][1], sa, sb);
     lt1 += step.x(), lt2 += step.y();
     if (blk.kTwist > 0) lw -= blk.normal.dot(sb.w - sa.w) / blk.kTwist;
   }

@@ -100,6 +100,14 @@ class RWorldStep {
   // The angular velocity the body turns with this step after its start kick (world, rad/s),
   // drag included; the solver's and the pair sweep's.
   static RVec3 MidStepSpin_W(const RRigidBody& b, const RMat3& R_WB, const RMat3& invI_W, RScalar halfDt);
+  // What sticking to a spinning kinematic body means for a point at arm r_W from its centre
+  // (world, m/s), beyond its surface velocity v + w x r there: at the start of the step
+  // (end = false) the chord's velocity, (exp(w dt) r - r) / dt - w x r, which a body moving
+  // in a straight line through the step must have to land on the same point of the surface
+  // (without it a crate on a turntable spirals outwards by r w^2 dt^2 / 2 a step); at the
+  // end, the surface velocity where the point is then, w x (exp(w dt) r - r). Zero for
+  // every other body.
+  static RVec3 KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScalar dt, bool end);
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
   static void MoveKinematic(RRigidBody& b, RScalar dt);
   // A body with angular locks: its world spin, drag and kicks, turned about the world axis
@@ -305,6 +313,10 @@ class RWorldStep {
     // at the end [1] of the step.
     RScalar lambdaT1[2], lambdaT2[2];
     RScalar lambdaTwist[2];
+    // Tangential relative velocity (B less A, along t[0], t[1], m/s) that sticking means, at
+    // the start [0] and at the end [1] of the step: 0 but against a spinning kinematic body
+    // (KinematicDrift_W).
+    RScalar targetT[2][2];
   };
   std::vector<RBlock> m_blocks;
   // Row building (FindImpulses): each contact's first row and its block (= impact row)
