@@ -49,6 +49,32 @@ RVec3 RWorldStep::MidStepSpin_W(const RRigidBody& b, const RMat3& R_WB, const RM
   return kick.isZero(0) ? w : RVec3(w + invI_W * kick);
 }
 
+void RWorldStep::InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt) {
+  s.invM = b.m_invMass;
+  s.linMask = b.m_linearMask, s.linLocked = b.m_linearLocked;
+  s.endLinear.setZero(), s.endAngular.setZero(), s.deferredImpulse.setZero();
+  s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();
+  if (b.m_isStatic) {
+    s.v.setZero(), s.w.setZero(), s.invI.setZero();
+    return;
+  }
+  // A kinematic body: its own velocities, the velocity of its surface that the contacts
+  // see; infinitely heavy (invM and invI 0, never written by an impulse).
+  if (b.m_isKinematic) {
+    s.v = b.m_v_W, s.w = b.m_w_W, s.invI.setZero();
+    return;
+  }
+  const RMat3 R = b.m_q_WB.toRotationMatrix();
+  s.v = vMove;
+  if (b.m_angularLocked || b.m_angularDamping != 0) {
+    s.invI = InvInertia_W(b, R);
+    s.w = MidStepSpin_W(b, R, s.invI, halfDt);
+    return;
+  }
+  s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
+  s.w = R * b.m_w_B + s.invI * StartAngularKick_W(b, halfDt);
+}
+
 // Constant velocities: the centre moves on a line and the body turns about the world axis
 // of its spin, q(t) = exp(w t) q(0); one step's rotation exp(w dt) is the same rotation
 // every step, so the pose after n steps is the exact one but for rounding.

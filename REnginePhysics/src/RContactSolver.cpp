@@ -51,33 +51,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     std::swap(m_warm, m_warmNext);
     return;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    const RRigidBody& b = bodies[i];
-    RSolverBody& s = m_solverBodies[i];
-    s.invM = b.m_invMass;
-    s.linMask = b.m_linearMask, s.linLocked = b.m_linearLocked;
-    s.endLinear.setZero(), s.endAngular.setZero(), s.deferredImpulse.setZero();
-    s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();
-    if (b.m_isStatic) {
-      s.v.setZero(), s.w.setZero(), s.invI.setZero();
-      continue;
-    }
-    // A kinematic body: its own velocities, the velocity of its surface that the contacts
-    // see; infinitely heavy (invM and invI 0, never written by an impulse).
-    if (b.m_isKinematic) {
-      s.v = b.m_v_W, s.w = b.m_w_W, s.invI.setZero();
-      continue;
-    }
-    const RMat3 R = b.m_q_WB.toRotationMatrix();
-    s.v = m_moveV[i];  // computed by CollisionDetection's pre-pass this step
-    if (b.m_angularLocked || b.m_angularDamping != 0) {
-      s.invI = InvInertia_W(b, R);
-      s.w = MidStepSpin_W(b, R, s.invI, halfDt);
-      continue;
-    }
-    s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
-    s.w = R * b.m_w_B + s.invI * StartAngularKick_W(b, halfDt);
-  }
+  // Each body's solver state: the velocities it moves with this step (m_moveV, from
+  // CollisionDetection's pre-pass), its world inverse inertia and masks (RBodyMotion.cpp).
+  for (std::size_t i = 0; i < n; ++i) InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt);
 
   // The rows, impact rows and friction patches of every contact, each contact's at places
   // counted beforehand (the same order as one after another), so that contacts are built

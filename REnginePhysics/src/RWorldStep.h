@@ -108,6 +108,9 @@ class RWorldStep {
   // end, the surface velocity where the point is then, w x (exp(w dt) r - r). Zero for
   // every other body.
   static RVec3 KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScalar dt, bool end);
+  // A body's solver state at the start of FindImpulses: vMove its mid-step velocity (m/s).
+  struct RSolverBody;
+  static void InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt);
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
   static void MoveKinematic(RRigidBody& b, RScalar dt);
   // A body with angular locks: its world spin, drag and kicks, turned about the world axis
