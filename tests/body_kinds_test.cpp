@@ -210,9 +210,11 @@ TEST(Kinematic, PushesABallAndIsUnaffectedByIt) {
   }
 }
 
-// Two piles of boxes asleep on the ground, 40 m apart, and a kinematic bar driven through
-// the first. The bar moving wakes nothing until it reaches the first pile; then it wakes
-// that pile's boxes only; the far pile sleeps throughout. The bar never sleeps.
+// Two piles of boxes asleep on the ground, 40 m apart, each three columns of three (1.5 m
+// apart: three islands), and a kinematic bar driven through the first at the middle boxes'
+// height. The bar moving wakes nothing until it reaches the first column; then it wakes that
+// column's island only (the box it hits and the two it holds and stands on), the next
+// columns as it reaches them; the far pile sleeps throughout. The bar never sleeps.
 TEST(Kinematic, WakesOnlyWhatItTouches) {
   std::vector<BodyDef> defs{GroundDef()};
   for (int pile = 0; pile < 2; ++pile) {
@@ -241,12 +243,38 @@ TEST(Kinematic, WakesOnlyWhatItTouches) {
   int woken0 = 0;
   for (int n = 240; n < 600; ++n) {
     integrator.Update(bodies, kDt);
-    woken0 = std::max(woken0, 9 - asleep(0));
+    const int woken = 9 - asleep(0);
+    if (woken0 == 0 && woken > 0) {
+      // The first touch: the first column (boxes 1..3), not the others.
+      EXPECT_EQ(woken, 3) << "step " << n + 1;
+      for (int k = 0; k < 3; ++k) EXPECT_FALSE(bodies[1 + k].IsSleeping()) << k;
+      // Within a step's motion and the contact allowance of the column's face (x = -0.5).
+      EXPECT_NEAR(bar.Position_W().x() + 0.2, -0.5, 2 * kDt + 0.01) << "woken too early or late";
+    }
+    woken0 = std::max(woken0, woken);
     ASSERT_EQ(asleep(1), 9) << "the far pile woke at step " << n + 1;
   }
   // Every box of the first pile is in the bar's way at y = 1.5 or rests on one that is.
   EXPECT_GT(woken0, 0);
   std::printf("kinematic bar: %d of 9 boxes of the near pile woken, far pile asleep\n", woken0);
+}
+
+// A box comes to rest and sleeps on a still kinematic platform (which holds as static
+// geometry does and does not keep it awake); the game then sets the platform moving: the
+// box wakes in that step and rides along (velocity the platform's within 1e-9 after 1 s).
+TEST(Kinematic, StillPlatformHoldsASleeperThatWakesWhenItMoves) {
+  std::vector<RRigidBody> bodies = MakeBodies(std::vector<BodyDef>{
+      BoxDef(RVec3(3, 0.25, 3)).Kinematic().At(RVec3(0, -0.25, 0)).Friction(1).Named("platform"),
+      BoxDef(RVec3::Constant(0.25)).Mass(1).At(RVec3(0, 0.25, 0)).Friction(1).Named("box")});
+  RIntegrator integrator(EarthGravity());
+  Step(integrator, bodies, 60);
+  ASSERT_TRUE(bodies[1].IsSleeping());
+  EXPECT_EQ(integrator.PairStats().narrowPhase, 0u) << "a still platform is passive";
+  bodies[0].SetVelocity_W(RVec3(0, 0.5, 1));
+  Step(integrator, bodies, 1);
+  EXPECT_FALSE(bodies[1].IsSleeping());
+  Step(integrator, bodies, 60);
+  EXPECT_LT((bodies[1].Velocity_W() - RVec3(0, 0.5, 1)).norm(), 1e-9);
 }
 
 // ---- locks --------------------------------------------------------------------------------
