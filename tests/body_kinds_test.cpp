@@ -352,6 +352,31 @@ TEST(Locks, AngularLocksKeepLockedAxesStillAndConserveEnergy) {
   EXPECT_NEAR(TotalEnergy(bodies) / E0, 1, 1e-12);
 }
 
+// Rows along which neither body can move (a box locked along z and free to turn only about
+// z, on a spinning kinematic table: friction along z; a sphere locked along y resting on the
+// ground: the normal) have no effective mass: they take no impulse, and nothing becomes NaN
+// (it did: a friction step divided by that zero mass).
+TEST(Locks, RowsWithoutEffectiveMassStayFinite) {
+  std::vector<RRigidBody> bodies = MakeBodies(std::vector<BodyDef>{
+      BoxDef(RVec3(3, 0.25, 3)).Kinematic().At(RVec3(0, -0.25, 0)).Spinning(RVec3(0, 1, 0))
+          .Moving(RVec3(0, 0.5, 0)).Named("table"),
+      BoxDef(RVec3::Constant(0.25)).Mass(1).At(RVec3(1, 0.25, 0)).LockLinear(false, false, true)
+          .LockAngular(true, true, false).Named("crate"),
+      GroundDef(RVec3(20, -0.5, 0)),
+      SphereDef(0.5).Mass(1).At(RVec3(20, 0.5, 0)).LockLinear(false, true, false).Named("ball")});
+  RIntegrator integrator(EarthGravity());
+  for (int n = 0; n < 120; ++n) {
+    integrator.Update(bodies, kDt);
+    ASSERT_TRUE(integrator.NonFiniteInLastStep().empty()) << "step " << n + 1;
+  }
+  EXPECT_EQ(bodies[1].Position_W().z(), 0);
+  EXPECT_EQ(bodies[3].Position_W().y(), 0.5);
+  for (const RContact& c : integrator.Contacts()) {
+    if (c.b != 3 && c.a != 3) continue;
+    for (int k = 0; k < c.manifold.pointCount; ++k) EXPECT_EQ(c.normalImpulse[k], 0);
+  }
+}
+
 // All six axes locked: the body is kinematic and at rest, with no NaN anywhere: a ball
 // bounces off it as off a wall of infinite mass (v -> -e v), and it never moves.
 TEST(Locks, AllSixLockedActsAsKinematic) {

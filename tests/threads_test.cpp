@@ -69,6 +69,7 @@ class BackwardsJobs final : public RJobSystem {
 // contacts seen and the most bodies asleep at once.
 struct AlikeRun {
   std::uint64_t contacts = 0, sleepers = 0, backwardsTasks = 0;
+  std::uint64_t nonFinite = 0;  // bodies put back (NonFiniteInLastStep), over the run
 };
 AlikeRun StepOnEveryThreadCount(const std::vector<RBodyDef>& defs) {
   AlikeRun run;
@@ -125,6 +126,7 @@ AlikeRun StepOnEveryThreadCount(const std::vector<RBodyDef>& defs) {
       }
     }
     run.contacts += integrators[0].Contacts().size();
+    run.nonFinite += integrators[0].NonFiniteInLastStep().size();
     run.sleepers = std::max<std::uint64_t>(run.sleepers, integrators[0].PairStats().sleepingBodies);
   }
   run.backwardsTasks = backwards.tasks.load();
@@ -162,6 +164,7 @@ TEST(Threads, KinematicDampedAndLockedBodiesStepAlikeOnEveryThreadCount) {
   const AlikeRun run = StepOnEveryThreadCount(defs);
   EXPECT_GT(run.contacts, 10000u) << "too few contacts to test the solver's order";
   EXPECT_GT(run.backwardsTasks, 0u);
+  EXPECT_EQ(run.nonFinite, 0u) << "a body overflowed and was put back";
 }
 
 TEST(Threads, PoolRunsEveryTaskOnceAndReturnsWhenAllAreDone) {

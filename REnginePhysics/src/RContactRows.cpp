@@ -121,6 +121,10 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
       if (d2 < bestD2) bestD2 = d2, nearest = &*it;
     }
     if (!match) match = nearest;
+    // A row with no effective mass (a body locked along the normal, nothing to turn, against
+    // an infinitely heavy one) can change nothing: it never acts, so its impulse could not
+    // be bounded (nor the friction limit that sums it).
+    if (!(r.n.k > 0)) r.target = kNever, r.pseudoTarget = 0, match = nullptr;
     if (match) {
       ++warmStarted;
       r.lambdaN = match->lambdaN;

@@ -446,7 +446,7 @@ void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
       };
       const bool spinning = arc(r.a, sa, r.rA) + arc(r.b, sb, r.rB) > m_settings.penetrationSlop;
       r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
-                            !spinning
+                            !spinning && r.n.k > 0
                         ? RScalar(0) : kNever;
       if (r.endTarget == kNever) r.lambdaE = 0;
       any = any || r.endTarget == 0;
@@ -515,6 +515,7 @@ void RWorldStep::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase p
   }
   for (int i = 0; i < blk.count; ++i) {
     RContactRow& r = rows[i];
+    if (!(r.n.k > 0)) continue;  // no effective mass: see BuildContactRows
     const RScalar l = std::max(
         lambda(r) - (Speed(r.n, va, wa, vb, wb) - target(r)) / r.n.k, RScalar(0));
     const RScalar d = l - lambda(r);

@@ -120,7 +120,7 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
         continue;
       }
       const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
-      if (vn >= 0) continue;
+      if (vn >= 0 || !(dir[0].k > 0)) continue;  // (no effective mass: no impulse to find)
       any = anyImpact = true;
       const RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
       r.lambdaN += dn;

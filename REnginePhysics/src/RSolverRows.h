@@ -76,7 +76,9 @@ Eigen::Matrix<RScalar, 2, 1> TangentStep(const Dir& t1, const Dir& t2, RScalar v
   RScalar k12 = t1.rAxd.dot(t2.iA) + t1.rBxd.dot(t2.iB);
   if (a.linLocked || b.linLocked) k12 += LinearCoupling(a, t1.d, t2.d, 0) + LinearCoupling(b, t1.d, t2.d, 0);
   const RScalar det = t1.k * t2.k - k12 * k12;
-  if (!(det > 0)) return {-v1 / t1.k, -v2 / t2.k};
+  // A direction with no effective mass (both bodies infinitely heavy along it: kinematic or
+  // static against a body locked on the axes it would need) takes no impulse.
+  if (!(det > 0)) return {t1.k > 0 ? -v1 / t1.k : 0, t2.k > 0 ? -v2 / t2.k : 0};
   return {-(t2.k * v1 - k12 * v2) / det, -(t1.k * v2 - k12 * v1) / det};
 }
 
