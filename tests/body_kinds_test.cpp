@@ -206,7 +206,9 @@ TEST(Kinematic, PushesABallAndIsUnaffectedByIt) {
     EXPECT_EQ(bodies[0].AngularVelocity_W(), RVec3(0.5, 0, 0)) << e;
     EXPECT_NEAR(bodies[0].Position_W().x(), -3 + 2 * 120 * kDt, 1e-12) << e;
     // e = 0: pushed, the ball keeps in front of the wall, touching.
-    if (e == 0) EXPECT_NEAR(bodies[1].Position_W().x() - bodies[0].Position_W().x(), 1, 1e-3);
+    if (e == 0) {
+      EXPECT_NEAR(bodies[1].Position_W().x() - bodies[0].Position_W().x(), 1, 1e-3);
+    }
   }
 }
 

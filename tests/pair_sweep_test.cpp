@@ -196,3 +196,66 @@ TEST(FreeMotion, CacheStampAdvancesEveryStep) {
   EXPECT_GT(a.CacheStamp(), s1);
   EXPECT_NE(a.CacheStamp(), b.CacheStamp());
 }
+
+// Manifold reuse (RShortcuts::contactReuse): a settled stack keeps its manifolds, moved with
+// the bodies, and their blocks' inverses, and ends where it ends without the shortcut to
+// within what the touching band allows; a sliding box, whose pose changes by far more than the band, never reuses one and
+// moves bit for bit as without the shortcut.
+TEST(Shortcuts, ContactReuseKeepsASettledStackWithinTheTouchingBand) {
+  RWorldSettings on = EarthGravity();
+  on.shortcuts.sleeping = false;
+  RWorldSettings off = on;
+  off.shortcuts.contactReuse = false;
+  auto stack = [] {
+    std::vector<RRigidBody> bodies{RRigidBody(GroundDef())};
+    for (int k = 0; k < 10; ++k) {
+      bodies.emplace_back(BoxDef(RVec3::Constant(0.5)).At(RVec3(0, 0.5 + k, 0)).Mass(1).Named("b" + std::to_string(k)));
+    }
+    return bodies;
+  };
+  std::vector<RRigidBody> a = stack(), b = stack();
+  RIntegrator ia(on), ib(off);
+  std::uint64_t reused = 0;
+  for (int i = 0; i < 300; ++i) {
+    ia.Update(a, kDt);
+    ib.Update(b, kDt);
+    reused += ia.PairStats().reusedManifolds;
+    EXPECT_EQ(ib.PairStats().reusedManifolds, 0u);
+  }
+  // At rest every contact keeps its manifold, and the solver its block's inverse.
+  EXPECT_EQ(ia.PairStats().reusedManifolds, 10u);
+  EXPECT_EQ(ia.PairStats().reusedInverses, 10u);
+  EXPECT_EQ(ib.PairStats().reusedInverses, 0u);
+  EXPECT_GT(reused, 2000u);
+  // A reused point is off by at most the band, 1e-9 of the pair's size (1.7e-9 m for two
+  // unit cubes); ten contacts in series: 2e-8 m. The bound is five times that.
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_LT((a[k].Position_W() - b[k].Position_W()).norm(), 1e-7) << k;
+    EXPECT_LT(a[k].Orientation_WB().angularDistance(b[k].Orientation_WB()), 1e-7) << k;
+    EXPECT_NEAR(a[k].Position_W().y(), b[k].Position_W().y(), 1e-7) << k;
+  }
+  EXPECT_NEAR(a.back().Position_W().y(), 9.5, 1e-3) << "the stack stands";
+}
+
+TEST(Shortcuts, ContactReuseLeavesASlidingBoxExact) {
+  RWorldSettings on = EarthGravity();
+  RWorldSettings off = on;
+  off.shortcuts.contactReuse = false;
+  auto scene = [] {
+    std::vector<RRigidBody> bodies{RRigidBody(GroundDef())};
+    RBodyDef d = BoxDef(RVec3::Constant(0.5)).At(RVec3(0, 0.5, 0)).Mass(1);
+    d.velocity_W = RVec3(2, 0, 0);
+    bodies.emplace_back(d);
+    return bodies;
+  };
+  std::vector<RRigidBody> a = scene(), b = scene();
+  RIntegrator ia(on), ib(off);
+  for (int i = 0; i < 20; ++i) {  // it slides for 2 / (0.5 g) = 0.41 s = 24 steps
+    ia.Update(a, kDt);
+    ib.Update(b, kDt);
+    EXPECT_EQ(ia.PairStats().reusedManifolds, 0u) << i;
+    EXPECT_EQ(a[1].Position_W(), b[1].Position_W()) << i;
+    EXPECT_EQ(a[1].Velocity_W(), b[1].Velocity_W()) << i;
+  }
+  EXPECT_GT(a[1].Velocity_W().x(), 0.1) << "still sliding";
+}

@@ -120,6 +120,8 @@ TEST(Scene, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(b.restitution, 0.5);
   EXPECT_EQ(b.friction, 0.5);
   EXPECT_TRUE(b.responds);
+  EXPECT_EQ(b.category, 1u);
+  EXPECT_EQ(b.mask, 4294967295u);
   EXPECT_TRUE(s.ignore[0].empty());
   // Density 1: the mass is the volume, 2 * 4 * 6 m^3.
   EXPECT_DOUBLE_EQ(CreateBodies(s)[0].Mass(), 48.0);
@@ -201,6 +203,13 @@ TEST(Scene, AcceptedEdgeValues) {
   EXPECT_EQ(ParseScene(OneBody(Sphere(R"("restitution": 0)")), "s.json").bodies[0].restitution,
             0.0);
   EXPECT_EQ(ParseScene(OneBody(Sphere(R"("friction": 0)")), "s.json").bodies[0].friction, 0.0);
+  // Filter bits: the whole unsigned 32-bit range, 0 included (a body that collides with
+  // nothing), and whole numbers written as floating point.
+  const RScene bits =
+      ParseScene(OneBody(Sphere(R"("category": 0, "mask": 4294967295.0)")), "s.json");
+  EXPECT_EQ(bits.bodies[0].category, 0u);
+  EXPECT_EQ(bits.bodies[0].mask, 4294967295u);
+  EXPECT_EQ(CreateBodies(bits)[0].Mask(), 4294967295u);
   // A static body may keep its mass; it is ignored.
   const RScene s = ParseScene(OneBody(Sphere(R"("static": true, "mass": 5)")), "s.json");
   EXPECT_EQ(CreateBodies(s)[0].Mass(), 0.0);
@@ -369,6 +378,11 @@ const std::vector<BadScene> kBadScenes = {
     {"hull points all the same",
      OneBody(Shape(R"({"type": "hull", "points": [[1, 2, 3], [1, 2, 3], [1, 2, 3], [1, 2, 3]]})")),
      "bodies[0].shape.points"},
+    {"category negative", OneBody(Sphere(R"("category": -1)")), "bodies[0].category"},
+    {"category beyond 32 bits", OneBody(Sphere(R"("category": 4294967296)")),
+     "bodies[0].category"},
+    {"mask not whole", OneBody(Sphere(R"("mask": 1.5)")), "bodies[0].mask"},
+    {"mask a string", OneBody(Sphere(R"("mask": "0xff")")), "bodies[0].mask"},
     {"hull points on a line",
      OneBody(Shape(R"({"type": "hull", "points": [[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]]})")),
      "bodies[0].shape.points"},
@@ -521,4 +535,37 @@ TEST(Scene, LimitsNameTheFieldThatExceedsThem) {
     }
   }
   EXPECT_NO_THROW(ParseScene(three, "limits.json", {1 << 20, 3, 5, 10, 30}));
+}
+
+// "rays": read with their defaults (mask all bits, nearest only), sorted by step stably, the
+// path kept for messages.
+TEST(Scene, RaysAreReadSortedByStepWithTheirDefaults) {
+  const RScene s = ParseScene(OneBody(kSphere, R"("steps": 9, "rays": [
+      {"name": "b", "step": 4, "origin": [1, 2, 3], "direction": [0, 0, 2], "max_distance": 0},
+      {"name": "a", "step": 2, "origin": [0, 0, 0], "direction": [1, 0, 0], "max_distance": 5,
+       "mask": 6, "all": true},
+      {"name": "c", "step": 4, "origin": [0, 0, 0], "direction": [1e-300, 0, 0], "max_distance": 5}])"),
+                              "s.json");
+  ASSERT_EQ(s.rays.size(), 3u);
+  EXPECT_EQ(s.rays[0].name, "a");
+  EXPECT_EQ(s.rays[0].path, "rays[1]");
+  EXPECT_EQ(s.rays[0].mask, 6u);
+  EXPECT_TRUE(s.rays[0].all);
+  EXPECT_EQ(s.rays[1].name, "b");
+  EXPECT_EQ(s.rays[1].step, 4u);
+  EXPECT_EQ(s.rays[1].origin_W, RVec3(1, 2, 3));
+  EXPECT_EQ(s.rays[1].direction_W, RVec3(0, 0, 2));
+  EXPECT_EQ(s.rays[1].maxDistance, 0.0);
+  EXPECT_EQ(s.rays[1].mask, 4294967295u);
+  EXPECT_FALSE(s.rays[1].all);
+  EXPECT_EQ(s.rays[2].name, "c");
+  EXPECT_TRUE(ParseScene(OneBody(kSphere), "s.json").rays.empty());
+  try {
+    ParseScene(OneBody(kSphere, R"("steps": 3, "rays": [
+        {"name": "a", "step": 4, "origin": [0, 0, 0], "direction": [1, 0, 0], "max_distance": 1}])"),
+               "s.json");
+    FAIL() << "a ray after the last step was accepted";
+  } catch (const RSceneError& e) {
+    EXPECT_EQ(e.JsonPath(), "rays[0].step");
+  }
 }

@@ -1,10 +1,20 @@
 // The body container: a slot map over dense storage (see RBodies.h).
 #include <REnginePhysics/RBodies.h>
 
+#include <REnginePhysics/RIntegrator.h>  // NextCacheStamp
+
 #include <string>
 #include <utility>
 
 namespace REngine {
+
+RBodiesStamp::RBodiesStamp() : m_value(NextCacheStamp()) {}
+RBodiesStamp::RBodiesStamp(const RBodiesStamp&) : m_value(NextCacheStamp()) {}
+RBodiesStamp& RBodiesStamp::operator=(const RBodiesStamp&) {
+  m_value = NextCacheStamp();
+  return *this;
+}
+void RBodiesStamp::Bump() { m_value = NextCacheStamp(); }
 
 std::uint32_t RBodies::DenseIndex(RBodyHandle h) const {
   if (!Contains(h)) {
@@ -45,6 +55,7 @@ RBodyHandle RBodies::Add(RRigidBody body) {
   // Enabled: swap it from the end of the disabled range to the end of the enabled one.
   SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
   ++m_enabled;
+  LayoutChanged();
   return h;
 }
 
@@ -81,6 +92,7 @@ void RBodies::Remove(RBodyHandle h) {
   m_bodies.pop_back();
   m_handles.pop_back();
   m_denseOfSlot[h.index] = kFree;
+  LayoutChanged();
   // A slot whose generation would wrap is retired: its old handles must stay stale.
   if (++m_generation[h.index] != 0) m_free.push_back(h.index);
 }
@@ -91,6 +103,7 @@ void RBodies::Disable(RBodyHandle h) {
   WakeForDeparture(m_bodies[dense]);
   SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
   --m_enabled;
+  LayoutChanged();
 }
 
 void RBodies::Enable(RBodyHandle h) {
@@ -100,6 +113,7 @@ void RBodies::Enable(RBodyHandle h) {
   if (b.Immovable()) b.m_staticMoved = true;
   SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
   ++m_enabled;
+  LayoutChanged();
 }
 
 void RBodies::Reserve(std::size_t n) {

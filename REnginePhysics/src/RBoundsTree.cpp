@@ -122,4 +122,15 @@ void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,
   }
 }
 
+RScalar RBoundsTree::InnerArea() const {
+  RScalar area = 0;
+  for (const RNode& node : m_nodes) {
+    if (node.count > 0) continue;
+    const RScalar x = node.box.hi[0] - node.box.lo[0], y = node.box.hi[1] - node.box.lo[1],
+                  z = node.box.hi[2] - node.box.lo[2];
+    area += 2 * (x * y + y * z + z * x);
+  }
+  return area;
+}
+
 }  // namespace REngine

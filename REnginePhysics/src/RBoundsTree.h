@@ -8,6 +8,7 @@
 #include <REngineMath/RMath.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -48,6 +49,23 @@ class RBoundsTree {
   // threads at once). For queries (rays, overlaps) between steps.
   void Query(const RBox& box, std::vector<std::uint32_t>& out, std::vector<std::uint32_t>& stack) const;
 
+  // A segment through the tree, for ray and shape casts: the points origin + t dir with t in
+  // [0, tMax], each node's and item's box grown by grow[a] on both sides along axis a (a
+  // swept box's half extents; zero for a ray). Calls visit(id, tMax) for every item whose
+  // grown box the segment meets, nearer nodes first; visit returns the new tMax, so a search
+  // for the nearest hit shrinks it and skips every node that starts beyond it (a node entered
+  // exactly at tMax is still visited: ties are the caller's to break). dir need not be unit
+  // and may have zero components. The slab test is conservative only up to rounding: callers
+  // pad item boxes by more than the rounding of their coordinates (RQueries does). No
+  // scratch: the traversal stack is a fixed array (the tree is at most 30 levels deep).
+  template <class Visit>
+  void Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMax, const RScalar grow[3],
+           const Visit& visit) const;
+  // Sum of the inner nodes' box surface areas, m^2: the expected cost of a query through the
+  // tree, up to a factor. A refitted tree whose cost has grown well beyond its cost when
+  // built is worth building again.
+  RScalar InnerArea() const;
+
  private:
   static constexpr std::uint32_t kLeafSize = 4;
   struct RNode {
@@ -66,6 +84,10 @@ class RBoundsTree {
     }
   }
   std::uint32_t BuildNode(std::uint32_t begin, std::uint32_t end);
+  struct RRayEntry {  // Ray's stack: a node and where the segment enters its box
+    std::uint32_t node;
+    RScalar tEnter;
+  };
   // One step of the pair search from node pair p (see Pairs): kApart when the nodes' boxes
   // are apart, kLeaves when the pair is to be searched item by item (two leaves, or, with
   // self, one leaf with itself), kSplit after handing its children to push: the inner node
@@ -103,6 +125,71 @@ class RBoundsTree {
   const RBox* m_input = nullptr;
   const std::uint32_t* m_inputIds = nullptr;
 };
+
+template <class Visit>
+void RBoundsTree::Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMax,
+                      const RScalar grow[3], const Visit& visit) const {
+  if (m_nodes.empty() || !(tMax >= 0)) return;
+  // The slab test without branches (Williams et al. 2005, with Barnes' NaN rule): per axis
+  // 1/dir, infinite for a zero component; the near side of each slab is chosen by its sign,
+  // and the grown box's sides are folded into the origin. A zero component whose origin lies
+  // outside the slab gives +inf as its entry (a miss); one exactly on a side gives 0 * inf =
+  // NaN, which max/min written as below ignore (the side counts as inside). Rounding is
+  // monotone, so a node's interval always holds each of its items' intervals.
+  RScalar inv[3], oNear[3], oFar[3];
+  int nearSide[3], farSide[3];
+  for (int a = 0; a < 3; ++a) {
+    inv[a] = 1 / dir[a];
+    const bool neg = std::signbit(inv[a]);
+    nearSide[a] = neg ? 3 + a : a, farSide[a] = neg ? a : 3 + a;
+    oNear[a] = neg ? origin[a] - grow[a] : origin[a] + grow[a];
+    oFar[a] = neg ? origin[a] + grow[a] : origin[a] - grow[a];
+  }
+  auto clip = [&](const RBox& b, RScalar limit, RScalar& enter) {
+    const RScalar* side = &b.lo[0];  // lo[0..2] then hi[0..2]
+    RScalar t0 = 0, t1 = limit;
+    for (int a = 0; a < 3; ++a) {
+      const RScalar tn = (side[nearSide[a]] - oNear[a]) * inv[a];
+      const RScalar tf = (side[farSide[a]] - oFar[a]) * inv[a];
+      t0 = tn > t0 ? tn : t0;  // NaN: keeps t0
+      t1 = tf < t1 ? tf : t1;  // NaN: keeps t1
+    }
+    enter = t0;
+    return t0 <= t1;
+  };
+  // Depth-first, the nearer child first; a median-split tree over fewer than 2^31 items is
+  // at most 30 levels deep, and the stack holds at most one entry per level and one more.
+  RRayEntry stack[64];
+  int top = 0;
+  RScalar enter = 0;
+  if (!clip(m_nodes[0].box, tMax, enter)) return;
+  stack[top++] = {0, enter};
+  while (top > 0) {
+    const RRayEntry e = stack[--top];
+    if (e.tEnter > tMax) continue;  // a nearer hit was found after this node was pushed
+    const RNode& node = m_nodes[e.node];
+    if (node.count > 0) {
+      for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+        if (clip(m_boxes[k], tMax, enter)) tMax = visit(m_items[k], tMax);
+      }
+      continue;
+    }
+    const std::uint32_t left = e.node + 1, right = node.first;
+    RScalar tl = 0, tr = 0;
+    const bool hl = clip(m_nodes[left].box, tMax, tl), hr = clip(m_nodes[right].box, tMax, tr);
+    if (hl && hr) {
+      if (tl <= tr) {
+        stack[top++] = {right, tr}, stack[top++] = {left, tl};
+      } else {
+        stack[top++] = {left, tl}, stack[top++] = {right, tr};
+      }
+    } else if (hl) {
+      stack[top++] = {left, tl};
+    } else if (hr) {
+      stack[top++] = {right, tr};
+    }
+  }
+}
 
 template <class Found>
 void RBoundsTree::Pairs(const RBoundsTree& other, RNodePair start, std::vector<RNodePair>& stack,

@@ -300,8 +300,9 @@ RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvex
 
 RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const RConvexShape& b,
                                                   const RRelativePose& X_AB, RScalar margin,
-                                                  RScalar cutoff) {
+                                                  RScalar cutoff, RScalar* droppedMin) {
   RContactManifold m;
+  if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();
   m.query = DistanceWithin(a, b, X_AB, cutoff);
   const RDistanceResult& q = m.query;
   m.normal = q.normal;
@@ -385,7 +386,10 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
       (refIsA ? 0x40000000u : 0u) | ((ref.face & 0x7fu) << 23) | ((incFace & 0x7fu) << 16);
   for (int i = 0; i < nIn; ++i) {
     const RScalar s = refN.dot(in[i].p) - refOffset;  // incident point above the reference
-    if (s > margin) continue;
+    if (s > margin) {
+      if (droppedMin) *droppedMin = std::min(*droppedMin, s);
+      continue;
+    }
     RContactPoint& c = pts[np++];
     c.position = in[i].p - RScalar(0.5) * s * refN;
     c.separation = s;
@@ -432,24 +436,32 @@ bool RCollisionSolver::CheckCollision(const RRigidBody& a, const RRigidBody& b, 
 
 bool RCollisionSolver::CheckCollision(const RRigidBody& a, const RRigidBody& b, RMargin margin,
                                       RContactManifold& out) {
-  const RConvexShape sa = ShapeOf(a), sb = ShapeOf(b);
-  const RRelativePose X = RelativePose(a, b);
+  if (!CheckCollisionInA(ShapeOf(a), ShapeOf(b), RelativePose(a, b), margin, out)) return false;
+  ToWorld(a, out);
+  return true;
+}
+
+bool RCollisionSolver::CheckCollisionInA(const RConvexShape& sa, const RConvexShape& sb,
+                                         const RRelativePose& X, RMargin margin,
+                                         RContactManifold& out, RScalar* droppedMin) {
   // A pair proven farther apart than the margin needs no more: the cutoff sits above the
   // margin by more than the rounding of GJK's lower bound, so every pair within the margin
   // gets the full answer, bit for bit the same as without it.
   const RScalar within = margin.metres + Band(sa, sb);
-  out = ManifoldWithin(sa, sb, X, within, within * (1 + 1e-9) + 1e-12 * (sa.boundingRadius + sb.boundingRadius));
-  const RCollisionStatus st = out.query.status;
-  if (st == RCollisionStatus::kSeparated && out.pointCount == 0) return false;
-  // To world: rotate by A's orientation, then translate by its position.
+  out = ManifoldWithin(sa, sb, X, within, within * (1 + 1e-9) + 1e-12 * (sa.boundingRadius + sb.boundingRadius),
+                       droppedMin);
+  return !(out.query.status == RCollisionStatus::kSeparated && out.pointCount == 0);
+}
+
+void RCollisionSolver::ToWorld(const RRigidBody& a, RContactManifold& m) {
+  // Rotate by A's orientation, then translate by its position.
   const RMat3 R = a.Orientation_WB().toRotationMatrix();
   const RVec3& x = a.Position_W();
-  out.query.normal = R * out.query.normal;
-  out.normal = R * out.normal;
-  out.query.witnessA = R * out.query.witnessA + x;
-  out.query.witnessB = R * out.query.witnessB + x;
-  for (int i = 0; i < out.pointCount; ++i) out.points[i].position = R * out.points[i].position + x;
-  return true;
+  m.query.normal = R * m.query.normal;
+  m.normal = R * m.normal;
+  m.query.witnessA = R * m.query.witnessA + x;
+  m.query.witnessB = R * m.query.witnessB + x;
+  for (int i = 0; i < m.pointCount; ++i) m.points[i].position = R * m.points[i].position + x;
 }
 
 }  // namespace REngine

@@ -141,7 +141,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // deficient (four points of one face constrain three degrees of freedom), so the
   // minimum-norm least-squares inverse is precomputed once per step; when its answer
   // would pull at a point, that manifold falls back to one point at a time.
-  ParallelRanges(m_jobs, m_blocks.size(), m_tasks, 64, [&](std::size_t b0, std::size_t b1, std::size_t) {
+  if (m_inverseTasks.size() < m_tasks) m_inverseTasks.resize(m_tasks);
+  const std::size_t inverseTasks = ParallelRanges(m_jobs, m_blocks.size(), m_tasks, 64, [&](std::size_t b0, std::size_t b1, std::size_t task) {
+    m_inverseTasks[task] = 0;
     for (std::size_t bi = b0; bi < b1; ++bi) {
       RBlock& blk = m_blocks[bi];
       if (!blk.useBlock) continue;
@@ -162,6 +164,19 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
           K(i, j) = K(j, i) = linear + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
         }
       }
+      // A manifold kept from an earlier step (contact reuse) keeps its inverse while the
+      // matrix stays within 1e-12 of the one it was computed for: the bodies have moved by
+      // less than the touching band, and the inverse's error is then 1e-12 of the block's
+      // condition, far below what the passes resolve. (The eigen-solve is the costliest
+      // part of building a resting pile's rows.)
+      const std::uint32_t memory = m_contactMemory.empty() ? kNoMemory : m_contactMemory[m_rows[first].contact];
+      RManifoldMemory* mem = memory == kNoMemory ? nullptr : &m_manifolds[memory];
+      if (mem && mem->hasInverse &&
+          (K - mem->K).cwiseAbs().maxCoeff() <= RScalar(1e-12) * mem->K.cwiseAbs().maxCoeff()) {
+        blk.pinv = mem->pinv;
+        ++m_inverseTasks[task];
+        continue;
+      }
       // Minimum-norm inverse: sum of v v^T / s over the eigenpairs with s above 1e-12 of the
       // largest. The directions below are the coplanar points' null space (exactly 0 but for
       // rounding, ~1e-16 of the largest); the softest real direction, a heavy body's, is
@@ -175,8 +190,10 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
         const Eigen::Matrix<RScalar, 4, 1> v = eigen.eigenvectors().col(k);
         blk.pinv += (v / s[k]) * v.transpose();
       }
+      if (mem) mem->hasInverse = true, mem->K = K, mem->pinv = blk.pinv;
     }
   });
+  for (std::size_t t = 0; t < inverseTasks; ++t) m_pairStats.reusedInverses += m_inverseTasks[t];
 
   SolveBlocks(RPhase::kVelocity, iterations);
   SolveIslands(RPhase::kVelocity);

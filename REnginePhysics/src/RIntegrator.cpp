@@ -119,7 +119,11 @@ void RIntegrator::Update(RBodies& bodies, RScalar dt) {
   view.byIndex = false;
   view.wakeIslands = &bodies.m_wakeIslands;
   view.wakeAll = &bodies.m_wakeAll;
+  // Queries' caches of the poses (RQueries) see the bodies moved, also when the step throws
+  // part way.
+  bodies.m_poseStamp.Bump();
   Step(view, dt);
+  bodies.m_poseStamp.Bump();
 }
 
 void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {

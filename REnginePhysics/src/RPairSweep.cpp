@@ -234,10 +234,17 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // Stage 2: each pair through the filters, the bounding boxes and the narrow phase. Tasks
   // take contiguous ranges of the pairs; their contacts, joined in task order, keep the
   // pairs' order.
+  const bool reuse = shortcuts.contactReuse;
   const std::size_t pairTasks = ParallelRanges(m_jobs, m_pairs.size(), tasks, kPairGrain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
-    st.contacts.clear(), st.wake.clear();
-    st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = 0;
+    st.contacts.clear(), st.wake.clear(), st.manifolds.clear(), st.contactMemory.clear();
+    st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = st.reused = 0;
+    // Last step's manifolds from this range's first pair on (both lists in (i, j) order).
+    auto before = [](const RManifoldMemory& mem, const std::pair<std::uint32_t, std::uint32_t>& p) {
+      return mem.i < p.first || (mem.i == p.first && mem.j < p.second);
+    };
+    std::size_t memory = reuse && k0 < k1 ? static_cast<std::size_t>(
+        std::lower_bound(m_manifolds.begin(), m_manifolds.end(), m_pairs[k0], before) - m_manifolds.begin()) : m_manifolds.size();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::size_t i = m_pairs[k].first, j = m_pairs[k].second;
       const RRigidBody& a = bodies[i];
@@ -275,8 +282,51 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       const std::size_t ia = flip ? j : i, ib = flip ? i : j;
       const RRigidBody& A = bodies[ia];
       const RRigidBody& B = bodies[ib];
-      if (RCollisionSolver::CheckCollision(A, B, RMargin{approach * dt + allowance},
-                                           contact.manifold)) {
+      const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+      const RRelativePose X = RelativePose(A, B);
+      const RMargin margin{approach * dt + allowance};
+      bool touching = false;
+      while (memory < m_manifolds.size() && before(m_manifolds[memory], m_pairs[k])) ++memory;
+      const RManifoldMemory* kept = nullptr;
+      const std::size_t remembered = st.manifolds.size();
+      if (memory < m_manifolds.size() && m_manifolds[memory].i == i && m_manifolds[memory].j == j) {
+        const RManifoldMemory& mem = m_manifolds[memory];
+        // How far any point of B has moved in A's frame since then, and the margin the
+        // narrow phase would use now (CheckCollisionInA's): the same points are kept while
+        // every kept one stays within it and every dropped one beyond it.
+        const RScalar size = A.BoundingRadius() + B.BoundingRadius();
+        const RScalar moved = (X.t_AB - mem.X.t_AB).norm() + (X.R_AB - mem.X.R_AB).norm() * size;
+        const RScalar within = margin.metres + RCollisionSolver::kTouchingTolerance * size;
+        if (mem.handleA == bodies.handles[ia] && mem.handleB == bodies.handles[ib] &&
+            moved <= RCollisionSolver::kTouchingTolerance * size && mem.keptMax + moved <= within &&
+            mem.droppedMin - moved > within) {
+          kept = &mem;
+        }
+      }
+      if (kept) {
+        contact.manifold = kept->manifold_A;
+        st.manifolds.push_back(*kept);
+        ++st.reused;
+        touching = true;
+      } else {
+        RScalar droppedMin = 0;
+        touching = RCollisionSolver::CheckCollisionInA(shapeA, shapeB, X, margin, contact.manifold, &droppedMin);
+        if (touching && reuse && contact.manifold.pointCount > 0) {
+          RManifoldMemory mem;
+          mem.i = static_cast<std::uint32_t>(i), mem.j = static_cast<std::uint32_t>(j);
+          mem.handleA = bodies.handles[ia], mem.handleB = bodies.handles[ib];
+          mem.X = X;
+          mem.manifold_A = contact.manifold;
+          mem.keptMax = contact.manifold.query.separation;
+          for (int p = 0; p < contact.manifold.pointCount; ++p) {
+            mem.keptMax = std::max(mem.keptMax, contact.manifold.points[p].separation);
+          }
+          mem.droppedMin = droppedMin;
+          if (std::isfinite(mem.keptMax)) st.manifolds.push_back(mem);
+        }
+      }
+      if (touching) RCollisionSolver::ToWorld(A, contact.manifold);
+      if (touching) {
         // A sleeping body touched by one that responds wakes, with its island. A sensor
         // or a laser (does not respond) is reported against it without waking it.
         if ((a.m_sleeping || b.m_sleeping) && a.m_responds && b.m_responds) {
@@ -288,6 +338,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         contact.handleA = bodies.handles[ia], contact.handleB = bodies.handles[ib];
         contact.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], contact.manifold, dt);
         st.contacts.push_back(contact);
+        st.contactMemory.push_back(st.manifolds.size() > remembered ? static_cast<std::uint32_t>(remembered) : kNoMemory);
       }
     }
   });
@@ -313,6 +364,15 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     m_pairStats.rejectedFilter += st.rejectedFilter;
     m_pairStats.rejectedBoxes += st.rejectedBoxes;
     m_pairStats.narrowPhase += st.narrowPhase;
+    m_pairStats.reusedManifolds += st.reused;
+  }
+  // This step's manifolds, joined in task order: the (i, j) order for the next step; and
+  // each contact's entry among them.
+  m_manifolds.clear(), m_contactMemory.clear();
+  for (std::size_t t = 0; t < pairTasks; ++t) {
+    const auto base = static_cast<std::uint32_t>(m_manifolds.size());
+    for (std::uint32_t k : m_sweepTasks[t].contactMemory) m_contactMemory.push_back(k == kNoMemory ? k : base + k);
+    m_manifolds.insert(m_manifolds.end(), m_sweepTasks[t].manifolds.begin(), m_sweepTasks[t].manifolds.end());
   }
   // Pairs never visited: two passive static bodies (counted with the filter's), or two
   // passive bodies of which one at least sleeps. (Counts are those of the last sweep when

@@ -3,6 +3,7 @@
 #include <REngineMath/RQuaternion.h>
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <stdexcept>
 
@@ -13,6 +14,9 @@ void Require(bool ok, const char* field, const char* what) {
   if (!ok) throw RBodyError(field, what);
 }
 bool PositiveFinite(RScalar x) { return std::isfinite(x) && x > 0; }
+// BodyEditCount's counter (relaxed: it orders nothing, it only has to change).
+std::atomic<std::uint64_t> s_bodyEdits{0};
+void CountEdit() { s_bodyEdits.fetch_add(1, std::memory_order_relaxed); }
 constexpr RScalar kMaxInertiaRatio = 1e9;
 constexpr RScalar kMaxSize = 1e12;       // m
 constexpr RScalar kMinThickness = 1e-4;  // of the largest size
@@ -24,6 +28,8 @@ constexpr const char* kPositionRange = "must be finite and within 1e15 m of the 
 // (AllFinite first: Eigen's maxCoeff passes over a NaN.)
 bool InRange(const RVec3& p) { return AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition; }
 }  // namespace
+
+std::uint64_t BodyEditCount() { return s_bodyEdits.load(std::memory_order_relaxed); }
 
 std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
   auto prepared = std::make_shared<RPreparedShape>();
@@ -78,6 +84,9 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     : m_name(def.name),
       m_id(def.id),
       m_ignore(def.ignore),
+      m_category(def.category),
+      m_mask(def.mask),
+      m_userData(def.userData),
       m_responds(def.responds),
       m_restitution(def.restitution),
       m_friction(def.friction) {
@@ -192,6 +201,7 @@ void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q) {
   // rested on it anywhere lose their support.
   if (Immovable()) m_staticMoved = true;
   if (m_worldSpin) m_w_B = m_q_WB.conjugate() * m_w_W;
+  CountEdit();
   Wake();
 }
 
@@ -222,7 +232,8 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
 }
 
 bool RRigidBody::ShouldCheckCollision(const RRigidBody& other) const {
-  return !std::binary_search(m_ignore.begin(), m_ignore.end(), other.m_id) &&
+  return (m_category & other.m_mask) != 0 && (other.m_category & m_mask) != 0 &&
+         !std::binary_search(m_ignore.begin(), m_ignore.end(), other.m_id) &&
          !std::binary_search(other.m_ignore.begin(), other.m_ignore.end(), m_id);
 }
 
@@ -231,6 +242,14 @@ void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
   if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
   // A sleeping pair is not looked at: it would never learn to ignore. A static body cannot
   // sleep; which sleeper it names is not known here, so it wakes everything, as if moved.
+  Wake();
+  if (Immovable()) m_staticMoved = true;
+}
+
+void RRigidBody::SetCollisionFilter(std::uint32_t category, std::uint32_t mask) {
+  if (category == m_category && mask == m_mask) return;
+  m_category = category, m_mask = mask;
+  CountEdit();  // queries cache the category beside the bounds
   Wake();
   if (Immovable()) m_staticMoved = true;
 }

@@ -29,7 +29,7 @@ namespace {
 RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   const Object root(doc, "",
                     {"format", "gravity", "dt", "steps", "restitution_combine",
-                     "friction_combine", "solver", "bodies", "actions"});
+                     "friction_combine", "solver", "bodies", "actions", "rays"});
   RScene scene;
   if (root.Has("format")) {
     const json& format = root.Required("format");
@@ -87,6 +87,7 @@ RScene ReadScene(const json& doc, const RSceneLimits& limits) {
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
   if (root.Has("actions")) ReadActions(root.Required("actions"), scene, limits);
+  if (root.Has("rays")) ReadRays(root.Required("rays"), scene, limits);
   return scene;
 }
 
@@ -121,6 +122,13 @@ void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits) {
                       std::to_string(scene.steps) + " steps of " +
                           std::to_string(bodies) + " bodies exceed " + limit +
                           " body-steps");
+  }
+  // Rays are sorted by step: the last is the latest.
+  if (!scene.rays.empty() && scene.rays.back().step > scene.steps) {
+    const RSceneRay& r = scene.rays.back();
+    throw RSceneError(scene.fileName, r.path + ".step",
+                      "is after the last step (" + std::to_string(scene.steps) +
+                          "): the ray would never be asked (got " + std::to_string(r.step) + ")");
   }
 }
 

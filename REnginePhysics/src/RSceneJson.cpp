@@ -197,6 +197,10 @@ int ReadIterations(const json& j, const std::string& path) {
   return static_cast<int>(ReadInteger(j, path, 1, INT_MAX));
 }
 
+std::uint32_t ReadBits(const json& j, const std::string& path) {
+  return static_cast<std::uint32_t>(ReadInteger(j, path, 0, 0xFFFFFFFFu));
+}
+
 bool ReadBool(const json& j, const std::string& path) {
   if (!j.is_boolean()) Fail(path, "must be true or false" + Got(j));
   return j.get<bool>();
@@ -322,8 +326,8 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   const Object body(j, path,
                     {"name", "shape", "static", "kind", "mass", "density", "position",
                      "orientation", "velocity", "angular_velocity", "restitution", "friction",
-                     "responds", "ignore", "linear_damping", "angular_damping",
-                     "gravity_scale", "locks"});
+                     "responds", "ignore", "category", "mask", "linear_damping",
+                     "angular_damping", "gravity_scale", "locks"});
   RBodyDef def;
   def.name = ReadName(body.Required("name"), body.PathOf("name"));
   def.shape = ReadShape(body.Required("shape"), body.PathOf("shape"), limits);
@@ -359,6 +363,8 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   def.restitution = body.Get("restitution", def.restitution, ReadUnitInterval);
   def.friction = body.Get("friction", def.friction, ReadNonNegative);
   def.responds = body.Get("responds", def.responds, ReadBool);
+  def.category = body.Get("category", def.category, ReadBits);
+  def.mask = body.Get("mask", def.mask, ReadBits);
   if (body.Has("ignore")) {
     const json& names = body.Required("ignore");
     const std::string ignorePath = body.PathOf("ignore");

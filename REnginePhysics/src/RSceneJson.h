@@ -72,6 +72,8 @@ std::uint64_t ReadInteger(const json& j, const std::string& path, std::uint64_t 
 std::uint64_t ReadSteps(const json& j, const std::string& path);
 int ReadIterations(const json& j, const std::string& path);
 bool ReadBool(const json& j, const std::string& path);
+// Filter bits (category, mask): an unsigned 32-bit integer.
+std::uint32_t ReadBits(const json& j, const std::string& path);
 // A non-empty name without control characters.
 std::string ReadName(const json& j, const std::string& path);
 // One of a fixed set of strings, mapped to its value.
@@ -149,6 +151,9 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
 // The scene's "actions" (RSceneActions.cpp): read, checked against the bodies that exist at
 // each step (scene.bodies must be read already), sorted by step.
 void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits);
+
+// The scene's "rays" (RSceneRays.cpp): read, checked, sorted by step.
+void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
 
 // Equal shapes share one prepared shape: a scene of a thousand equal boxes, or one that
 // spawns a thousand missiles, builds their hull once, and its bodies share one copy of it

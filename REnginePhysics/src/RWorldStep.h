@@ -143,6 +143,23 @@ class RWorldStep {
   bool m_fatValid = false;  // the list matches the fat boxes (false after a sweep without it)
   int m_fatRefits = 0;      // steps since the tree was built: it is rebuilt every kFatRefits
   static constexpr int kFatRefits = 64;
+  // Manifold memory (RShortcuts::contactReuse): each contact's manifold in its A frame with
+  // the relative pose it was computed at, in the sweep's (i, then j) order, kept for the
+  // next step's sweep. The margins between keptMax and droppedMin keep the same points.
+  struct RManifoldMemory {
+    std::uint32_t i = 0, j = 0;      // dense indices, the sweep's order
+    RBodyHandle handleA, handleB;    // identity (A: the lower slot)
+    RRelativePose X;                 // B's pose in A's frame when it was computed
+    RContactManifold manifold_A;     // in A's frame
+    RScalar keptMax = 0, droppedMin = 0;  // m
+    // The contact solver's block matrix and its minimum-norm inverse, when computed for
+    // this manifold (FindImpulses): kept while the matrix stays within 1e-12 of it.
+    bool hasInverse = false;
+    Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero(), pinv = Eigen::Matrix<RScalar, 4, 4>::Zero();
+  };
+  std::vector<RManifoldMemory> m_manifolds;
+  std::vector<std::uint32_t> m_contactMemory;  // per contact: its m_manifolds entry, or kNoMemory
+  static constexpr std::uint32_t kNoMemory = 0xffffffffu;
   // The pair sweep's work, cut into tasks (see DetectPairs): each task's scratch and
   // outputs, kept between steps so that no step allocates.
   struct RSweepTask {
@@ -154,7 +171,9 @@ class RWorldStep {
     std::vector<RContact> contacts;          // stage 2: contacts, in pair order
     std::size_t contactsAt = 0;              // where they go in m_contacts
     std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
-    std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0;
+    std::vector<RManifoldMemory> manifolds;  // stage 2: this step's manifold memory
+    std::vector<std::uint32_t> contactMemory;  // stage 2: per contact, its entry in manifolds
+    std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0, reused = 0;
   };
   std::vector<RSweepTask> m_sweepTasks;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
@@ -326,6 +345,7 @@ class RWorldStep {
   // index, and each task's count of warm-started rows.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_rowStart;
   std::vector<std::uint32_t> m_warmTasks;
+  std::vector<std::uint64_t> m_inverseTasks;  // each task's count of block inverses kept
   std::vector<char> m_anyTasks;  // SolveEndOfStep: whether a task's rows close at the end
   struct RLeadingPoints {
     int deepest = 0;

@@ -1,12 +1,15 @@
 // rengine-sim: runs a scene file and writes its trajectory (../shared/SCENE_FORMAT.md).
 //
 //   rengine-sim SCENE.json [--out TRAJ.csv] [--steps N] [--dt S] [--every K] [--quiet]
-//               [--max-seconds S]
+//               [--max-seconds S] [--rays RAYS.csv]
 //   rengine-sim SCENE.json --describe
 //
 // Exit codes: 0 success; 2 bad input (scene, options, files); 1 a failure during the run.
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RScene.h>
+
+#include "csv.h"
+#include "rays.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -33,6 +36,7 @@
 #endif
 
 using namespace REngine;
+using REngine::sim::CsvField;
 
 namespace {
 
@@ -86,14 +90,6 @@ std::array<RScalar, 13> State(const RRigidBody& b) {
   const RVec3 w = b.AngularVelocity_W();
   return {x.x(), x.y(), x.z(), q.w(), q.x(), q.y(), q.z(),
           v.x(), v.y(), v.z(), w.x(), w.y(), w.z()};
-}
-
-// RFC 4180: a field holding a comma, a quote or a line break is quoted, quotes doubled.
-std::string CsvField(const std::string& s) {
-  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
-  std::string quoted = "\"";
-  for (char c : s) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + '"';
 }
 
 // The trajectory CSV, formatted into one large buffer written in large chunks. Rows are the
@@ -231,7 +227,7 @@ void Describe(const RSceneWorld& world) {
 int Run(int argc, char** argv) {
   CLI::App app{"Runs a REngine scene (rengine-scene/1) and writes its trajectory as CSV.",
                "rengine-sim"};
-  std::string scenePath, outPath, stepsText, dtText, everyText, maxSecondsText;
+  std::string scenePath, outPath, stepsText, dtText, everyText, maxSecondsText, raysPath;
   int threads = 0;
   bool quiet = false, describe = false, profile = false;
   app.add_option("scene", scenePath, "Scene file (JSON)")->required();
@@ -243,6 +239,9 @@ int Run(int argc, char** argv) {
   auto* maxSeconds = app.add_option(
       "--max-seconds", maxSecondsText,
       "Stop with exit code 1 when stepping has taken this long (wall clock), rows so far kept");
+  auto* rays = app.add_option("--rays", raysPath,
+                              "Answer the scene's rays into this CSV (step,ray,body,distance,x,y,z,"
+                              "nx,ny,nz)");
   app.add_flag("--quiet", quiet, "No progress display");
   app.add_option("--threads", threads,
                  "Threads the step runs on (default 0: what the machine has); the hash does not "
@@ -252,7 +251,7 @@ int Run(int argc, char** argv) {
                "Also print the mean time per step of each stage (RStepProfile), ms");
   app.add_flag("--describe", describe,
                "Print each body's mass, centre of mass and principal axes as JSON, then exit")
-      ->excludes(out, steps, dt, every);
+      ->excludes(out, steps, dt, every, rays);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -303,7 +302,19 @@ int Run(int argc, char** argv) {
       return kExitBadInput;
     }
   }
+  std::FILE* raysFile = nullptr;
+  if (rays->count()) {
+    raysFile = std::fopen(raysPath.c_str(), "wb");
+    if (!raysFile) {
+      std::fprintf(stderr, "error: %s: cannot open for writing: %s\n", raysPath.c_str(),
+                   std::strerror(errno));
+      if (file != stdout) std::fclose(file);
+      return kExitBadInput;
+    }
+  }
   TrajectoryWriter writer(file);
+  std::optional<sim::RayWriter> rayWriter;
+  if (raysFile) rayWriter.emplace(scene, raysFile);
   const auto finishOutput = [&] {
     bool ok = writer.Flush();
     if (file != stdout) ok = std::fclose(file) == 0 && ok;
@@ -311,10 +322,18 @@ int Run(int argc, char** argv) {
       std::fprintf(stderr, "error: %s: write failed: %s\n",
                    out->count() ? outPath.c_str() : "standard output", std::strerror(errno));
     }
+    if (raysFile) {
+      const bool raysOk = rayWriter->Flush() && std::fclose(raysFile) == 0;
+      if (!raysOk) {
+        std::fprintf(stderr, "error: %s: write failed: %s\n", raysPath.c_str(), std::strerror(errno));
+      }
+      ok = ok && raysOk;
+    }
     return ok;
   };
 
   writer.Rows(0, scene.dt, *world);
+  if (rayWriter) rayWriter->Answer(0, *world);
   scene.settings.threads = threads;
   RIntegrator integrator(scene.settings);
   Progress progress(!quiet && StderrIsTerminal(), scene.steps);
@@ -346,6 +365,7 @@ int Run(int argc, char** argv) {
       return kExitRunFailed;
     }
     if (step % everyK == 0 || step == scene.steps) writer.Rows(step, scene.dt, *world);
+    if (rayWriter) rayWriter->Answer(step, *world);
     progress.Show(step, t1);
     if (std::chrono::duration<double>(stepping).count() > budget && step < scene.steps) {
       progress.Clear();
@@ -371,9 +391,9 @@ int Run(int argc, char** argv) {
     const RPairStats& st = integrator.PairStats();
     std::fprintf(stderr,
                  "last_step: sphere_tests=%" PRIu64 " broad_phase=%d rejected_boxes=%" PRIu64
-                 " narrow_phase=%" PRIu64 " contacts=%" PRIu64 " contact_points=%" PRIu64
+                 " narrow_phase=%" PRIu64 " reused=%" PRIu64 " reused_inverses=%" PRIu64 " contacts=%" PRIu64 " contact_points=%" PRIu64
                  " warm_started=%" PRIu64 " sleeping=%" PRIu64 "\n",
-                 st.sphereTests, st.broadPhase ? 1 : 0, st.rejectedBoxes, st.narrowPhase,
+                 st.sphereTests, st.broadPhase ? 1 : 0, st.rejectedBoxes, st.narrowPhase, st.reusedManifolds, st.reusedInverses,
                  st.contacts, st.contactPoints, st.warmStarted, st.sleepingBodies);
   }
   std::fprintf(stderr, "steps=%" PRIu64 " bodies=%zu ms_per_step=%.6g hash=%016" PRIx64 "\n",

@@ -42,6 +42,21 @@ struct RBodyHandle {
   }
 };
 
+// A value from NextCacheStamp() (process-wide, never repeated), drawn afresh when the
+// container changes and when it is copied or moved, so that a cache keyed by it can never
+// take one container, or a copy of it, for another.
+class RBodiesStamp {
+ public:
+  RBodiesStamp();
+  RBodiesStamp(const RBodiesStamp&);
+  RBodiesStamp& operator=(const RBodiesStamp&);
+  void Bump();
+  std::uint64_t Value() const { return m_value; }
+
+ private:
+  std::uint64_t m_value;
+};
+
 // A handle that names no body (never issued, or its body was removed).
 class RHandleError : public std::out_of_range {
  public:
@@ -101,6 +116,14 @@ class RBodies {
   void Reserve(std::size_t n);
   void Clear();
 
+  // For caches kept outside the step (RQueries' tree). LayoutStamp changes whenever the set or
+  // order of the enabled bodies does (Add, Remove, Disable, Enable, a copy); PoseStamp
+  // whenever LayoutStamp does and whenever RIntegrator::Update moves the bodies. Poses set
+  // by game code (SetShapePose) are counted by BodyEditCount(). Values are unique in the
+  // process.
+  std::uint64_t LayoutStamp() const { return m_layoutStamp.Value(); }
+  std::uint64_t PoseStamp() const { return m_poseStamp.Value(); }
+
  private:
   friend class RIntegrator;
   static constexpr std::uint32_t kFree = std::numeric_limits<std::uint32_t>::max();
@@ -119,6 +142,8 @@ class RBodies {
   // Read and cleared by the next Update: islands to wake (by island id), or all of them.
   std::vector<std::uint32_t> m_wakeIslands;
   bool m_wakeAll = false;
+  RBodiesStamp m_layoutStamp, m_poseStamp;
+  void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(); }
 };
 
 }  // namespace REngine

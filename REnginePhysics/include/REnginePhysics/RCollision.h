@@ -109,8 +109,21 @@ class RCollisionSolver {
   // there are no points. CheckCollision's form, with a cutoff just above the margin.
   static RDistanceResult DistanceWithin(const RConvexShape& a, const RConvexShape& b,
                                         const RRelativePose& X_AB, RScalar cutoff);
+  // droppedMin, when given: the smallest separation of a clipped point the margin dropped
+  // (infinity when none was), which says how far the margin may shrink or grow before the
+  // points would be others.
   static RContactManifold ManifoldWithin(const RConvexShape& a, const RConvexShape& b,
-                                         const RRelativePose& X_AB, RScalar margin, RScalar cutoff);
+                                         const RRelativePose& X_AB, RScalar margin, RScalar cutoff,
+                                         RScalar* droppedMin = nullptr);
+  // CheckCollision before its last step: the manifold in A's frame for the shapes at X_AB
+  // (for callers that keep it: the pair sweep's manifold memory), and droppedMin as
+  // ManifoldWithin gives it.
+  static bool CheckCollisionInA(const RConvexShape& a, const RConvexShape& b,
+                                const RRelativePose& X_AB, RMargin margin, RContactManifold& out_A,
+                                RScalar* droppedMin = nullptr);
+  // A manifold in A's frame (as Manifold gives it) to world: rotated by A's orientation,
+  // translated by its position; CheckCollision's last step.
+  static void ToWorld(const RRigidBody& a, RContactManifold& m);
 
   // The pair of bodies in world terms, the narrow phase CollisionDetection calls: whether
   // they touch now or are within the speculative margin (m) of touching, and if so the

@@ -81,6 +81,12 @@ struct RWorldSettings {
     // A static body's world form (vertices, planes, bounds) is computed once and kept until
     // the game moves it, not once per step. Exact.
     bool staticForms = true;
+    // A pair whose relative pose has moved less than the touching band (1e-9 of the pair's
+    // size, RCollisionSolver::kTouchingTolerance) since its manifold was computed keeps that
+    // manifold, moved with the bodies, instead of running the narrow phase again (the
+    // resting contacts of a pile, after it settles). Not bit-identical: a point is off by at
+    // most that band, as a contact within the band counts as touching.
+    bool contactReuse = true;
   } shortcuts;
   // Sleeping: the speed (m/s) below which a body counts as at rest, for its centre of mass
   // and for the farthest point of its bounding sphere (|omega| times its radius) ...
@@ -159,7 +165,9 @@ struct RPairStats {
   std::uint64_t rejectedSleeping = 0;
   std::uint64_t sleepingBodies = 0;    // bodies asleep after the step
   std::uint64_t wakeRuns = 0;          // pair loops re-run this step because islands woke
-  std::uint64_t narrowPhase = 0;    // CheckCollision calls
+  std::uint64_t narrowPhase = 0;    // CheckCollision calls (manifolds reused included)
+  std::uint64_t reusedManifolds = 0;  // of those, manifolds kept from an earlier step (contactReuse)
+  std::uint64_t reusedInverses = 0;   // block inverses kept with them (contactReuse)
   std::uint64_t contacts = 0;       // pairs reported
   std::uint64_t contactPoints = 0;  // solver rows (points of resolved contacts)
   std::uint64_t warmStarted = 0;    // rows that found last step's impulses

@@ -114,6 +114,15 @@ struct RBodyDef {
   std::uint32_t id = 0;
   // Ids of bodies this one never collides with (a missile and its launcher).
   std::vector<std::uint32_t> ignore;
+  // Collision filter bits, Box2D's rule: two bodies are tested against each other only if
+  // (a.category & b.mask) != 0 and (b.category & a.mask) != 0 (both directions agree), and
+  // neither ignores the other. Queries (RQueries.h) test their own mask against `category`.
+  // The defaults let everything collide with everything.
+  std::uint32_t category = 1;
+  std::uint32_t mask = 0xFFFFFFFFu;
+  // The game's own value (a pointer or an index, as std::uintptr_t); the engine never reads
+  // it, copies it with the body and hands it back.
+  std::uintptr_t userData = 0;
 };
 
 class RRigidBody {
@@ -147,11 +156,21 @@ class RRigidBody {
   RScalar Friction() const { return m_friction; }
 
   std::uint32_t Id() const { return m_id; }
-  // False when this body must never be tested against `other`: other's id is in this
-  // body's ignore list or this one's in other's. Static pairs are rejected by the
-  // integrator before this is asked.
+  // False when this body must never be tested against `other`: their category and mask bits
+  // disagree in either direction (RBodyDef::category), or other's id is in this body's
+  // ignore list or this one's in other's. Static pairs are rejected by the integrator before
+  // this is asked.
   bool ShouldCheckCollision(const RRigidBody& other) const;
   void IgnoreCollisionsWith(std::uint32_t otherId);
+  // Collision filter bits (RBodyDef::category, mask). Setting them wakes the body, and a
+  // static body wakes every sleeper, as IgnoreCollisionsWith does: a sleeping pair is not
+  // looked at, so it would never learn that it may now touch.
+  std::uint32_t Category() const { return m_category; }
+  std::uint32_t Mask() const { return m_mask; }
+  void SetCollisionFilter(std::uint32_t category, std::uint32_t mask);
+  // The game's value (RBodyDef::userData); never read by the engine.
+  std::uintptr_t UserData() const { return m_userData; }
+  void SetUserData(std::uintptr_t value) { m_userData = value; }
 
   // Mass, kg (0 for a static or kinematic body), and its inverse, 1/kg (0 for a static or
   // kinematic body). A body with locked axes keeps its mass; the solver zeroes its inverse
@@ -259,6 +278,8 @@ class RRigidBody {
   std::string m_name;
   std::uint32_t m_id = 0;
   std::vector<std::uint32_t> m_ignore;  // sorted
+  std::uint32_t m_category = 1, m_mask = 0xFFFFFFFFu;
+  std::uintptr_t m_userData = 0;
   std::shared_ptr<const RPreparedShape> m_prepared;  // never null
   bool m_isStatic = false;
   bool m_isKinematic = false;
@@ -324,5 +345,12 @@ class RRigidBody {
   mutable RWorldForm m_worldForm;
   mutable std::uint64_t m_worldFormComputations = 0;
 };
+
+// How many times game code has, anywhere in the process, moved a body or changed its filter
+// bits between steps (SetShapePose, SetCollisionFilter). Caches of bodies' poses outside the
+// step (RQueries' tree) compare it, with RBodies' stamps, to know they are current: a body
+// does not know its container, so the count is process-wide (a teleport in one world makes
+// another world's queries refresh once, which costs time, never an answer).
+std::uint64_t BodyEditCount();
 
 }  // namespace REngine

@@ -56,6 +56,19 @@ struct RSceneAction {
   std::optional<RVec3> velocity_W, angularVelocity_W;
 };
 
+// A ray the scene asks after a step (SCENE_FORMAT.md, "Rays"), answered by rengine-sim into
+// --rays FILE with RQueries::CastRay (or CastRayAll when `all`).
+struct RSceneRay {
+  std::string name;
+  std::uint64_t step = 0;  // asked after this many steps (and that step's actions); 0: at the start
+  std::string path;        // "rays[3]", for messages
+  RVec3 origin_W = RVec3::Zero();     // m, within 1e15 m of the origin
+  RVec3 direction_W = RVec3::UnitX(); // finite, any length but 0
+  RScalar maxDistance = 0;            // m, finite, >= 0
+  std::uint32_t mask = 0xFFFFFFFFu;   // bodies whose category shares a bit with it
+  bool all = false;                   // every body hit, nearest first; false: the nearest
+};
+
 struct RScene {
   RWorldSettings settings;
   RScalar dt = RScalar(1) / 60;  // s
@@ -66,6 +79,8 @@ struct RScene {
   // Sorted by step (stably: list order within a step). Every name they use is checked at
   // load against the bodies that exist at that step.
   std::vector<RSceneAction> actions;
+  // Sorted by step (stably: list order within a step); names unique among a step's rays.
+  std::vector<RSceneRay> rays;
   // The name the scene was loaded under, for CreateBodies' messages.
   std::string fileName;
 };
@@ -87,6 +102,7 @@ struct RSceneLimits {
   // bodies x steps: 1e10 is a 30000-body scene for 3e5 steps, or hours of stepping.
   double maxBodySteps = 1e10;
   std::uint64_t maxActions = 1000000;       // entries of "actions"
+  std::uint64_t maxRays = 1000000;          // entries of "rays"
 };
 
 // Reads and validates a scene file. Throws RSceneError (also when the file cannot be read).
@@ -97,7 +113,8 @@ RScene ParseScene(const std::string& jsonText, const std::string& fileNameForMes
                   const RSceneLimits& limits = {});
 
 // Checks a scene's size against the limits (ParseScene does; call it again after changing
-// steps or bodies). Throws RSceneError naming "steps" or "bodies".
+// steps or bodies). Throws RSceneError naming "steps" or "bodies", or a ray asked after the
+// last step (it would never be answered: "rays[3].step").
 void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits);
 
 // The scene's bodies, in scene order. A definition that parses but has no valid mass

@@ -1,0 +1,37 @@
+// A convex shape swept along a straight path against another (ShapeCastShape, RQueries.h):
+// conservative advancement on the narrow phase's distance.
+#include <REnginePhysics/RQueries.h>
+
+#include <cmath>
+
+namespace REngine {
+
+bool ShapeCastShape(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB,
+                    const RVec3& translation_A, RScalar maxFraction, RShapeCastResult& out) {
+  const RScalar band =
+      RCollisionSolver::kTouchingTolerance * (a.boundingRadius + b.boundingRadius);
+  RRelativePose X = X_AB;
+  RScalar fraction = 0;
+  for (int k = 1; k <= kMaxCastIterations; ++k) {
+    X.t_AB = X_AB.t_AB + fraction * translation_A;
+    const RDistanceResult r = RCollisionSolver::Distance(a, b, X);
+    out.iterations = k;
+    out.fraction = fraction;
+    out.point = r.witnessA;
+    out.normal = r.normal;
+    if (r.separation <= band) return (out.converged = true);
+    // The plane through A's closest point, normal r.normal, has all of A behind it and B at
+    // r.separation in front: B, moving along the translation, cannot touch A before it has
+    // closed that gap along the normal. Not closing it at all (moving parallel or away), it
+    // never touches: the distance along a straight path is convex, and it is not falling.
+    const RScalar approach = -translation_A.dot(r.normal);
+    if (!(approach > 0)) return false;
+    fraction += r.separation / approach;
+    if (!(fraction <= maxFraction)) return false;
+  }
+  // The cap (grazing paths close the last gap slowly): where it got to, short of the touch.
+  out.converged = false;
+  return true;
+}
+
+}  // namespace REngine
