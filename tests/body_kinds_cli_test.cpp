@@ -69,7 +69,7 @@ TEST_F(Cli, KinematicAndDampedBodiesRunAsTheirClosedForms) {
     const std::vector<Row> rows = ParseCsv(ReadFile(Path("t.csv")));
     ASSERT_EQ(rows.size(), 61u * 3);
     for (const Row& row : rows) {
-      const double t = row.step * 0.01;
+      const double t = static_cast<double>(row.step) * 0.01;
       if (row.body == "slab") {
         const double x = row.step <= 30 ? 2 * t : 0.6 + 3 * (t - 0.3);
         EXPECT_NEAR(row.state[0], x, 1e-12) << row.step;
