@@ -1,8 +1,8 @@
 // Threads (RWorldSettings::threads, RIntegrator::SetJobSystem): the same world stepped on
 // 1, 2 and 4 threads, and on a game's job system that runs its tasks backwards, is the same
-// world bit for bit after every step: contacts and contact events in the same order, the same
-// states. As in Jolt's and Box2D's determinism tests, the comparison is step by step, not
-// only at the end.
+// world bit for bit after every step: contacts and contact events in the same order, the
+// same states. As in Jolt's and Box2D's determinism tests, the comparison is step by step,
+// not only at the end.
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RJobSystem.h>
@@ -65,10 +65,16 @@ class BackwardsJobs final : public RJobSystem {
   std::atomic<std::uint64_t> tasks{0};
 };
 
-}  // namespace
-
-TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
-  const std::vector<RBodyDef> defs = World(21);
+// Steps `defs` on 1, 2 and 4 threads and on the backwards job system, with churn for the
+// first two seconds, comparing every contact and body after every step; returns the
+// contacts seen and the most bodies asleep at once.
+struct AlikeRun {
+  std::uint64_t contacts = 0, sleepers = 0, backwardsTasks = 0;
+  std::uint64_t nonFinite = 0;  // bodies put back (NonFiniteInLastStep), over the run
+  std::uint64_t events[3] = {0, 0, 0};  // contact events: begin, persist, end
+};
+AlikeRun StepOnEveryThreadCount(const std::vector<RBodyDef>& defs) {
+  AlikeRun run;
   constexpr int kWorlds = 4;
   BackwardsJobs backwards;
   RWorldSettings settings;
@@ -89,11 +95,9 @@ TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
     for (const RBodyDef& d : defs) handles[k].push_back(worlds[k].Add(d));
   }
   std::mt19937_64 rng(3);
-  std::uint64_t contacts = 0, sleepers = 0;
-  std::uint64_t eventCounts[3] = {0, 0, 0};  // begin, persist, end
   // Six seconds, and on (to ten at most) until something sleeps: when the pile first comes
   // to rest depends on rounding (the chaos of a pile), and the sleeping path must be stepped.
-  for (int s = 0; s < 600 && (s < 360 || sleepers == 0); ++s) {
+  for (int s = 0; s < 600 && (s < 360 || run.sleepers == 0); ++s) {
     // Churn: a body removed or added back every few steps, in every world alike (for the
     // first two seconds; then the pile settles and goes to sleep).
     if (s % 9 == 4 && s < 120) {
@@ -110,37 +114,78 @@ TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
     for (int k = 1; k < kWorlds; ++k) {
       const std::vector<RContact>& c0 = integrators[0].Contacts();
       const std::vector<RContact>& ck = integrators[k].Contacts();
-      ASSERT_EQ(c0.size(), ck.size()) << "step " << s << ", world " << k;
+      EXPECT_EQ(c0.size(), ck.size()) << "step " << s << ", world " << k;
+      if (c0.size() != ck.size()) return run;
       for (std::size_t c = 0; c < c0.size(); ++c) {
-        ASSERT_EQ(c0[c].handleA.index, ck[c].handleA.index) << "step " << s << " contact " << c;
-        ASSERT_EQ(c0[c].handleB.index, ck[c].handleB.index) << "step " << s << " contact " << c;
+        EXPECT_EQ(c0[c].handleA.index, ck[c].handleA.index) << "step " << s << " contact " << c;
+        EXPECT_EQ(c0[c].handleB.index, ck[c].handleB.index) << "step " << s << " contact " << c;
+        if (c0[c].handleA.index != ck[c].handleA.index || c0[c].handleB.index != ck[c].handleB.index) return run;
       }
       // Contact events: the same, in the same order, bit for bit.
       const std::vector<RContactEvent>& e0 = integrators[0].Events();
       const std::vector<RContactEvent>& ek = integrators[k].Events();
-      ASSERT_EQ(e0.size(), ek.size()) << "step " << s << ", world " << k;
+      EXPECT_EQ(e0.size(), ek.size()) << "step " << s << ", world " << k;
+      if (e0.size() != ek.size()) return run;
       for (std::size_t e = 0; e < e0.size(); ++e) {
-        ASSERT_TRUE(e0[e].type == ek[e].type && e0[e].handleA == ek[e].handleA && e0[e].handleB == ek[e].handleB &&
-                    e0[e].point_W == ek[e].point_W && e0[e].normal_W == ek[e].normal_W &&
-                    e0[e].normalImpulse == ek[e].normalImpulse && e0[e].frictionImpulse == ek[e].frictionImpulse)
-            << "step " << s << ", world " << k << ", event " << e;
+        const bool same = e0[e].type == ek[e].type && e0[e].handleA == ek[e].handleA &&
+                          e0[e].handleB == ek[e].handleB && e0[e].point_W == ek[e].point_W &&
+                          e0[e].normal_W == ek[e].normal_W && e0[e].normalImpulse == ek[e].normalImpulse &&
+                          e0[e].frictionImpulse == ek[e].frictionImpulse;
+        EXPECT_TRUE(same) << "step " << s << ", world " << k << ", event " << e;
+        if (!same) return run;
       }
-      ASSERT_EQ(worlds[0].Size(), worlds[k].Size());
+      EXPECT_EQ(worlds[0].Size(), worlds[k].Size());
+      if (worlds[0].Size() != worlds[k].Size()) return run;
       for (std::size_t i = 0; i < worlds[0].Size(); ++i) {
-        ASSERT_TRUE(SameState(worlds[0].At(i), worlds[k].At(i)))
-            << "step " << s << ", world " << k << " (threads " << threads[k] << "), body " << i;
+        const bool same = SameState(worlds[0].At(i), worlds[k].At(i));
+        EXPECT_TRUE(same) << "step " << s << ", world " << k << " (threads " << threads[k] << "), body " << i;
+        if (!same) return run;
       }
     }
-    contacts += integrators[0].Contacts().size();
-    for (const RContactEvent& e : integrators[0].Events()) ++eventCounts[static_cast<int>(e.type)];
-    sleepers = std::max<std::uint64_t>(sleepers, integrators[0].PairStats().sleepingBodies);
+    run.contacts += integrators[0].Contacts().size();
+    for (const RContactEvent& e : integrators[0].Events()) ++run.events[static_cast<int>(e.type)];
+    run.nonFinite += integrators[0].NonFiniteInLastStep().size();
+    run.sleepers = std::max<std::uint64_t>(run.sleepers, integrators[0].PairStats().sleepingBodies);
   }
-  EXPECT_GT(contacts, 10000u) << "too few contacts to test the solver's order";
-  EXPECT_GT(sleepers, 0u) << "nothing slept";
-  EXPECT_GT(eventCounts[0], 100u) << "too few begin events";
-  EXPECT_GT(eventCounts[1], 1000u) << "too few persist events";
-  EXPECT_GT(eventCounts[2], 100u) << "too few end events";
-  EXPECT_GT(backwards.tasks.load(), 0u) << "the game's job system was never used";
+  run.backwardsTasks = backwards.tasks.load();
+  return run;
+}
+
+}  // namespace
+
+TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
+  const AlikeRun run = StepOnEveryThreadCount(World(21));
+  EXPECT_GT(run.contacts, 10000u) << "too few contacts to test the solver's order";
+  EXPECT_GT(run.sleepers, 0u) << "nothing slept";
+  EXPECT_GT(run.backwardsTasks, 0u) << "the game's job system was never used";
+  EXPECT_GT(run.events[0], 100u) << "too few begin events";
+  EXPECT_GT(run.events[1], 1000u) << "too few persist events";
+  EXPECT_GT(run.events[2], 100u) << "too few end events";
+}
+
+// The same with the bodies of issue #14 among them: a kinematic paddle sweeping the floor,
+// a kinematic platform rising through the crowd, a third of the bodies damped, some locked
+// on random axes, some with other gravity scales (falling up, floating, heavier).
+TEST(Threads, KinematicDampedAndLockedBodiesStepAlikeOnEveryThreadCount) {
+  std::vector<RBodyDef> defs = World(22);
+  std::mt19937_64 rng(5);
+  for (std::size_t i = 1; i < defs.size(); ++i) {
+    RBodyDef& d = defs[i];
+    if (i % 3 == 0) d.linearDamping = 0.1 * RScalar(rng() % 10), d.angularDamping = 0.2 * RScalar(rng() % 10);
+    if (i % 5 == 0) {
+      for (int a = 0; a < 3; ++a) d.locks.linear[a] = rng() % 3 == 0, d.locks.angular[a] = rng() % 2 == 0;
+    }
+    if (i % 7 == 0) d.gravityScale = i % 2 ? -0.3 : 2.0;
+    if (i % 11 == 0) d.gravityScale = 0;
+  }
+  defs.push_back(BoxDef(RVec3(6, 0.3, 0.3)).Kinematic().At(RVec3(0, 0.35, 0))
+                     .Spinning(RVec3(0, 1.5, 0)).Named("paddle"));
+  defs.push_back(BoxDef(RVec3(2, 0.2, 2)).Kinematic().At(RVec3(3, 0.5, 3))
+                     .Moving(RVec3(0, 1, -0.5)).Spinning(RVec3(0, 0.3, 0)).Named("platform"));
+  const AlikeRun run = StepOnEveryThreadCount(defs);
+  EXPECT_GT(run.contacts, 10000u) << "too few contacts to test the solver's order";
+  EXPECT_GT(run.backwardsTasks, 0u);
+  EXPECT_EQ(run.nonFinite, 0u) << "a body overflowed and was put back";
 }
 
 TEST(Threads, PoolRunsEveryTaskOnceAndReturnsWhenAllAreDone) {

@@ -47,7 +47,7 @@ RBodyHandle RBodies::Add(RRigidBody body) {
   body.m_sleeping = false, body.m_restTime = 0;
   body.m_sleepIsland = RRigidBody::kNoIsland;
   body.m_slot = RRigidBody::kNoIsland, body.m_slotWorld = 0;
-  if (body.m_isStatic) body.m_staticMoved = true;
+  if (body.Immovable()) body.m_staticMoved = true;
   const std::uint32_t dense = static_cast<std::uint32_t>(m_bodies.size());
   m_bodies.push_back(std::move(body));
   m_handles.push_back(h);
@@ -68,7 +68,7 @@ void RBodies::SwapDense(std::uint32_t i, std::uint32_t j) {
 }
 
 void RBodies::WakeForDeparture(RRigidBody& b) {
-  if (b.m_isStatic) {
+  if (b.Immovable()) {
     m_wakeAll = true;
   } else if (b.m_sleepIsland != RRigidBody::kNoIsland) {
     // Asleep, or woken by the game since the last step: its island still has the id.
@@ -110,7 +110,7 @@ void RBodies::Enable(RBodyHandle h) {
   const std::uint32_t dense = DenseIndex(h);
   if (dense < m_enabled) return;
   RRigidBody& b = m_bodies[dense];
-  if (b.m_isStatic) b.m_staticMoved = true;
+  if (b.Immovable()) b.m_staticMoved = true;
   SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
   ++m_enabled;
   LayoutChanged();

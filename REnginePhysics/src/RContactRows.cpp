@@ -122,6 +122,10 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
       if (d2 < bestD2) bestD2 = d2, nearest = &*it;
     }
     if (!match) match = nearest;
+    // A row with no effective mass (a body locked along the normal, nothing to turn, against
+    // an infinitely heavy one) can change nothing: it never acts, so its impulse could not
+    // be bounded (nor the friction limit that sums it).
+    if (!(r.n.k > 0)) r.target = kNever, r.pseudoTarget = 0, match = nullptr;
     if (match) {
       ++warmStarted;
       r.lambdaN = match->lambdaN;
@@ -151,6 +155,12 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     m_rows[firstRow + k].lever = (c.manifold.points[k].position - centroid).norm();
   }
   blk.friction = mu;
+  for (int ph = 0; ph < 2; ++ph) {
+    blk.targetT[ph][0] = blk.targetT[ph][1] = 0;
+    if (!(A.m_isKinematic || B.m_isKinematic)) continue;
+    const RVec3 drift = KinematicDrift_W(A, blk.rA, dt, ph == 1) - KinematicDrift_W(B, blk.rB, dt, ph == 1);
+    blk.targetT[ph][0] = drift.dot(t1), blk.targetT[ph][1] = drift.dot(t2);
+  }
   for (int ph = 0; ph < 2; ++ph) blk.lambdaT1[ph] = blk.lambdaT2[ph] = blk.lambdaTwist[ph] = 0;
   if (patchWarm) {
     for (int ph = 0; ph < 2; ++ph) {

@@ -43,7 +43,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   for (const RContact& c : m_contacts) {
     const RRigidBody& a = bodies[c.a];
     const RRigidBody& b = bodies[c.b];
-    anyRow = anyRow || (a.m_responds && b.m_responds && (!a.m_isStatic || !b.m_isStatic) &&
+    anyRow = anyRow || (a.m_responds && b.m_responds && !(a.Immovable() && b.Immovable()) &&
                         c.manifold.pointCount > 0);
   }
   m_solved = anyRow;
@@ -51,21 +51,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     std::swap(m_warm, m_warmNext);
     return;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    const RRigidBody& b = bodies[i];
-    RSolverBody& s = m_solverBodies[i];
-    s.invM = b.m_invMass;
-    s.endLinear.setZero(), s.endAngular.setZero(), s.deferredImpulse.setZero();
-    s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();
-    if (b.m_isStatic) {
-      s.v.setZero(), s.w.setZero(), s.invI.setZero();
-      continue;
-    }
-    const RMat3 R = b.m_q_WB.toRotationMatrix();
-    s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
-    s.v = m_moveV[i];  // computed by CollisionDetection's pre-pass this step
-    s.w = R * b.m_w_B + s.invI * StartAngularKick_W(b, halfDt);
-  }
+  // Each body's solver state: the velocities it moves with this step (m_moveV, from
+  // CollisionDetection's pre-pass), its world inverse inertia and masks (RBodyMotion.cpp).
+  for (std::size_t i = 0; i < n; ++i) InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt);
 
   // The rows, impact rows and friction patches of every contact, each contact's at places
   // counted beforehand (the same order as one after another), so that contacts are built
@@ -79,7 +67,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     // A manifold without points (the narrow phase hit its iteration cap) gives no rows: its
     // impact point and centroid would be 0/0; nor do separations that are not numbers
     // (see ImpactGeometry), which leave no point within the slop of the deepest.
-    c.resolved = A.m_responds && B.m_responds && (!A.m_isStatic || !B.m_isStatic) &&
+    c.resolved = A.m_responds && B.m_responds && !(A.Immovable() && B.Immovable()) &&
                  c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
     m_rowStart[ci] = {rowCount, blockCount};
     if (c.resolved) rowCount += c.manifold.pointCount, ++blockCount;
@@ -169,8 +157,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
         const RDirection& di = m_rows[first + i].n;
         for (int j = 0; j <= i; ++j) {
           const RDirection& dj = m_rows[first + j].n;
-          K(i, j) = K(j, i) =
-              (sa.invM + sb.invM) * di.d.dot(dj.d) + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
+          const RScalar dd = di.d.dot(dj.d);
+          const RScalar linear = sa.linLocked || sb.linLocked
+                                     ? LinearCoupling(sa, di.d, dj.d, dd) + LinearCoupling(sb, di.d, dj.d, dd)
+                                     : (sa.invM + sb.invM) * dd;
+          K(i, j) = K(j, i) = linear + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
         }
       }
       // A manifold kept from an earlier step (contact reuse) keeps its inverse while the
@@ -216,11 +207,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
                                     const RVec3& rB, const RVec3& J) {
     RRigidBody& A = bodies[a];
     RRigidBody& B = bodies[b];
-    if (!A.m_isStatic) {
+    if (!A.Immovable()) {
       A.m_linearImpulse_W -= J;
       A.m_angularImpulse_W -= rA.cross(J);
     }
-    if (!B.m_isStatic) {
+    if (!B.Immovable()) {
       B.m_linearImpulse_W += J;
       B.m_angularImpulse_W += rB.cross(J);
     }
@@ -237,11 +228,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     RSolverBody& sb = m_solverBodies[b];
     const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
-    if (!bodies[a].m_isStatic) {
+    if (!bodies[a].Immovable()) {
       sa.endLinear -= J;
       sa.endAngular -= (rA + shift).cross(J);
     }
-    if (!bodies[b].m_isStatic) {
+    if (!bodies[b].Immovable()) {
       sb.endLinear += J;
       sb.endAngular += (rB + shift).cross(J);
     }
@@ -276,11 +267,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     m_contacts[r.contact].frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
                                               (blk.lambdaT2[0] + blk.lambdaT2[1]) * blk.t[1].d;
     // The twist: a pure torque about the normal.
-    if (!bodies[r.a].m_isStatic) {
+    if (!bodies[r.a].Immovable()) {
       bodies[r.a].m_angularImpulse_W -= blk.lambdaTwist[0] * blk.normal;
       m_solverBodies[r.a].endAngular -= blk.lambdaTwist[1] * blk.normal;
     }
-    if (!bodies[r.b].m_isStatic) {
+    if (!bodies[r.b].Immovable()) {
       bodies[r.b].m_angularImpulse_W += blk.lambdaTwist[0] * blk.normal;
       m_solverBodies[r.b].endAngular += blk.lambdaTwist[1] * blk.normal;
     }
@@ -292,8 +283,8 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     if (r.lambdaN == 0) continue;
     RRigidBody& A = bodies[r.a];
     RRigidBody& B = bodies[r.b];
-    if (!A.m_isStatic) A.m_linearImpulse_W -= r.impulse, A.m_angularImpulse_W -= r.angularA;
-    if (!B.m_isStatic) B.m_linearImpulse_W += r.impulse, B.m_angularImpulse_W += r.angularB;
+    if (!A.Immovable()) A.m_linearImpulse_W -= r.impulse, A.m_angularImpulse_W -= r.angularA;
+    if (!B.Immovable()) B.m_linearImpulse_W += r.impulse, B.m_angularImpulse_W += r.angularB;
     m_contacts[r.contact].normalImpulse[r.point] += r.lambdaN;
     m_contacts[r.contact].frictionImpulse_W += r.frictionImpulse;
   }
@@ -302,7 +293,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   for (std::size_t i = 0; i < n; ++i) {
     RSolverBody& s = m_solverBodies[i];
     RRigidBody& b = bodies[i];
-    if (b.m_isStatic || s.deferV.isZero(0)) continue;
+    if (b.Immovable() || s.deferV.isZero(0)) continue;
     const RVec3 J = s.deferV / b.m_invMass;
     b.m_linearImpulse_W -= J;
     s.deferredImpulse = J;
@@ -366,7 +357,7 @@ void RWorldStep::WarmStart(RPhase phase) {
         if (lambda == 0) continue;
         RSolverBody& sa = m_solverBodies[r.a];
         RSolverBody& sb = m_solverBodies[r.b];
-        Push(r.n, lambda, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+        Push(r.n, lambda, sa, sb, sa.v, sa.w, sb.v, sb.w);
       }
     }
     for (std::uint32_t k = first; k < last; ++k) {
@@ -382,8 +373,8 @@ void RWorldStep::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar d
   const RContactRow& r = m_rows[blk.first];
   RSolverBody& sa = m_solverBodies[r.a];
   RSolverBody& sb = m_solverBodies[r.b];
-  if (d1 != 0) Push(blk.t[0], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-  if (d2 != 0) Push(blk.t[1], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+  if (d1 != 0) Push(blk.t[0], d1, sa, sb, sa.v, sa.w, sb.v, sb.w);
+  if (d2 != 0) Push(blk.t[1], d2, sa, sb, sa.v, sa.w, sb.v, sb.w);
   if (dTwist != 0) {
     if (sa.invM != 0) sa.w -= dTwist * blk.twistIA;
     if (sb.invM != 0) sb.w += dTwist * blk.twistIB;
@@ -413,8 +404,8 @@ void RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
     // Both tangents at once, through the 2 x 2 effective mass: one at a time the answer
     // would depend on which two tangents the basis picked, and that choice jumps when the
     // normal's z component changes sign (a slope moved 1e6 m away slid 1e-5 m further).
-    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w),
-                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w));
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][0],
+                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][1], sa, sb);
     lt1 += step.x(), lt2 += step.y();
     if (blk.kTwist > 0) lw -= blk.normal.dot(sb.w - sa.w) / blk.kTwist;
   }
@@ -468,13 +459,14 @@ void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
       // at its end, and on a cube spinning at 5 rad/s the arm has turned 0.08 m by then, so an
       // impulse that stops the approach in the solver's frame adds energy in the body's (a
       // pair in the debris cloud gained 1e-5 of its energy in one step). A sphere's contact
-      // point does not turn with it.
+      // point does not turn with it, and a kinematic body's impulse is not applied (a crate on
+      // a turntable keeps its end impulses).
       auto arc = [&](std::uint32_t i, const RSolverBody& s, const RVec3& arm) {
-        return bodies[i].Polyhedron_B() ? s.w.norm() * arm.norm() * dt : RScalar(0);
+        return bodies[i].Polyhedron_B() && s.invM != 0 ? s.w.norm() * arm.norm() * dt : RScalar(0);
       };
       const bool spinning = arc(r.a, sa, r.rA) + arc(r.b, sb, r.rB) > m_settings.penetrationSlop;
       r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
-                            !spinning
+                            !spinning && r.n.k > 0
                         ? RScalar(0) : kNever;
       if (r.endTarget == kNever) r.lambdaE = 0;
       any = any || r.endTarget == 0;
@@ -494,7 +486,7 @@ void RWorldStep::SolveEndOfStep(const RStepBodies& bodies, RScalar dt) {
       const RRigidBody& b = bodies[i];
       RSolverBody& s = m_solverBodies[i];
       s.vMid = s.v - s.deferV;
-      if (b.m_isStatic) continue;
+      if (b.Immovable()) continue;
       s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
       s.w += s.invI * EndAngularKick_W(b, halfDt);
     }
@@ -536,18 +528,19 @@ void RWorldStep::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase p
     if (valid) {
       for (int i = 0; i < blk.count; ++i) {
         lambda(rows[i]) += delta[i];
-        if (delta[i] != 0) Push(rows[i].n, delta[i], sa.invM, sb.invM, va, wa, vb, wb);
+        if (delta[i] != 0) Push(rows[i].n, delta[i], sa, sb, va, wa, vb, wb);
       }
       return;
     }
   }
   for (int i = 0; i < blk.count; ++i) {
     RContactRow& r = rows[i];
+    if (!(r.n.k > 0)) continue;  // no effective mass: see BuildContactRows
     const RScalar l = std::max(
         lambda(r) - (Speed(r.n, va, wa, vb, wb) - target(r)) / r.n.k, RScalar(0));
     const RScalar d = l - lambda(r);
     lambda(r) = l;
-    if (d != 0) Push(r.n, d, sa.invM, sb.invM, va, wa, vb, wb);
+    if (d != 0) Push(r.n, d, sa, sb, va, wa, vb, wb);
   }
 }
 

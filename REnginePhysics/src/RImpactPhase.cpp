@@ -120,22 +120,22 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
         continue;
       }
       const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
-      if (vn >= 0) continue;
+      if (vn >= 0 || !(dir[0].k > 0)) continue;  // (no effective mass: no impulse to find)
       any = anyImpact = true;
       const RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
       r.lambdaN += dn;
-      Push(dir[0], dn, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      Push(dir[0], dn, sa, sb, sa.v, sa.w, sb.v, sb.w);
       // Friction at the same point, within mu times this row's normal impulse so far.
       const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(dir[1], dir[2], Speed(dir[1], sa.v, sa.w, sb.v, sb.w),
-                                     Speed(dir[2], sa.v, sa.w, sb.v, sb.w));
+                                     Speed(dir[2], sa.v, sa.w, sb.v, sb.w), sa, sb);
       const RScalar lt1 = r.lambdaT1 + step.x(), lt2 = r.lambdaT2 + step.y();
       const RScalar limit = r.friction * r.lambdaN;
       const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
       const RScalar scale = norm > limit ? limit / norm : RScalar(1);
       const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
       r.lambdaT1 += d1, r.lambdaT2 += d2;
-      if (d1 != 0) Push(dir[1], d1, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
-      if (d2 != 0) Push(dir[2], d2, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      if (d1 != 0) Push(dir[1], d1, sa, sb, sa.v, sa.w, sb.v, sb.w);
+      if (d2 != 0) Push(dir[2], d2, sa, sb, sa.v, sa.w, sb.v, sb.w);
       const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
       r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
       r.frictionImpulse += d1 * dir[1].d + d2 * dir[2].d;

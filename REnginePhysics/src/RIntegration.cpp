@@ -18,16 +18,27 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
   ParallelRanges(m_jobs, bodies.size(), m_tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       RRigidBody& b = bodies[i];
-      // A sleeping body has no velocity, and nothing touched it: it stays where it is.
-      if (b.m_isStatic || b.m_sleeping) {
+      // A sleeping body has no velocity, and nothing touched it: it stays where it is. A
+      // kinematic body moves with its own velocities, whatever pushed it.
+      if (b.m_isStatic || b.m_sleeping || b.m_isKinematic) {
         b.m_force_W.setZero(), b.m_torque_W.setZero();
         b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
+        if (b.m_isKinematic) {
+          const RVec3 x0 = b.m_x_W, w0 = b.m_w_B;
+          const RQuat q0 = b.m_q_WB;
+          MoveKinematic(b, dt);
+          if (!(AllFinite(b.m_x_W) && AllFinite(b.m_q_WB) && AllFinite(b.m_w_B))) {
+            b.m_x_W = x0, b.m_q_WB = q0, b.m_w_B = w0;
+            m_putBack[i] = 1;
+          }
+        }
         continue;
       }
-      const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B;
+      const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B, wWorld0 = b.m_w_W;
       const RQuat q0 = b.m_q_WB;
 
-      // Linear: impulse, then kick-drift-kick with constant acceleration.
+      // Linear: impulse, then kick-drift-kick with constant acceleration (drag's first half
+      // factor is in the mid-step velocity).
       const RVec3 accel = Acceleration(b, m_settings.gravity_W);
       const RVec3 vHalf = MidStepVelocity(b, m_settings.gravity_W, halfDt);
       b.m_x_W += vHalf * dt;
@@ -35,15 +46,23 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
 
       // Angular: impulse and half the torque's impulse, exact free flow, other half. A kick
       // is applied only when non-zero so that a free body's omega passes through bit for bit
-      // (which is what lets RFreeRotation reuse its cached elliptic constants).
-      const bool torque = !b.m_torque_W.isZero(0);
-      const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
-      if (!kick0_W.isZero(0)) {
-        b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
-      }
-      b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
-      if (torque) {
-        b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * EndAngularKick_W(b, halfDt));
+      // (which is what lets RFreeRotation reuse its cached elliptic constants). Drag scales
+      // omega by e^(-c dt/2) before and after: a scalar, so the flow between is the free
+      // flow's (at a lower speed), in the world frame as in the body frame. A body with
+      // angular locks turns about the world axis of its spin (TurnLocked).
+      if (b.m_angularLocked) {
+        TurnLocked(b, dt);
+      } else {
+        if (b.m_angularDamping != 0) b.m_w_B *= Decay(b.m_angularDamping, halfDt);
+        const bool torque = !b.m_torque_W.isZero(0);
+        const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
+        if (!kick0_W.isZero(0)) {
+          b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
+        }
+        b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
+        if (torque) {
+          b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * EndAngularKick_W(b, halfDt));
+        }
       }
 
       // Position correction: displacement without velocity (split impulses). A body it moves
@@ -58,15 +77,27 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       }
 
       // Impacts within the step: the velocity change deferred to its end.
-      if (out && !out->deferredImpulse.isZero(0)) b.m_v_W += out->deferredImpulse * b.m_invMass;
+      if (out && !out->deferredImpulse.isZero(0)) b.m_v_W += LinearKick(b, out->deferredImpulse);
       // Contact impulses at the end of the step, in the body frame the step ends with. Their
       // angular part was summed about the centre of mass at the start of the step; about the
       // centre it ends at, each impulse J acting at a point p has the lever arm
       // (p - x0) - (x - x0).
       if (out && (!out->endLinear.isZero(0) || !out->endAngular.isZero(0))) {
         const RVec3 h_W = out->endAngular - (b.m_x_W - x0).cross(out->endLinear);
-        b.m_v_W += out->endLinear * b.m_invMass;
-        b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
+        b.m_v_W += LinearKick(b, out->endLinear);
+        if (b.m_angularLocked) {
+          b.m_w_W += InvInertia_W(b, b.m_q_WB.toRotationMatrix()) * h_W;
+        } else {
+          b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
+        }
+      }
+      // Drag's second half factor, on the velocities the step ends with.
+      if (b.m_linearDamping != 0) b.m_v_W *= Decay(b.m_linearDamping, halfDt);
+      if (b.m_angularLocked) {
+        if (b.m_angularDamping != 0) b.m_w_W *= Decay(b.m_angularDamping, halfDt);
+        b.m_w_B = b.m_q_WB.conjugate() * b.m_w_W;
+      } else if (b.m_angularDamping != 0) {
+        b.m_w_B *= Decay(b.m_angularDamping, halfDt);
       }
 
       b.m_force_W.setZero(), b.m_torque_W.setZero();
@@ -79,7 +110,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
 
       if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
             AllFinite(b.m_q_WB))) {
-        b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0;
+        b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0, b.m_w_W = wWorld0;
         b.m_restTime = 0;
         m_putBack[i] = 1;
       }

@@ -17,14 +17,15 @@ namespace {
 // The change of row i's normal velocity per unit normal impulse at row j: the (i, j) entry
 // of the contact system's matrix J M^-1 J^T, from the bodies the two rows share (a static
 // body's inverse mass and inertia are zero, so it couples nothing).
-template <class Row>
-RScalar Coupling(const Row& ri, const Row& rj, RScalar invMai, RScalar invMbi) {
+template <class Row, class Body>
+RScalar Coupling(const Row& ri, const Row& rj, const Body& ai, const Body& bi) {
   const RScalar dd = ri.n.d.dot(rj.n.d);
+  const RScalar la = LinearCoupling(ai, ri.n.d, rj.n.d, dd), lb = LinearCoupling(bi, ri.n.d, rj.n.d, dd);
   RScalar k = 0;
-  if (ri.a == rj.a) k += invMai * dd + ri.n.rAxd.dot(rj.n.iA);
-  if (ri.a == rj.b) k -= invMai * dd + ri.n.rAxd.dot(rj.n.iB);
-  if (ri.b == rj.a) k -= invMbi * dd + ri.n.rBxd.dot(rj.n.iA);
-  if (ri.b == rj.b) k += invMbi * dd + ri.n.rBxd.dot(rj.n.iB);
+  if (ri.a == rj.a) k += la + ri.n.rAxd.dot(rj.n.iA);
+  if (ri.a == rj.b) k -= la + ri.n.rAxd.dot(rj.n.iB);
+  if (ri.b == rj.a) k -= lb + ri.n.rBxd.dot(rj.n.iA);
+  if (ri.b == rj.b) k += lb + ri.n.rBxd.dot(rj.n.iB);
   return k;
 }
 
@@ -79,7 +80,7 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   m_islandSets.Reset(n);
   for (const RContactRow& r : m_rows) {
-    if (bodies[r.a].m_isStatic || bodies[r.b].m_isStatic) continue;
+    if (bodies[r.a].Immovable() || bodies[r.b].Immovable()) continue;
     m_islandSets.Union(r.a, r.b);
   }
   // The manifolds grouped by island for the passes (SolveBlocks): a counting sort by the
@@ -89,7 +90,7 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
   m_blockStart.assign(n + 1, 0);
   for (std::size_t k = 0; k < m_blocks.size(); ++k) {
     const RContactRow& r = m_rows[m_blocks[k].first];
-    const std::uint32_t root = m_islandSets.Find(bodies[r.a].m_isStatic ? r.b : r.a);
+    const std::uint32_t root = m_islandSets.Find(bodies[r.a].Immovable() ? r.b : r.a);
     m_islandOfBlock[k] = root;
     ++m_blockStart[root + 1];
   }
@@ -166,9 +167,10 @@ void RWorldStep::AssembleIslandMatrix(RIslandScratch& sc) {
       if (!shared) continue;
       for (int i = sc.runs[s].first; i < sc.runs[s].second; ++i) {
         const RContactRow& ri = m_rows[sc.index[i]];
-        const RScalar invMa = m_solverBodies[ri.a].invM, invMb = m_solverBodies[ri.b].invM;
+        const RSolverBody& sa = m_solverBodies[ri.a];
+        const RSolverBody& sb = m_solverBodies[ri.b];
         for (int j = sc.runs[t].first; j < sc.runs[t].second; ++j) {
-          const RScalar k = Coupling(ri, m_rows[sc.index[j]], invMa, invMb);
+          const RScalar k = Coupling(ri, m_rows[sc.index[j]], sa, sb);
           K[i * m + j] = k;
           K[j * m + i] = k;
         }
@@ -321,10 +323,10 @@ bool RWorldStep::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
       RSolverBody& sa = m_solverBodies[r.a];
       RSolverBody& sb = m_solverBodies[r.b];
       if (pseudo) {
-        Push(r.n, d, sa.invM, sb.invM, sa.vp, sa.wp, sb.vp, sb.wp);
+        Push(r.n, d, sa, sb, sa.vp, sa.wp, sb.vp, sb.wp);
         continue;
       }
-      Push(r.n, d, sa.invM, sb.invM, sa.v, sa.w, sb.v, sb.w);
+      Push(r.n, d, sa, sb, sa.v, sa.w, sb.v, sb.w);
     }
     // Friction back inside the cones of the new normal impulses.
     if (!pseudo) {

@@ -135,7 +135,10 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // the upper one is not, so they close by up to g dt^2 within the step; and a contact
   // that overlaps by less than the slop must not flicker out when it floats up by a
   // rounding error. A contact found early is harmless: its row pushes only if needed.
-  const RScalar allowance = m_settings.gravity_W.norm() * dt * dt + m_settings.penetrationSlop;
+  // With gravity scales, two bodies separate by at most |g| (max s - min s) dt^2 (a static
+  // body's s being 0): GravitySpread is 1 when every scale is 1, and the product unchanged.
+  const RScalar gravity = m_settings.gravity_W.norm();
+  const RScalar allowance = gravity * (gravity != 0 ? GravitySpread(bodies) : 1) * dt * dt + m_settings.penetrationSlop;
   m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
   m_moveV.resize(n), m_moveW.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
@@ -148,12 +151,18 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         // Reach and margin as if it were awake and resting (half a step of gravity), so
         // that the margin between a sleeper and a resting neighbour is the one two awake
         // bodies have: a neighbour beyond it while both were awake does not wake it.
-        m_moveV[i] = m_settings.gravity_W * halfDt, m_moveW[i] = 0;
+        m_moveV[i] = Gravity(b, m_settings.gravity_W) * halfDt, m_moveW[i] = 0;
       } else if (b.m_isStatic) {
         m_moveV[i].setZero(), m_moveW[i] = 0;
         // Without the shortcut a static body's world form is recomputed every step, as a
         // moving body's is.
         if (!shortcuts.staticForms) b.m_worldForm.stamp = 0;
+      } else if (b.m_isKinematic) {
+        m_moveV[i] = b.m_v_W, m_moveW[i] = b.m_w_W.norm();
+      } else if (b.m_angularLocked || b.m_angularDamping != 0) {
+        m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+        const RMat3 R = b.m_q_WB.toRotationMatrix();
+        m_moveW[i] = MidStepSpin_W(b, R, InvInertia_W(b, R), halfDt).norm();
       } else {
         m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
         const RVec3 kick_B = b.m_q_WB.conjugate() * StartAngularKick_W(b, halfDt);
@@ -253,7 +262,12 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         ++st.rejectedBoxes;
         continue;
       }
-      if ((a.m_isStatic && b.m_isStatic) || !a.ShouldCheckCollision(b) ||
+      // Two bodies that nothing moves (static, kinematic) need no response: a kinematic
+      // body is tested against another or against static geometry only when one of them
+      // does not respond (a kinematic sensor reports what it sweeps through).
+      if ((a.m_isStatic && b.m_isStatic) ||
+          (a.Immovable() && b.Immovable() && a.m_responds && b.m_responds) ||
+          !a.ShouldCheckCollision(b) ||
           (m_filter && !m_filter(a, b, m_filterUser))) {
         ++st.rejectedFilter;
         continue;

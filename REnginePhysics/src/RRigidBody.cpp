@@ -87,7 +87,6 @@ RRigidBody::RRigidBody(const RBodyDef& def)
       m_category(def.category),
       m_mask(def.mask),
       m_userData(def.userData),
-      m_isStatic(def.isStatic),
       m_responds(def.responds),
       m_restitution(def.restitution),
       m_friction(def.friction) {
@@ -97,6 +96,38 @@ RRigidBody::RRigidBody(const RBodyDef& def)
           "must be a finite number >= 0");
   Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
           "must be a finite number >= 0");
+  RBodyKind kind = def.isStatic ? RBodyKind::kStatic : RBodyKind::kDynamic;
+  if (def.kind) {
+    Require(*def.kind == RBodyKind::kDynamic || *def.kind == RBodyKind::kStatic ||
+                *def.kind == RBodyKind::kKinematic,
+            "kind", "must be dynamic, static or kinematic");
+    Require(!def.isStatic || *def.kind == RBodyKind::kStatic, "kind",
+            "contradicts static: true (give one, or both meaning the same)");
+    kind = *def.kind;
+  }
+  Require(std::isfinite(def.linearDamping) && def.linearDamping >= 0, "linear_damping",
+          "must be a finite number >= 0");
+  Require(std::isfinite(def.angularDamping) && def.angularDamping >= 0, "angular_damping",
+          "must be a finite number >= 0");
+  Require(std::isfinite(def.gravityScale), "gravity_scale", "must be a finite number");
+  m_linearDamping = def.linearDamping, m_angularDamping = def.angularDamping;
+  m_gravityScale = def.gravityScale;
+  m_locks = def.locks;
+  for (int a = 0; a < 3; ++a) {
+    m_linearMask[a] = def.locks.linear[a] ? 0 : 1;
+    m_angularMask[a] = def.locks.angular[a] ? 0 : 1;
+  }
+  // A static body never moves: its locks mean nothing. A dynamic body locked on all six axes
+  // can move neither way, and is infinitely heavy along every one: kinematic, at rest.
+  if (kind == RBodyKind::kStatic) m_linearMask.setOnes(), m_angularMask.setOnes();
+  m_linearLocked = m_linearMask != RVec3::Ones();
+  m_angularLocked = m_angularMask != RVec3::Ones();
+  if (kind == RBodyKind::kDynamic && m_linearMask.isZero(0) && m_angularMask.isZero(0)) {
+    kind = RBodyKind::kKinematic;
+  }
+  m_isStatic = kind == RBodyKind::kStatic;
+  m_isKinematic = kind == RBodyKind::kKinematic;
+  m_worldSpin = m_isKinematic || m_angularLocked;
   // Shape checks first, as a scene lists them (a hull is built after the pose checks).
   if (!def.prepared && def.shape.type != RShapeType::kHull) m_prepared = PrepareShape(def.shape);
   Require(InRange(def.position_W), "position", kPositionRange);
@@ -122,7 +153,7 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   } else {
     m_boxHalf_B = RVec3::Constant(m_boundingRadius);
   }
-  if (!m_isStatic) {
+  if (kind == RBodyKind::kDynamic) {
     if (def.mass) {
       Require(PositiveFinite(*def.mass), "mass", "must be finite and > 0");
       m_mass = *def.mass;
@@ -166,7 +197,10 @@ void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q) {
   m_q_WB.normalize();
   m_x_W = position_W - m_q_WB * m_p_BS;
   m_worldForm.stamp = 0;  // moved outside a step: the cached world form is stale
-  if (m_isStatic) m_staticMoved = true;
+  // A kinematic body set to a pose jumps there, as a moved static body does: sleepers that
+  // rested on it anywhere lose their support.
+  if (Immovable()) m_staticMoved = true;
+  if (m_worldSpin) m_w_B = m_q_WB.conjugate() * m_w_W;
   CountEdit();
   Wake();
 }
@@ -209,7 +243,7 @@ void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
   // A sleeping pair is not looked at: it would never learn to ignore. A static body cannot
   // sleep; which sleeper it names is not known here, so it wakes everything, as if moved.
   Wake();
-  if (m_isStatic) m_staticMoved = true;
+  if (Immovable()) m_staticMoved = true;
 }
 
 void RRigidBody::SetCollisionFilter(std::uint32_t category, std::uint32_t mask) {
@@ -217,21 +251,40 @@ void RRigidBody::SetCollisionFilter(std::uint32_t category, std::uint32_t mask) 
   m_category = category, m_mask = mask;
   CountEdit();  // queries cache the category beside the bounds
   Wake();
-  if (m_isStatic) m_staticMoved = true;
+  if (Immovable()) m_staticMoved = true;
 }
 
 void RRigidBody::SetVelocity_W(const RVec3& v_W) {
   Require(AllFinite(v_W), "velocity", "must be finite");
-  if (!m_isStatic) m_v_W = v_W;
+  if (!m_isStatic) m_v_W = m_linearLocked ? RVec3(v_W.cwiseProduct(m_linearMask)) : v_W;
   Wake();
 }
 
 void RRigidBody::SetAngularVelocity_W(const RVec3& w_W) {
   Require(AllFinite(w_W), "angular_velocity", "must be finite");
+  const RVec3 w = m_angularLocked ? RVec3(w_W.cwiseProduct(m_angularMask)) : w_W;
   // Rotating 1e308 rad/s into the body frame overflows to NaN (found by fuzz_world).
-  const RVec3 w_B = m_q_WB.conjugate() * w_W;
+  const RVec3 w_B = m_q_WB.conjugate() * w;
   Require(AllFinite(w_B), "angular_velocity", "is too large to turn into the body frame");
-  if (!m_isStatic) m_w_B = w_B;
+  if (!m_isStatic) m_w_B = w_B, m_w_W = w;
+  Wake();
+}
+
+void RRigidBody::SetLinearDamping(RScalar c) {
+  Require(std::isfinite(c) && c >= 0, "linear_damping", "must be a finite number >= 0");
+  m_linearDamping = c;
+  Wake();
+}
+
+void RRigidBody::SetAngularDamping(RScalar c) {
+  Require(std::isfinite(c) && c >= 0, "angular_damping", "must be a finite number >= 0");
+  m_angularDamping = c;
+  Wake();
+}
+
+void RRigidBody::SetGravityScale(RScalar s) {
+  Require(std::isfinite(s), "gravity_scale", "must be a finite number");
+  m_gravityScale = s;
   Wake();
 }
 

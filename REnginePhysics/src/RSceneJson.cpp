@@ -254,6 +254,26 @@ RQuat ReadOrientation(const json& j, const std::string& path) {
 // ---------------------------------------------------------------------------------------
 // Objects.
 
+RScalar ReadFiniteNumber(const json& j, const std::string& path) {
+  return ReadNumber(j, path, kFinite);
+}
+
+// {"linear": [bx, by, bz], "angular": [bx, by, bz]}, either absent meaning none locked.
+RBodyLocks ReadLocks(const json& j, const std::string& path) {
+  const Object locks(j, path, {"linear", "angular"});
+  RBodyLocks l;
+  auto read = [&](const char* key, std::array<bool, 3>& out) {
+    if (!locks.Has(key)) return;
+    const json& a = locks.Required(key);
+    const std::string p = locks.PathOf(key);
+    if (!a.is_array() || a.size() != 3) Fail(p, "must be an array of 3 booleans [x, y, z]" + Got(a));
+    for (std::size_t i = 0; i < 3; ++i) out[i] = ReadBool(a[i], Element(p, i));
+  };
+  read("linear", l.linear);
+  read("angular", l.angular);
+  return l;
+}
+
 
 RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& limits) {
   const Object shape(j, path, {"type", "half_extents", "radius", "points"});
@@ -304,13 +324,31 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
 RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::string>& ignore,
                   const RSceneLimits& limits) {
   const Object body(j, path,
-                    {"name", "shape", "static", "mass", "density", "position", "orientation",
-                     "velocity", "angular_velocity", "restitution", "friction", "responds",
-                     "ignore", "category", "mask"});
+                    {"name", "shape", "static", "kind", "mass", "density", "position",
+                     "orientation", "velocity", "angular_velocity", "restitution", "friction",
+                     "responds", "ignore", "category", "mask", "linear_damping",
+                     "angular_damping", "gravity_scale", "locks"});
   RBodyDef def;
   def.name = ReadName(body.Required("name"), body.PathOf("name"));
   def.shape = ReadShape(body.Required("shape"), body.PathOf("shape"), limits);
   def.isStatic = body.Get("static", def.isStatic, ReadBool);
+  if (body.Has("kind")) {
+    def.kind = ReadChoice<RBodyKind>(body.Required("kind"), body.PathOf("kind"),
+                                     {{"dynamic", RBodyKind::kDynamic},
+                                      {"static", RBodyKind::kStatic},
+                                      {"kinematic", RBodyKind::kKinematic}});
+    // "static": false with "kind": "static" says two things, as "static": true with another
+    // kind does; "static": false beside "dynamic" or "kinematic" agrees.
+    if (body.Has("static") && def.isStatic != (*def.kind == RBodyKind::kStatic)) {
+      Fail(body.PathOf("kind"), std::string("contradicts \"static\": ") +
+                                    (def.isStatic ? "true" : "false") + Got(body.Required("kind")));
+    }
+    def.isStatic = *def.kind == RBodyKind::kStatic;  // one meaning, for readers of either
+  }
+  def.linearDamping = body.Get("linear_damping", def.linearDamping, ReadNonNegative);
+  def.angularDamping = body.Get("angular_damping", def.angularDamping, ReadNonNegative);
+  def.gravityScale = body.Get("gravity_scale", def.gravityScale, ReadFiniteNumber);
+  if (body.Has("locks")) def.locks = ReadLocks(body.Required("locks"), body.PathOf("locks"));
   if (body.Has("mass") && body.Has("density")) {
     Fail(body.PathOf("density"), "give mass or density, not both");
   }

@@ -140,6 +140,8 @@ class Object {
   std::string m_path;
 };
 
+RScalar ReadFiniteNumber(const json& j, const std::string& path);
+RBodyLocks ReadLocks(const json& j, const std::string& path);
 RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& limits);
 // A body, and the names in its "ignore" list (resolved by the caller, once the names it may
 // refer to are known).

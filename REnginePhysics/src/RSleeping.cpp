@@ -17,7 +17,7 @@ void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
     if (slot >= bodies.slotCount) return false;
     const std::uint32_t i = bodies.denseOfSlot[slot];
     if (i >= bodies.count || bodies.handles[i].generation != generation) return false;
-    return bodies[i].m_sleeping || bodies[i].m_isStatic;
+    return bodies[i].m_sleeping || bodies[i].m_isStatic || StillKinematic(bodies[i]);
   };
   for (const RWarmStart& w : m_warm) {
     const std::uint32_t a = static_cast<std::uint32_t>(w.pair >> 32);
@@ -100,7 +100,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   for (std::size_t i = 0; i < n; ++i) {
     RRigidBody& b = bodies[i];
     b.m_staticMoved = false, b.m_slot = bodies.Slot(i), b.m_slotWorld = m_worldId.value;
-    anyRested = anyRested || (!b.m_isStatic && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
+    anyRested = anyRested || (!b.Immovable() && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
     asleep += b.m_sleeping;
   }
   m_pairStats.sleepingBodies = asleep;
@@ -113,7 +113,9 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   auto find = [this](std::uint32_t i) { return m_sleepSets.Find(i); };
   for (const RContact& c : m_contacts) {
     if (!c.resolved) continue;
-    const bool staticA = bodies[c.a].m_isStatic, staticB = bodies[c.b].m_isStatic;
+    // A kinematic body holds as static geometry does, and joins no island: the islands on a
+    // platform sleep and wake apart (its motion wakes what it touches, SetShapePose all).
+    const bool staticA = bodies[c.a].Immovable(), staticB = bodies[c.b].Immovable();
     if (staticA || staticB) {
       // Held: the static body pushed this step (a speculative contact, or a body sliding
       // along a floor in space, is not held).
@@ -126,7 +128,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     const RRigidBody& b = bodies[i];
-    if (b.m_isStatic || b.m_sleeping) continue;
+    if (b.Immovable() || b.m_sleeping) continue;
     const std::uint32_t r = find(i);
     m_sleepRest[r] = std::min(m_sleepRest[r], b.m_restTime);
     if (m_sleepSupported[i]) m_sleepSupported[r] = 1;
@@ -134,12 +136,12 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     RRigidBody& b = bodies[i];
-    if (b.m_isStatic || b.m_sleeping) continue;
+    if (b.Immovable() || b.m_sleeping) continue;
     const std::uint32_t r = find(i);
     if (m_sleepRest[r] >= m_settings.sleepTime && (m_sleepSupported[r] || m_sleepStill[r])) {
       b.m_sleeping = true;
       b.m_sleepIsland = bodies.Slot(r);  // the id: its root's slot
-      b.m_v_W.setZero(), b.m_w_B.setZero();
+      b.m_v_W.setZero(), b.m_w_B.setZero(), b.m_w_W.setZero();
       ++m_pairStats.sleepingBodies;
     }
   }

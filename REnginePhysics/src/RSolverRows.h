@@ -15,6 +15,15 @@ namespace REngine::solver {
 
 inline std::uint64_t PairKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
 
+// The linear part of the coupling between unit directions d1 and d2 through one body:
+// d1 . (M^-1 d2) with M^-1 its inverse mass, per world axis when it has linear locks (0 on
+// a locked axis). dd is d1 . d2 (1 when d1 = d2), so an unlocked body computes what it did
+// before locks existed, bit for bit.
+template <class Body>
+RScalar LinearCoupling(const Body& s, const RVec3& d1, const RVec3& d2, RScalar dd) {
+  return s.linLocked ? s.invM * d1.cwiseProduct(s.linMask).dot(d2) : s.invM * dd;
+}
+
 template <class Dir, class Body>
 void SetDirection(Dir& dir, const RVec3& d, const RVec3& rA, const RVec3& rB, const Body& a,
                   const Body& b) {
@@ -23,7 +32,10 @@ void SetDirection(Dir& dir, const RVec3& d, const RVec3& rA, const RVec3& rB, co
   dir.rBxd = rB.cross(d);
   dir.iA = a.invI * dir.rAxd;
   dir.iB = b.invI * dir.rBxd;
-  dir.k = a.invM + b.invM + dir.rAxd.dot(dir.iA) + dir.rBxd.dot(dir.iB);
+  const RScalar linear = a.linLocked || b.linLocked
+                             ? LinearCoupling(a, d, d, 1) + LinearCoupling(b, d, d, 1)
+                             : a.invM + b.invM;
+  dir.k = linear + dir.rAxd.dot(dir.iA) + dir.rBxd.dot(dir.iB);
 }
 
 template <class Dir>
@@ -32,17 +44,20 @@ RScalar Speed(const Dir& dir, const RVec3& va, const RVec3& wa, const RVec3& vb,
   return dir.d.dot(vb - va) + dir.rBxd.dot(wb) - dir.rAxd.dot(wa);
 }
 
-// A body of inverse mass 0 (static) is not written: impulses cannot move it, and islands
-// solved on several threads share the ground, which must then be only read.
-template <class Dir>
-void Push(const Dir& dir, RScalar lambda, RScalar invMA, RScalar invMB, RVec3& va, RVec3& wa,
+// A body of inverse mass 0 (static, kinematic) is not written: impulses cannot move it, and
+// islands solved on several threads share the ground, which must then be only read. Along a
+// locked axis a body's velocity does not change (its inverse mass is 0 there).
+template <class Dir, class Body>
+void Push(const Dir& dir, RScalar lambda, const Body& a, const Body& b, RVec3& va, RVec3& wa,
           RVec3& vb, RVec3& wb) {
-  if (invMA != 0) {
-    va -= (invMA * lambda) * dir.d;
+  if (a.invM != 0) {
+    const RVec3 dv = (a.invM * lambda) * dir.d;
+    va -= a.linLocked ? RVec3(dv.cwiseProduct(a.linMask)) : dv;
     wa -= lambda * dir.iA;
   }
-  if (invMB != 0) {
-    vb += (invMB * lambda) * dir.d;
+  if (b.invM != 0) {
+    const RVec3 dv = (b.invM * lambda) * dir.d;
+    vb += b.linLocked ? RVec3(dv.cwiseProduct(b.linMask)) : dv;
     wb += lambda * dir.iB;
   }
 }
@@ -53,12 +68,17 @@ void Push(const Dir& dir, RScalar lambda, RScalar invMA, RScalar invMB, RVec3& v
 inline constexpr RScalar kWarmMatchDistance = RScalar(0.05);
 
 // The tangential impulses that stop the sliding velocity (v1, v2) along two tangents of a
-// point, solved together through their 2 x 2 effective mass.
-template <class Dir>
-Eigen::Matrix<RScalar, 2, 1> TangentStep(const Dir& t1, const Dir& t2, RScalar v1, RScalar v2) {
-  const RScalar k12 = t1.rAxd.dot(t2.iA) + t1.rBxd.dot(t2.iB);  // t1 . t2 = 0
+// point, solved together through their 2 x 2 effective mass. Bodies a and b: their linear
+// coupling of the tangents is 0 (t1 . t2 = 0) unless one has linear locks.
+template <class Dir, class Body>
+Eigen::Matrix<RScalar, 2, 1> TangentStep(const Dir& t1, const Dir& t2, RScalar v1, RScalar v2,
+                                         const Body& a, const Body& b) {
+  RScalar k12 = t1.rAxd.dot(t2.iA) + t1.rBxd.dot(t2.iB);
+  if (a.linLocked || b.linLocked) k12 += LinearCoupling(a, t1.d, t2.d, 0) + LinearCoupling(b, t1.d, t2.d, 0);
   const RScalar det = t1.k * t2.k - k12 * k12;
-  if (!(det > 0)) return {-v1 / t1.k, -v2 / t2.k};
+  // A direction with no effective mass (both bodies infinitely heavy along it: kinematic or
+  // static against a body locked on the axes it would need) takes no impulse.
+  if (!(det > 0)) return {t1.k > 0 ? -v1 / t1.k : 0, t2.k > 0 ? -v2 / t2.k : 0};
   return {-(t2.k * v1 - k12 * v2) / det, -(t1.k * v2 - k12 * v1) / det};
 }
 

@@ -11,6 +11,7 @@
 //   RIslandSolver.cpp   BuildIslands, SolveIslands, SolveIslandDirect
 //   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
 //   RIntegration.cpp    Integrate (the motion)
+//   RBodyMotion.cpp     kinematic bodies, angular locks, drag, gravity scales
 //   RContactEvents.cpp  KeepStartPoses, FindContactEvents (after the motion)
 // Stages that run as tasks (RJobSystem, m_jobs and m_tasks) write only their own outputs:
 // per-task scratch, or slots counted beforehand; the results do not depend on the threads.
@@ -25,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <utility>
@@ -58,21 +60,66 @@ struct RStepBodies {
 class RWorldStep {
  public:
   // The step's velocities, one definition for every subsystem (kick-drift-kick): a body moves
-  // through the step with its mid-step velocity v + J/m + a dt/2, a = F/m + g (exact for a
-  // constant a), and ends it with another a dt/2. Its angular kick at the start is the
-  // angular impulse plus half the torque's impulse, and at the end the other half (world,
-  // N m s). The contact solver solves for the mid-step velocities, the pair sweep grows the
-  // bounds by them, Integrate moves the bodies with them.
-  static RVec3 Acceleration(const RRigidBody& b, const RVec3& gravity_W) {
-    return b.m_force_W * b.m_invMass + gravity_W;
+  // through the step with its mid-step velocity v + J/m + a dt/2, a = F/m + s g (exact for a
+  // constant a; s the body's gravity scale), and ends it with another a dt/2. Its angular
+  // kick at the start is the angular impulse plus half the torque's impulse, and at the end
+  // the other half (world, N m s). The contact solver solves for the mid-step velocities,
+  // the pair sweep grows the bounds by them, Integrate moves the bodies with them.
+  // Drag (RBodyMotion.cpp) multiplies v by e^(-c dt/2) before the first kick and after the
+  // last, e^(-c dt) a step exactly; locks zero what a kick gives along a locked axis; a
+  // kinematic body moves with its own v, nothing else.
+  static RVec3 Gravity(const RRigidBody& b, const RVec3& gravity_W) {
+    // Scale 1 is not multiplied: the arithmetic of a scene without scales is unchanged.
+    return b.m_gravityScale == 1 ? gravity_W : RVec3(gravity_W * b.m_gravityScale);
   }
+  static RVec3 Acceleration(const RRigidBody& b, const RVec3& gravity_W) {
+    if (b.m_isKinematic) return RVec3::Zero();
+    const RVec3 a = b.m_force_W * b.m_invMass + Gravity(b, gravity_W);
+    return b.m_linearLocked ? RVec3(a.cwiseProduct(b.m_linearMask)) : a;
+  }
+  // The velocity change of a linear impulse J (N s, world), zero along locked axes.
+  static RVec3 LinearKick(const RRigidBody& b, const RVec3& J) {
+    const RVec3 dv = J * b.m_invMass;
+    return b.m_linearLocked ? RVec3(dv.cwiseProduct(b.m_linearMask)) : dv;
+  }
+  // e^(-c t): a drag rate's factor over time t (1/s, s).
+  static RScalar Decay(RScalar c, RScalar t) { return std::exp(-c * t); }
   static RVec3 MidStepVelocity(const RRigidBody& b, const RVec3& gravity_W, RScalar halfDt) {
-    return b.m_v_W + b.m_linearImpulse_W * b.m_invMass + Acceleration(b, gravity_W) * halfDt;
+    if (b.m_isKinematic) return b.m_v_W;
+    const RVec3 v = b.m_linearDamping != 0 ? RVec3(b.m_v_W * Decay(b.m_linearDamping, halfDt)) : b.m_v_W;
+    return v + LinearKick(b, b.m_linearImpulse_W) + Acceleration(b, gravity_W) * halfDt;
   }
   static RVec3 StartAngularKick_W(const RRigidBody& b, RScalar halfDt) {
     return b.m_angularImpulse_W + b.m_torque_W * halfDt;
   }
   static RVec3 EndAngularKick_W(const RRigidBody& b, RScalar halfDt) { return b.m_torque_W * halfDt; }
+  // RBodyMotion.cpp: the motion's new concerns. The world inverse inertia (1/(kg m^2)) at
+  // orientation R_WB: R diag(1/I) R^T, or with angular locks the inverse of the inertia
+  // restricted to the free axes (zero rows and columns on the locked ones); zero for a
+  // static or kinematic body.
+  static RMat3 InvInertia_W(const RRigidBody& b, const RMat3& R_WB);
+  // The angular velocity the body turns with this step after its start kick (world, rad/s),
+  // drag included; the solver's and the pair sweep's.
+  static RVec3 MidStepSpin_W(const RRigidBody& b, const RMat3& R_WB, const RMat3& invI_W, RScalar halfDt);
+  // What sticking to a spinning kinematic body means for a point at arm r_W from its centre
+  // (world, m/s), beyond its surface velocity v + w x r there: at the start of the step
+  // (end = false) the chord's velocity, (exp(w dt) r - r) / dt - w x r, which a body moving
+  // in a straight line through the step must have to land on the same point of the surface
+  // (without it a crate on a turntable spirals outwards by r w^2 dt^2 / 2 a step); at the
+  // end, the surface velocity where the point is then, w x (exp(w dt) r - r). Zero for
+  // every other body.
+  static RVec3 KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScalar dt, bool end);
+  // A body's solver state at the start of FindImpulses: vMove its mid-step velocity (m/s).
+  struct RSolverBody;
+  static void InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt);
+  // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
+  static void MoveKinematic(RRigidBody& b, RScalar dt);
+  // A body with angular locks: its world spin, drag and kicks, turned about the world axis
+  // of its spin (exact with one free axis). Integrate's angular part for such bodies.
+  static void TurnLocked(RRigidBody& b, RScalar dt);
+  // How far gravity can pull two bodies apart in a step, in units of |g|: max(0, s) -
+  // min(0, s) over the dynamic bodies' scales (1 when every scale is 1).
+  static RScalar GravitySpread(const RStepBodies& bodies);
 
   // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
   // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
@@ -136,10 +183,16 @@ class RWorldStep {
   std::size_t m_lastPairCount = 0;  // pairs the last sweep found (the trees' cost estimate)
   void TreePairs(RScalar grow);
   void AllPairs(const RStepBodies& bodies, RScalar grow);
-  // Bodies that cannot start a contact: asleep, or static, and responding (a sensor keeps
-  // reporting what sleeps on it). A pair of two of them is skipped; a sleeping body touched
-  // by any other (in the speculative margin) wakes with its island.
-  static bool Passive(const RRigidBody& b) { return (b.m_sleeping || b.m_isStatic) && b.m_responds; }
+  // Bodies that cannot start a contact: asleep, static, or kinematic and still, and
+  // responding (a sensor keeps reporting what sleeps on it). A pair of two of them is
+  // skipped; a sleeping body touched by any other (in the speculative margin) wakes with its
+  // island: a kinematic body that moves wakes what it touches and nothing else.
+  static bool StillKinematic(const RRigidBody& b) {
+    return b.m_isKinematic && b.m_v_W.isZero(0) && b.m_w_W.isZero(0);
+  }
+  static bool Passive(const RRigidBody& b) {
+    return (b.m_sleeping || b.m_isStatic || StillKinematic(b)) && b.m_responds;
+  }
   std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
   // The step's job system (null: one thread) and how many tasks a parallel stage is cut
   // into (1 on one thread). Set by RIntegrator before each step.
@@ -224,8 +277,12 @@ class RWorldStep {
     RVec3 deferV;
     RVec3 vImpacts;            // its velocity after the impact phase
     RVec3 contactDeltaV;      // the contact phase's velocity change after that, m/s
-    RMat3 invI;                // inverse inertia, world, 1/(kg m^2)
-    RScalar invM;              // 1/kg
+    RMat3 invI;                // inverse inertia, world, 1/(kg m^2) (locks: see InvInertia_W)
+    RScalar invM;              // 1/kg (0: static or kinematic)
+    // Linear locks: the inverse mass along world axis k is invM * linMask[k] (1 free, 0
+    // locked); only read when linLocked.
+    RVec3 linMask;
+    bool linLocked;
     // The solver's outputs for the motion (Integrate), besides the impulses it accumulates
     // on the body: contact impulses at the end of the step (world, N s and N m s about the
     // centre of mass at the start of the step), and the impacts' velocity change deferred
@@ -280,6 +337,10 @@ class RWorldStep {
     // at the end [1] of the step.
     RScalar lambdaT1[2], lambdaT2[2];
     RScalar lambdaTwist[2];
+    // Tangential relative velocity (B less A, along t[0], t[1], m/s) that sticking means, at
+    // the start [0] and at the end [1] of the step: 0 but against a spinning kinematic body
+    // (KinematicDrift_W).
+    RScalar targetT[2][2];
   };
   std::vector<RBlock> m_blocks;
   // Row building (FindImpulses): each contact's first row and its block (= impact row)

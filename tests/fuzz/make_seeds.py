@@ -50,6 +50,15 @@ write("fuzz_scene", "example.json", json.dumps(example))
 write("fuzz_scene", "pair.json", json.dumps({"dt": 0.01, "steps": 5, "restitution_combine": "max", "bodies": [
     {"name": "a", "shape": {"type": "sphere", "radius": 0.5}, "velocity": [3, 0, 0], "restitution": 1},
     {"name": "b", "shape": {"type": "sphere", "radius": 0.5}, "position": [2, 0, 0], "mass": 3}]}))
+write("fuzz_scene", "kinds.json", json.dumps({"gravity": [0, -9.81, 0], "steps": 10, "bodies": [
+    {"name": "table", "shape": {"type": "box", "half_extents": [3, 0.25, 3]}, "kind": "kinematic",
+     "position": [0, -0.25, 0], "angular_velocity": [0, 1, 0], "velocity": [0, 0.5, 0]},
+    {"name": "crate", "shape": {"type": "box", "half_extents": [0.25, 0.25, 0.25]}, "position": [1, 0.25, 0],
+     "linear_damping": 0.5, "angular_damping": 1, "gravity_scale": -0.5,
+     "locks": {"linear": [False, False, True], "angular": [True, True, False]}},
+    {"name": "floor", "shape": {"type": "sphere", "radius": 1}, "static": True, "kind": "static",
+     "position": [0, -9, 0]}],
+    "actions": [{"step": 3, "set_velocity": {"body": "table", "angular_velocity": [0, -2, 0]}}]}))
 write("fuzz_scene", "deep_nesting.json", '{"gravity": ' + "[" * 100000 + "]" * 100000 + ', "bodies": []}')
 write("fuzz_scene", "hull_1e300.json", json.dumps({"bodies": [{"name": "big", "shape": {"type": "hull", "points": [
     [1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300], [1e300, 1e300, 1e300], [0, 0, 0]]}}]}))

@@ -39,6 +39,15 @@ struct BodyDef : RBodyDef {
   BodyDef& Friction(RScalar mu) { return friction = mu, *this; }
   // Static: never moves, mass 0 whatever `mass` says.
   BodyDef& Static() { return isStatic = true, *this; }
+  // Kinematic: moves with its velocities (Moving, Spinning) and nothing else, mass 0.
+  BodyDef& Kinematic() { return kind = RBodyKind::kKinematic, *this; }
+  BodyDef& Damping(RScalar linear, RScalar angular) {  // 1/s
+    return linearDamping = linear, angularDamping = angular, *this;
+  }
+  BodyDef& GravityScale(RScalar s) { return gravityScale = s, *this; }
+  // World axes locked, x y z.
+  BodyDef& LockLinear(bool x, bool y, bool z) { return locks.linear = {x, y, z}, *this; }
+  BodyDef& LockAngular(bool x, bool y, bool z) { return locks.angular = {x, y, z}, *this; }
 };
 
 inline BodyDef SphereDef(RScalar radius) {

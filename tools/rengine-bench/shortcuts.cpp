@@ -8,6 +8,8 @@
 //   box_pile_1000   sleeping. ../shared/scenes/box_pile_1000.json as given (1000 boxes
 //                   dropped on the floor, 5 s). Error: the largest speed of a body at the
 //                   end, m/s (how far from rest the pile still is; no closed form).
+//   awake_pile      contactReuse. box_pile_1000 with sleeping off, 5 s. Error: the
+//                   largest position difference between the runs at the end.
 //   sparse_field    boundsRejection. 1000 tumbling boxes drifting at up to 10 m/s in a 2 km
 //                   cube in zero g. Error: the largest position difference between the
 //                   runs with and without, after the steps the run without can afford, m
@@ -264,6 +266,25 @@ ShortcutRow BoxPile(bool quick, int repeats) {
   return row;
 }
 
+// ---- awake_pile -----------------------------------------------------------------------
+// contactReuse on box_pile_1000 with sleeping off (every contact awake for the whole run):
+// not exact, each reused point is off by at most the touching band; the error is the
+// largest position difference between the runs at the end.
+ShortcutRow AwakePile(bool quick, int repeats) {
+  const RScene scene = LoadSharedScene("box_pile_1000");
+  const int steps = quick ? 30 : static_cast<int>(scene.steps);
+  auto make = [&scene](bool on) {
+    Setup s{CreateBodies(scene), scene.settings};
+    s.settings.shortcuts.sleeping = false;
+    s.settings.shortcuts.contactReuse = on;
+    return s;
+  };
+  ShortcutRow row = NewRow("awake_pile", "contactReuse", "m: position difference between the runs");
+  row.errorOn = MaxDifference(Run(make, true, steps), Run(make, false, steps));
+  TimeRuns(row, make, steps, steps, repeats);
+  return row;
+}
+
 // ---- sparse_field ---------------------------------------------------------------------
 ShortcutRow SparseField(bool quick, int repeats) {
   const int n = quick ? 100 : 1000;
@@ -388,7 +409,7 @@ ShortcutRow StaticHulls(bool quick, int repeats) {
 
 std::vector<ShortcutRow> RunShortcuts(bool quick, int repeats) {
   std::vector<ShortcutRow> rows;
-  for (auto scene : {RestingStacks, BoxPile, SparseField, Symmetric, StaticTerrain, StaticHulls}) {
+  for (auto scene : {RestingStacks, BoxPile, AwakePile, SparseField, Symmetric, StaticTerrain, StaticHulls}) {
     rows.push_back(scene(quick, repeats));
     std::fprintf(stderr, "shortcuts: %s done\n", rows.back().scene.c_str());
   }

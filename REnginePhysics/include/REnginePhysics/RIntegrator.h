@@ -61,8 +61,10 @@ struct RWorldSettings {
     // Islands of bodies that rest on static geometry, every body slower than sleepSpeed for
     // sleepTime, go to sleep: they are neither moved nor checked against each other or the
     // static geometry until an awake body touches them, the game changes their velocity,
-    // pose or forces, or wakes them; everything wakes when gravity changes, the body count
-    // changes or the game moves a static body. Not exact: a sleeping body's residual velocity (< sleepSpeed) is
+    // pose, forces, drag or gravity scale, or wakes them; everything wakes when gravity
+    // changes, the body count changes or the game moves a static or kinematic body with
+    // SetShapePose. A kinematic body holds like static geometry; it never sleeps, and while
+    // its velocities move it, it wakes only the islands it touches. Not exact: a sleeping body's residual velocity (< sleepSpeed) is
     // zeroed. A body that no static geometry holds (a drifting rock in space) sleeps only
     // when its island is exactly still, which is exact.
     bool sleeping = true;

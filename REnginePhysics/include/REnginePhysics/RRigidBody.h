@@ -12,6 +12,7 @@
 #include <REnginePhysics/RFreeRotation.h>
 #include <REnginePhysics/RShape.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -64,13 +65,33 @@ struct RPreparedShape {
 // naming the field ("shape.radius", "shape.half_extents", "shape.points").
 std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape);
 
+// How a body moves. Dynamic: by forces, gravity and collisions. Static: never (infinite mass,
+// zero velocity). Kinematic: by its own velocity and angular velocity alone, which the game
+// sets; infinitely heavy to everything else (inverse mass and inertia 0 in the solver), it
+// pushes and carries dynamic bodies with the velocity of its surface at the contact point,
+// and collisions, forces, impulses and gravity never change its motion.
+enum class RBodyKind : std::uint8_t { kDynamic, kStatic, kKinematic };
+
+// Axes along which a body can neither move nor turn, world axes x, y, z. A collision treats
+// a locked axis as infinitely heavy for that body: its inverse mass is 0 along a locked
+// linear axis, and its world inverse inertia is that of the inertia restricted to the free
+// angular axes (zero rows and columns on the locked ones). All six locked is the same as
+// kinematic (its velocities along locked axes being 0, it never moves).
+struct RBodyLocks {
+  std::array<bool, 3> linear{false, false, false};
+  std::array<bool, 3> angular{false, false, false};
+};
+
 // What a game or a scene file says about a body; RRigidBody copies it.
 struct RBodyDef {
   std::string name;
   RShape shape;
   // When set, the body is made from this shape and `shape` is not read: no hull is built.
   std::shared_ptr<const RPreparedShape> prepared;
+  // The body's kind. `isStatic = true` is the same as kind kStatic; giving isStatic = true
+  // with another kind is an error ("kind"). When unset: kStatic if isStatic, else kDynamic.
   bool isStatic = false;
+  std::optional<RBodyKind> kind;
   std::optional<RScalar> mass;  // kg; when unset, density * volume
   RScalar density = 1;          // kg/m^3, used when mass is unset
   RVec3 position_W = RVec3::Zero();           // origin of S in the world, m (|x_i| <= 1e15)
@@ -80,6 +101,15 @@ struct RBodyDef {
   RScalar restitution = RScalar(0.5);         // coefficient of restitution, [0, 1]
   RScalar friction = RScalar(0.5);            // Coulomb coefficient, >= 0
   bool responds = true;  // false: collisions are reported, not resolved (missiles, sensors)
+  // Drag rates c, 1/s, finite and >= 0 ("linear_damping", "angular_damping"): with no other
+  // force or torque a dynamic body's speed decays exactly as v0 e^(-c t) and its angular
+  // velocity (world frame) as w0 e^(-c t). 0: no drag, and no arithmetic.
+  RScalar linearDamping = 0;
+  RScalar angularDamping = 0;
+  // Multiplies the world's gravity for this body, finite ("gravity_scale"); 1: the world's.
+  RScalar gravityScale = 1;
+  // World axes the body can neither move along nor turn about (see RBodyLocks).
+  RBodyLocks locks;
   // Game-chosen id, used by ignore lists (a scene uses the body's index in its list).
   std::uint32_t id = 0;
   // Ids of bodies this one never collides with (a missile and its launcher).
@@ -109,6 +139,18 @@ class RRigidBody {
   // The prepared shape, shared: a body made from it (RBodyDef::prepared) builds no hull.
   const std::shared_ptr<const RPreparedShape>& PreparedShape() const { return m_prepared; }
   bool IsStatic() const { return m_isStatic; }
+  bool IsKinematic() const { return m_isKinematic; }
+  // kDynamic, kStatic or kKinematic; a dynamic body defined with all six axes locked is
+  // kinematic.
+  RBodyKind Kind() const {
+    return m_isStatic ? RBodyKind::kStatic : m_isKinematic ? RBodyKind::kKinematic : RBodyKind::kDynamic;
+  }
+  // Drag rates, 1/s, and the gravity scale (see RBodyDef). Dynamic bodies only: a
+  // kinematic body moves by its velocities alone.
+  RScalar LinearDamping() const { return m_linearDamping; }
+  RScalar AngularDamping() const { return m_angularDamping; }
+  RScalar GravityScale() const { return m_gravityScale; }
+  const RBodyLocks& Locks() const { return m_locks; }
   bool Responds() const { return m_responds; }
   RScalar Restitution() const { return m_restitution; }
   RScalar Friction() const { return m_friction; }
@@ -130,11 +172,13 @@ class RRigidBody {
   std::uintptr_t UserData() const { return m_userData; }
   void SetUserData(std::uintptr_t value) { m_userData = value; }
 
-  // Mass, kg (0 for a static body), and its inverse, 1/kg (0 for a static body).
+  // Mass, kg (0 for a static or kinematic body), and its inverse, 1/kg (0 for a static or
+  // kinematic body). A body with locked axes keeps its mass; the solver zeroes its inverse
+  // along the locked axes.
   RScalar Mass() const { return m_mass; }
   RScalar InvMass() const { return m_invMass; }
-  // Principal moments about the centre of mass, body frame, kg m^2 (0 when static), and
-  // their inverses, 1/(kg m^2) (0 when static: never infinity arithmetic).
+  // Principal moments about the centre of mass, body frame, kg m^2 (0 when static or
+  // kinematic), and their inverses, 1/(kg m^2) (0 then: never infinity arithmetic).
   const RVec3& Inertia_B() const { return m_I_B; }
   const RVec3& InvInertia_B() const { return m_invI_B; }
   RInertiaSymmetry Symmetry() const { return m_rotation.Symmetry(); }
@@ -147,7 +191,9 @@ class RRigidBody {
   const RQuat& Orientation_WB() const { return m_q_WB; }
   const RVec3& Velocity_W() const { return m_v_W; }
   const RVec3& AngularVelocity_B() const { return m_w_B; }
-  RVec3 AngularVelocity_W() const { return m_q_WB * m_w_B; }
+  // A kinematic body, or one with angular locks, keeps its angular velocity in the world
+  // frame (exactly as set: a turntable's axis does not drift by rounding); others in B.
+  RVec3 AngularVelocity_W() const { return m_worldSpin ? m_w_W : RVec3(m_q_WB * m_w_B); }
   // Angular momentum about the centre of mass, world frame, kg m^2/s.
   RVec3 AngularMomentum_W() const { return m_q_WB * m_I_B.cwiseProduct(m_w_B); }
   // Kinetic energy, J: translational and rotational.
@@ -184,17 +230,27 @@ class RRigidBody {
   // How many times the world form has been computed (for tests and profiling).
   std::uint64_t WorldFormComputations() const { return m_worldFormComputations; }
 
-  // Setters for game code between steps. Velocities are ignored on static bodies. Each
+  // Setters for game code between steps. Velocities are ignored on static bodies; on a
+  // kinematic body they are its motion; components along locked axes are set to 0. Each
   // wakes the body, and with it its island (RWorldSettings::RShortcuts::sleeping); moving a
-  // static body wakes every sleeping body. Invalid values are refused at the door: a
+  // static or kinematic body with SetShapePose wakes every sleeping body (a kinematic body
+  // moved by its velocity wakes only what it touches). A body with angular locks or a
+  // kinematic one keeps its world angular velocity through SetShapePose; others keep their
+  // body-frame one. Invalid values are refused at the door: a
   // non-finite velocity or quaternion, a quaternion of zero length (q_WS is normalised), or
   // a position not finite or beyond 1e15 m of the origin, throws RBodyError naming the
   // argument and leaves the body as it was.
   void SetShapePose(const RVec3& position_W, const RQuat& q_WS);
   void SetVelocity_W(const RVec3& v_W);
   void SetAngularVelocity_W(const RVec3& w_W);
+  // Drag rates (1/s, finite, >= 0) and gravity scale (finite); RBodyError names the field
+  // ("linear_damping", "angular_damping", "gravity_scale"). Each wakes the body.
+  void SetLinearDamping(RScalar c);
+  void SetAngularDamping(RScalar c);
+  void SetGravityScale(RScalar s);
 
-  // Accumulators, cleared by each step after use. Forces and torques act over the whole
+  // Accumulators, cleared by each step after use (a kinematic or static body ignores them).
+  // Forces and torques act over the whole
   // next step (N, N m, world frame); impulses act at its start (N s, N m s, world frame).
   // A non-zero one wakes the body and its island. A non-finite argument, or one that makes
   // the accumulated sum overflow, throws RBodyError and changes nothing.
@@ -226,7 +282,19 @@ class RRigidBody {
   std::uintptr_t m_userData = 0;
   std::shared_ptr<const RPreparedShape> m_prepared;  // never null
   bool m_isStatic = false;
+  bool m_isKinematic = false;
   bool m_responds = true;
+  RScalar m_linearDamping = 0, m_angularDamping = 0;  // 1/s
+  RScalar m_gravityScale = 1;
+  RBodyLocks m_locks;
+  // Locks as the motion uses them: whether any linear (angular) axis is locked, and the
+  // masks, 1 on a free world axis and 0 on a locked one (so a masked unlocked value is the
+  // value bit for bit; unlocked bodies skip the multiply anyway).
+  bool m_linearLocked = false, m_angularLocked = false;
+  RVec3 m_linearMask = RVec3::Ones(), m_angularMask = RVec3::Ones();
+  // Kinematic or angular locks: the world angular velocity m_w_W is the state, and m_w_B is
+  // kept equal to it turned into the body frame.
+  bool m_worldSpin = false;
   RScalar m_restitution = 0;
   RScalar m_friction = 0;
 
@@ -239,12 +307,12 @@ class RRigidBody {
   RQuat m_q_WB = RQuat::Identity();
   RVec3 m_v_W = RVec3::Zero();
   RVec3 m_w_B = RVec3::Zero();
+  RVec3 m_w_W = RVec3::Zero();  // world, rad/s; the state when m_worldSpin
 
   RVec3 m_force_W = RVec3::Zero();
   RVec3 m_torque_W = RVec3::Zero();
   RVec3 m_linearImpulse_W = RVec3::Zero();
   RVec3 m_angularImpulse_W = RVec3::Zero();
-  RFreeRotation m_rotation;
 
   // Sleeping: whether the body sleeps, how long (s) it has been slower than the sleep
   // speed, and the island it fell asleep with (the integrator's index of the island's
@@ -259,6 +327,9 @@ class RRigidBody {
   // means island ids no longer mean what they did: everything wakes.
   std::uint64_t m_slotWorld = 0;
   std::uint32_t m_slot = kNoIsland;
+  // Static or kinematic: not moved by anything the solver or the game's forces do, in no
+  // island; moving it (SetShapePose), adding or removing it is what a static body's is.
+  bool Immovable() const { return m_isStatic || m_isKinematic; }
   void WakeIfNonZero(const RVec3& x) {
     if (!x.isZero(0)) Wake();
   }
@@ -270,6 +341,10 @@ class RRigidBody {
   // vertices (the broad phase's boxes). A sphere's is its bounding cube.
   RVec3 m_boxCenter_B = RVec3::Zero(), m_boxHalf_B = RVec3::Zero();
   void ComputeWorldForm(std::uint64_t stamp) const;
+  // Last, apart from the state every per-body pass of a step reads (above, a few cache
+  // lines): the rotation's cached elliptic constants (only the motion reads them) and the
+  // world form (only pairs near each other).
+  RFreeRotation m_rotation;
   mutable RWorldForm m_worldForm;
   mutable std::uint64_t m_worldFormComputations = 0;
 };
