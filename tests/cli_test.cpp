@@ -680,8 +680,9 @@ TEST_F(Cli, EventsAreWrittenAsBeginAndEndRows) {
     EXPECT_NEAR(std::stod(f[11]), expect[i].normalImpulse, 1e-12 * 40) << i;
     EXPECT_EQ(std::stod(f[12]), 0) << i;
   }
-  // The missile enters the sensor at its face, x = 9.95.
+  // The missile enters the sensor at its face, x = 9.95; the ball meets the wall at x = -0.5.
   EXPECT_NEAR(std::stod(rows[1][5]), 9.95, 1e-9);
+  EXPECT_NEAR(std::stod(rows[3][5]), -0.5, 1e-9);
   // Events observe: the same trajectory and hash without them.
   const Result plain = Run(Quote(Path("e.json")) + " --out " + Quote(Path("t2.csv")));
   EXPECT_EQ(plain.LastErrLine().substr(plain.LastErrLine().find("hash=")),

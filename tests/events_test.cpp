@@ -122,6 +122,7 @@ TEST(ContactEvents, DroppedBallBeginsAtTheStepOfFirstTouchAndPersistsWhileRestin
   EXPECT_EQ(seen.front().type, RContactEventType::kBegin);
   EXPECT_EQ(seen.front().a.index, 0u);
   EXPECT_EQ(seen.front().b.index, 1u);
+  EXPECT_NEAR((seen.front().event.point_W - RVec3::Zero()).norm(), 0, 1e-9);  // under the ball
   // Resting: one persist each step from 29 to the end, and no end.
   ASSERT_EQ(seen.size(), 120u - 27u) << Describe(seen);
   for (std::size_t k = 1; k < seen.size(); ++k) {
@@ -165,6 +166,9 @@ TEST(ContactEvents, ElasticBallBeginsAndEndsAtTheClosedFormBounceSteps) {
     EXPECT_EQ(end.type, RContactEventType::kEnd);
     EXPECT_NEAR(begin.event.normalImpulse, 2 * m * std::sqrt(2 * kG * h), m * kG * kDt) << "bounce " << n;
     EXPECT_EQ(begin.event.normalImpulse, end.event.normalImpulse);
+    // Where the ball met the ground: its top face, under the ball, at the moment of impact.
+    EXPECT_NEAR((begin.event.point_W - RVec3::Zero()).norm(), 0, 1e-9) << "bounce " << n;
+    EXPECT_NEAR((begin.event.normal_W - RVec3::UnitY()).norm(), 0, 1e-12) << "bounce " << n;
     worst = std::max(worst, std::abs(begin.event.normalImpulse - 2 * m * std::sqrt(2 * kG * h)) / (m * kG * kDt));
   }
   std::printf("elastic ball: bounces in steps 28 83 138 193, worst |J - 2 m v| = %.2g m g dt\n", worst);
@@ -187,6 +191,7 @@ TEST(ContactEvents, BallBouncingInsideOneStepBeginsAndEndsInThatStep) {
     EXPECT_EQ(seen[k].b, ball);
     EXPECT_NEAR(seen[k].event.normalImpulse, 2 * 1.5 * 10, 1e-12 * 30);
     EXPECT_NEAR((seen[k].event.normal_W - RVec3(-1, 0, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR((seen[k].event.point_W - RVec3::Zero()).norm(), 0, 1e-9);  // the wall's face
   }
   EXPECT_EQ(seen[0].type, RContactEventType::kBegin);
   EXPECT_EQ(seen[1].type, RContactEventType::kEnd);
@@ -468,4 +473,40 @@ TEST(ContactEvents, SteadyStepsAllocateNothing) {
       EXPECT_GT(begins, 5u);
     }
   }
+}
+
+// Kinematic sensors (they do not respond), still until a box has fallen asleep on its
+// pedestal, then sweeping at 600 m/s (10 m a step) through a static crate and through the
+// box: both pairs begin and end in that step, where each plate meets each face, and the box
+// sleeps on (a sensor wakes nothing).
+TEST(ContactEvents, KinematicSensorsSweepThroughStaticAndSleepingBodiesWithoutWakingThem) {
+  RBodies bodies;
+  const RBodyHandle crate = bodies.Add(BoxDef(RVec3::Constant(0.5)).Static());
+  bodies.Add(BoxDef(RVec3(0.5, 0.25, 0.5)).Static().At(RVec3(0, 3, 0)));
+  const RBodyHandle box = bodies.Add(UnitBoxDef(RVec3(0, 3.75, 0)));
+  const auto sensor = [&](RScalar y) {
+    BodyDef d = BoxDef(RVec3(0.05, 0.3, 0.3)).Kinematic().At(RVec3(-3.37, y, 0));
+    d.responds = false;
+    return bodies.Add(d);
+  };
+  const RBodyHandle low = sensor(0), high = sensor(3.8);
+  RIntegrator integrator(EarthGravity());
+  for (int s = 0; s < 120 && !bodies[box].IsSleeping(); ++s) integrator.Update(bodies, kDt);
+  ASSERT_TRUE(bodies[box].IsSleeping());
+  bodies[low].SetVelocity_W(RVec3(600, 0, 0));
+  bodies[high].SetVelocity_W(RVec3(600, 0, 0));
+  std::uint64_t step = 0;
+  const std::vector<Seen> seen = StepAndCollect(integrator, bodies, 3, step);
+  ASSERT_EQ(seen.size(), 4u) << Describe(seen);
+  const RBodyHandle touched[4] = {crate, crate, box, box}, sensors[4] = {low, low, high, high};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(seen[k].step, 1u);
+    EXPECT_EQ(seen[k].type, k % 2 == 0 ? RContactEventType::kBegin : RContactEventType::kEnd);
+    EXPECT_EQ(seen[k].a, touched[k]);
+    EXPECT_EQ(seen[k].b, sensors[k]);
+    EXPECT_NEAR(seen[k].event.point_W.x(), -0.5, 1e-9);
+    EXPECT_NEAR((seen[k].event.normal_W - RVec3(-1, 0, 0)).norm(), 0, 1e-9);
+  }
+  EXPECT_TRUE(bodies[box].IsSleeping());
+  EXPECT_EQ(bodies[box].Velocity_W(), RVec3::Zero());
 }

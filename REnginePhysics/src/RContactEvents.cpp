@@ -71,9 +71,12 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   m_eventContacts.resize(count);
   for (REventContact& e : m_eventContacts) e.flags = 0;
   // An impact row pushes only once ImpactGeometry has brought its bodies to touching (or to
-  // within the slop, where the solver treats them as touching) at its moment in the step.
+  // within the slop, where the solver treats them as touching) at its moment in the step;
+  // where and along which normal is the pair's point of touch.
   for (const RImpactRow& r : m_impacts) {
-    if (r.lambdaN > 0) m_eventContacts[r.contact].flags |= kImpact;
+    if (!(r.lambdaN > 0)) continue;
+    REventContact& e = m_eventContacts[r.contact];
+    e.flags |= kImpact, e.point_W = r.point_W, e.normal_W = r.normal_W;
   }
 
   // Each contact alone (tasks over contacts, each writing its own entry).
@@ -84,7 +87,9 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
       const RRigidBody& A = bodies[c.a];
       const RRigidBody& B = bodies[c.b];
       const RContactManifold& m = c.manifold;
-      if (m.pointCount > 0) {
+      if (e.flags & kImpact) {
+        // Where the impact phase found them touching (above).
+      } else if (m.pointCount > 0) {
         int deepest = 0;
         for (int k = 1; k < m.pointCount; ++k) {
           if (m.points[k].separation < m.points[deepest].separation) deepest = k;

@@ -70,7 +70,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     r.friction = mu;
     r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
     r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
-    r.frictionImpulse.setZero();
+    r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
     r.miss = false;
     m_impacts[blockIndex] = r;
   }

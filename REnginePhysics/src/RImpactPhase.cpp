@@ -139,6 +139,7 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
       const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
       r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
       r.frictionImpulse += d1 * dir[1].d + d2 * dir[2].d;
+      r.point_W = bodies[r.a].m_x_W + sa.moved + rA, r.normal_W = dir[0].d;
     }
     if (!any) break;
   }

@@ -263,6 +263,9 @@ class RWorldStep {
     // lever arms depend on when within the step each application happened.
     RVec3 impulse, angularA, angularB;
     RVec3 frictionImpulse;     // the tangential part of impulse (contact events), N s
+    // Where and along which normal (A to B) the last application acted, world (contact
+    // events: where a pair that met within the step touched).
+    RVec3 point_W, normal_W;
     bool miss;                 // found, along the motion, not to meet within the step
   };
   // Working state of a body during the solve: velocities that include every pending change.

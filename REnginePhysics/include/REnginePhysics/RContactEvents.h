@@ -43,13 +43,14 @@ struct RContactEvent {
   // The two bodies; handleA has the lower slot (as RContact's). In a plain vector of bodies
   // (RIntegrator::Update's other overload) a handle is {index, 0}.
   RBodyHandle handleA, handleB;
-  // The deepest point of the pair's contact manifold and its normal, from A to B (unit),
-  // world frame, m. The manifold is the one the pair sweep found at the start of the step:
-  // for a pair that came into touch within the step its points are speculative (midway
-  // across the gap that closed). For a body that does not respond crossing or entering
-  // another, the point where the swept shapes first touch and the normal there. An end
-  // without a contact this step (a body removed, or taken beyond the margin by game code)
-  // repeats the last ones reported.
+  // Where the two touch and the normal there, from A to B (unit), world frame, m: for a
+  // pair that bounced this step, where the impact phase met it (the centre of the leading
+  // points at the moment of impact); for a body that does not respond crossing or entering
+  // another, where the swept shapes first touch; otherwise the deepest point of the
+  // manifold the pair sweep found at the start of the step (for a pair that closed a gap
+  // without an impact, a slow approach, midway across that gap). An end without a contact
+  // this step (a body removed, or taken beyond the margin by game code) repeats the last
+  // ones reported.
   RVec3 point_W = RVec3::Zero();
   RVec3 normal_W = RVec3::UnitX();
   // The step's total normal impulse between the two (N s, >= 0): every manifold point's, at
