@@ -336,6 +336,7 @@ int Run(int argc, char** argv) {
   writer.Rows(0, scene.dt, *world);
   if (rayWriter) rayWriter->Answer(0, *world);
   scene.settings.threads = threads;
+  scene.settings.contactEvents = eventWriter.has_value();  // their cost only when asked for
   RIntegrator integrator(scene.settings);
   Progress progress(!quiet && StderrIsTerminal(), scene.steps);
   Clock::duration stepping{};

@@ -7,6 +7,7 @@
 //                                  bumped again after step 3, for queries between steps)
 //     2. CollisionDetection        pairs -> contacts -> FindImpulses -> accumulated impulses
 //     3. UpdateObjects             apply impulses; integrate forces and motion
+//     4. contact events            begin, persist, end of touching pairs (Events())
 //
 // Motion. Linear: kick-drift-kick with the step's constant acceleration a = F/m + g, which
 // is exact for constant a (x0 + v0 t + a t^2/2 to rounding). Angular: half the torque's
@@ -246,7 +247,7 @@ class RIntegrator {
   void SetJobSystem(RJobSystem* jobs);
 
  private:
-  // The step, as the design reads: stamp, CollisionDetection, UpdateObjects.
+  // The step, as the design reads: stamp, CollisionDetection, UpdateObjects; then the events.
   void Step(const RStepBodies& bodies, RScalar dt);
   // Pairs -> CheckCollision -> FindImpulses: impulses accumulated on the bodies.
   void CollisionDetection(const RStepBodies& bodies, RScalar dt);
