@@ -133,10 +133,10 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
       bool during = start || end || (e.flags & kImpact) != 0;
       // A pair the solver leaves alone (a body that does not respond) moves through: B swept
       // against A along the step's relative displacement, orientations as at the start,
-      // decides whether it touched, and where it first did. Only for a pair that closes
-      // within the step (a finite time of impact) or ends touching: a pair whose deepest
-      // point does not close cannot meet along a straight relative path.
-      if (!c.resolved && !start && (std::isfinite(c.timeOfImpact) || end)) {
+      // decides whether it touched, and where it first did. Not the time of impact: its
+      // linear prediction at one point (spin included) can miss a body that translates into
+      // another. A pair moving apart costs one distance query (ShapeCastShape stops there).
+      if (!c.resolved && !start) {
         const RVec3 movedA_W = A.m_x_W - pa.x_W;
         const RVec3 D_A = q_AW0 * (B.m_x_W - pb.x_W - movedA_W);
         RShapeCastResult cast;
