@@ -104,8 +104,9 @@ struct RWorldSettings {
   static constexpr int kMaxThreads = 1024;
   // Contact events (RIntegrator::Events, RContactEvents.h): begin, persist and end of every
   // touching pair, found after the motion. Off: Events() stays empty and the step skips
-  // their work (a pass over the contacts, and the narrow phase again for pairs that moved
-  // by more than the touching band). They only observe: the motion is the same either way.
+  // their work (a pass over the contacts: the narrow phase again at the end poses where the
+  // motion leaves touching open, a shape cast for pairs the solver does not resolve), 1 to
+  // 2% of a step in the shared scenes. They only observe: the motion is the same either way.
   bool contactEvents = true;
 };
 
