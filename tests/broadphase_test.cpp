@@ -264,3 +264,26 @@ TEST(BoundsTree, FindsEveryOverlapOnceAgainstBruteForce) {
     EXPECT_EQ(refitted, expected) << n << " boxes, refitted";
   }
 }
+
+// A body whose reach overflows (1.5e308 m/s over a step of 1 s) meets every other in the
+// all-pairs loop (its sphere test gives infinity); the broad phase's boxes are infinite
+// then, not empty, and find the same pairs.
+TEST(BroadPhase, ARunawayBodyMeetsEveryBodyAsInTheLoop) {
+  std::vector<RBodyDef> defs;
+  for (int i = 0; i < 10; ++i) defs.push_back(SphereDef(0.5).At(RVec3(3.0 * i, 0, 0)).Mass(1).Named("s" + std::to_string(i)));
+  BodyDef fast = SphereDef(0.5).At(RVec3(0, 5, 0)).Mass(1).Named("fast");
+  fast.velocity_W = RVec3(0, 0, 1.5e308);
+  defs.push_back(fast);
+  std::uint64_t narrow[2] = {0, 0};
+  for (int bp = 0; bp < 2; ++bp) {
+    RWorldSettings s;
+    s.shortcuts.broadPhase = s.shortcuts.broadPhaseAlways = bp == 1;
+    RIntegrator integrator(s);
+    std::vector<RRigidBody> bodies;
+    for (const RBodyDef& d : defs) bodies.emplace_back(d);
+    integrator.Update(bodies, 1.0);
+    narrow[bp] = integrator.PairStats().narrowPhase;
+  }
+  EXPECT_EQ(narrow[0], 10u) << "the loop pairs the runaway with every sphere";
+  EXPECT_EQ(narrow[1], narrow[0]);
+}

@@ -259,3 +259,25 @@ TEST(Shortcuts, ContactReuseLeavesASlidingBoxExact) {
   }
   EXPECT_GT(a[1].Velocity_W().x(), 0.1) << "still sliding";
 }
+
+// A body the game replaces in its place (same index, same pose, another shape) is a new
+// body to the contact memory: the taller crate is pushed out of the ground as it would be
+// without reuse, not held by the old crate's manifold.
+TEST(Shortcuts, ContactReuseForgetsABodyReplacedInPlace) {
+  for (bool reuse : {true, false}) {
+    RWorldSettings s = EarthGravity();
+    s.shortcuts.sleeping = false;
+    s.shortcuts.contactReuse = reuse;
+    RIntegrator integrator(s);
+    std::vector<RRigidBody> bodies{RRigidBody(GroundDef()),
+                                   RRigidBody(BoxDef(RVec3::Constant(0.5)).At(RVec3(0, 0.5, 0)).Mass(1))};
+    for (int k = 0; k < 120; ++k) integrator.Update(bodies, kDt);
+    if (reuse) {
+      EXPECT_EQ(integrator.PairStats().reusedManifolds, 1u) << "the crate rests";
+    }
+    const RVec3 x = bodies[1].Position_W();
+    bodies[1] = RRigidBody(BoxDef(RVec3(0.5, 0.6, 0.5)).At(x).Mass(1));  // 0.1 m into the ground
+    for (int k = 0; k < 120; ++k) integrator.Update(bodies, kDt);
+    EXPECT_NEAR(bodies[1].Position_W().y(), 0.6, 1e-3) << "reuse " << reuse;
+  }
+}

@@ -462,3 +462,15 @@ TEST(Rays, BadRaysAreRefusedNamingTheArgument) {
   EXPECT_NEAR(queries.CastRay(bodies, {RVec3(-5, -5, 0), RVec3(1e300, 1e300, 0), 10})->distance,
               5 * std::sqrt(RScalar(2)) - 1, 1e-14);
 }
+
+// A body the game assigns over another in its place (same handle, same pose, another
+// shape) is seen with its new shape: the queries keep no pointer to the old one.
+TEST(Rays, ABodyReplacedInPlaceIsSeenWithItsNewShape) {
+  RBodies bodies;
+  const RBodyHandle h = bodies.Add(BoxDef(RVec3::Constant(0.5)).Static());
+  RQueries queries;
+  const RRay ray{RVec3(-10, 0, 0), RVec3::UnitX(), 100};
+  EXPECT_EQ(queries.CastRay(bodies, ray)->distance, 9.5);
+  bodies[h] = RRigidBody(BoxDef(RVec3::Constant(2)).Static());  // the old shape is freed
+  EXPECT_EQ(queries.CastRay(bodies, ray)->distance, 8);
+}

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace REngine {
@@ -139,7 +140,9 @@ void RBoundsTree::Ray(const RScalar origin[3], const RScalar dir[3], RScalar tMa
   RScalar inv[3], oNear[3], oFar[3];
   int nearSide[3], farSide[3];
   for (int a = 0; a < 3; ++a) {
-    inv[a] = 1 / dir[a];
+    // 1/dir as IEEE division gives it, the infinity of a zero written out (the sanitizers
+    // treat a division by zero as an error).
+    inv[a] = dir[a] != 0 ? 1 / dir[a] : std::copysign(std::numeric_limits<RScalar>::infinity(), dir[a]);
     const bool neg = std::signbit(inv[a]);
     nearSide[a] = neg ? 3 + a : a, farSide[a] = neg ? a : 3 + a;
     oNear[a] = neg ? origin[a] - grow[a] : origin[a] + grow[a];

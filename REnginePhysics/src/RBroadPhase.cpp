@@ -46,9 +46,11 @@ RBoundsTree::RBox RWorldStep::SweepBox(const RRigidBody& b, std::size_t i) const
 
 namespace {
 
-bool Finite(const RBoundsTree::RBox& b) {
-  return std::isfinite(b.lo[0]) && std::isfinite(b.lo[1]) && std::isfinite(b.lo[2]) &&
-         std::isfinite(b.hi[0]) && std::isfinite(b.hi[1]) && std::isfinite(b.hi[2]);
+// Whether a box is a box: infinite bounds are (a body whose reach overflowed meets every
+// other, as in the all-pairs loop, whose sphere test then passes every pair), NaN is not.
+bool Valid(const RBoundsTree::RBox& b) {
+  return !(std::isnan(b.lo[0]) || std::isnan(b.lo[1]) || std::isnan(b.lo[2]) ||
+           std::isnan(b.hi[0]) || std::isnan(b.hi[1]) || std::isnan(b.hi[2]));
 }
 
 bool Contains(const RBoundsTree::RBox& outer, const RBoundsTree::RBox& inner) {
@@ -61,8 +63,8 @@ bool Overlap(const RBoundsTree::RBox& a, const RBoundsTree::RBox& b) {
          a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
 }
 
-// A box that overlaps nothing: the fat box of a body whose sweep box is not finite (its
-// reach overflowed, or game code set a NaN), which the all-pairs loop pairs with nothing.
+// A box that overlaps nothing: the fat box of a body whose sweep box is not a number (game
+// code set a NaN), which the all-pairs loop pairs with nothing.
 constexpr RBoundsTree::RBox kEmpty = {
     {std::numeric_limits<RScalar>::infinity(), std::numeric_limits<RScalar>::infinity(),
      std::numeric_limits<RScalar>::infinity()},
@@ -75,7 +77,7 @@ bool IsEmpty(const RBoundsTree::RBox& b) { return std::memcmp(&b, &kEmpty, sizeo
 
 RBoundsTree::RBox RWorldStep::FatBox(const RRigidBody& b, std::size_t i) const {
   const RBoundsTree::RBox& box = m_sweepBoxes[i];
-  if (!Finite(box)) return kEmpty;
+  if (!Valid(box)) return kEmpty;
   // A quarter of the reach, plus four steps of its motion: a resting body never leaves
   // its fat box, a fast one leaves it every few steps rather than every step. Only the
   // speed of the search depends on it.
@@ -83,7 +85,9 @@ RBoundsTree::RBox RWorldStep::FatBox(const RRigidBody& b, std::size_t i) const {
   const RScalar margin = RScalar(0.25) * m_reach[i] + 4 * motion;
   RBoundsTree::RBox fat = box;
   for (int a = 0; a < 3; ++a) fat.lo[a] -= margin, fat.hi[a] += margin;
-  return Finite(fat) ? fat : kEmpty;
+  // Infinite sums stay infinite (a finite bound and an infinite margin give an infinite
+  // bound, never a NaN: a bound is never infinite the other way).
+  return Valid(fat) ? fat : box;
 }
 
 void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
@@ -99,7 +103,7 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
     for (std::size_t i = 0; i < n; ++i) {
       const RBoundsTree::RBox& box = m_sweepBoxes[i];
       const RBoundsTree::RBox& fat = m_fatBoxes[i];
-      if (Finite(box) ? !Contains(fat, box) : !IsEmpty(fat)) m_moved.push_back(static_cast<std::uint32_t>(i));
+      if (Valid(box) ? !Contains(fat, box) : !IsEmpty(fat)) m_moved.push_back(static_cast<std::uint32_t>(i));
     }
   }
   // Many moved (bodies added or removed shift the indices): a new tree and list, O(n log n
@@ -133,13 +137,16 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
     m_fatScratch.insert(m_fatScratch.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
   }
   std::sort(m_fatScratch.begin(), m_fatScratch.end());
-  // The unmoved pairs, kept in order, merged with the new ones.
+  // The unmoved pairs, kept in order, merged with the new ones (std::merge into a list kept
+  // between steps: inplace_merge would allocate its buffer every time).
   const std::size_t fresh = m_fatScratch.size();
   for (const auto& pair : m_fatPairs) {
     if (!m_movedMark[pair.first] && !m_movedMark[pair.second]) m_fatScratch.push_back(pair);
   }
-  std::inplace_merge(m_fatScratch.begin(), m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh), m_fatScratch.end());
-  std::swap(m_fatPairs, m_fatScratch);
+  m_fatMerged.resize(m_fatScratch.size());
+  std::merge(m_fatScratch.begin(), m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh),
+             m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh), m_fatScratch.end(), m_fatMerged.begin());
+  std::swap(m_fatPairs, m_fatMerged);
 }
 
 // Every body's fat box anew, its tree built, and every pair of overlapping fat boxes

@@ -57,7 +57,9 @@ RIntegrator& RIntegrator::operator=(const RIntegrator& other) {
 RIntegrator::RIntegrator(RIntegrator&&) noexcept = default;
 RIntegrator& RIntegrator::operator=(RIntegrator&&) noexcept = default;
 
-void RIntegrator::ForgetContacts() { m_w->m_warm.clear(), m_w->m_wakeAll = true; }
+void RIntegrator::ForgetContacts() {
+  m_w->m_warm.clear(), m_w->m_manifolds.clear(), m_w->m_wakeAll = true;
+}
 const RWorldSettings& RIntegrator::Settings() const { return m_w->m_settings; }
 RWorldSettings& RIntegrator::Settings() { return m_w->m_settings; }
 const RStepProfile& RIntegrator::Profile() const { return m_w->m_profile; }

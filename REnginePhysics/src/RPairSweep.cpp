@@ -165,8 +165,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         m_moveW[i] = MidStepSpin_W(b, R, InvInertia_W(b, R), halfDt).norm();
       } else {
         m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
-        const RVec3 kick_B = b.m_q_WB.conjugate() * StartAngularKick_W(b, halfDt);
-        m_moveW[i] = (b.m_w_B + b.m_invI_B.cwiseProduct(kick_B)).norm();
+        // Most bodies have no angular kick (debris): turning a zero into the body frame
+        // and adding it would give w_B to the bit.
+        const RVec3 kick_W = StartAngularKick_W(b, halfDt);
+        m_moveW[i] = kick_W.isZero(0) ? b.m_w_B.norm()
+                                      : (b.m_w_B + b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick_W)).norm();
       }
       m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
     }
@@ -298,6 +301,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         const RScalar moved = (X.t_AB - mem.X.t_AB).norm() + (X.R_AB - mem.X.R_AB).norm() * size;
         const RScalar within = margin.metres + RCollisionSolver::kTouchingTolerance * size;
         if (mem.handleA == bodies.handles[ia] && mem.handleB == bodies.handles[ib] &&
+            mem.serialA == A.Serial() && mem.serialB == B.Serial() &&
             moved <= RCollisionSolver::kTouchingTolerance * size && mem.keptMax + moved <= within &&
             mem.droppedMin - moved > within) {
           kept = &mem;
@@ -315,6 +319,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
           RManifoldMemory mem;
           mem.i = static_cast<std::uint32_t>(i), mem.j = static_cast<std::uint32_t>(j);
           mem.handleA = bodies.handles[ia], mem.handleB = bodies.handles[ib];
+          mem.serialA = A.Serial(), mem.serialB = B.Serial();
           mem.X = X;
           mem.manifold_A = contact.manifold;
           mem.keptMax = contact.manifold.query.separation;

@@ -44,6 +44,7 @@ void RQueryState::Sync(const RBodies& bodies, bool useTree) {
         const RRigidBody& b = bodies.At(i);
         proxies[i].handle = bodies.HandleAt(i);
         proxies[i].shape = ShapeOf(b);
+        proxies[i].serial = b.Serial();
         local[i] = LocalBoxOf(proxies[i].shape);
         ids[i] = static_cast<std::uint32_t>(i);
       }
@@ -51,6 +52,11 @@ void RQueryState::Sync(const RBodies& bodies, bool useTree) {
     for (std::size_t i = 0; i < n; ++i) {
       const RRigidBody& b = bodies.At(i);
       RQueryProxy& p = proxies[i];
+      // A body the game assigned over another in its place (an edit) may have another shape.
+      if (p.serial != b.Serial()) {
+        p.shape = ShapeOf(b), p.serial = b.Serial();
+        local[i] = LocalBoxOf(p.shape);
+      }
       p.R_WB = b.Orientation_WB().toRotationMatrix();
       p.x_W = b.Position_W();
       p.category = b.Category();

@@ -19,6 +19,7 @@ struct RQueryProxy {
   RConvexShape shape;              // body frame
   RBodyHandle handle;
   std::uint32_t category = 0;
+  std::uint64_t serial = 0;  // the body's RRigidBody::Serial when `shape` was taken
 };
 
 // A box about a body's centre of mass that holds its shape, body frame, m.

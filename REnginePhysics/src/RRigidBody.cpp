@@ -31,6 +31,18 @@ bool InRange(const RVec3& p) { return AllFinite(p) && p.cwiseAbs().maxCoeff() <=
 
 std::uint64_t BodyEditCount() { return s_bodyEdits.load(std::memory_order_relaxed); }
 
+namespace {
+std::atomic<std::uint64_t> s_serials{0};
+}  // namespace
+
+RRigidBody::RSerial::RSerial() : value(s_serials.fetch_add(1, std::memory_order_relaxed) + 1) {}
+
+RRigidBody::RSerial& RRigidBody::RSerial::operator=(const RSerial& other) {
+  value = other.value;
+  CountEdit();
+  return *this;
+}
+
 std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
   auto prepared = std::make_shared<RPreparedShape>();
   RPreparedShape& p = *prepared;

@@ -138,7 +138,7 @@ class RWorldStep {
   std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
   std::vector<RBoundsTree::RBox> m_fatBoxes;    // per body
   RBoundsTree m_fatTree;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_fatPairs, m_fatScratch;  // (i < j), sorted
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_fatPairs, m_fatScratch, m_fatMerged;  // (i < j), sorted
   std::vector<std::uint32_t> m_treeIds, m_moved;
   std::vector<char> m_movedMark, m_passive;  // per body
   bool m_fatValid = false;  // the list matches the fat boxes (false after a sweep without it)
@@ -150,6 +150,7 @@ class RWorldStep {
   struct RManifoldMemory {
     std::uint32_t i = 0, j = 0;      // dense indices, the sweep's order
     RBodyHandle handleA, handleB;    // identity (A: the lower slot)
+    std::uint64_t serialA = 0, serialB = 0;  // and which bodies (RRigidBody::Serial)
     RRelativePose X;                 // B's pose in A's frame when it was computed
     RContactManifold manifold_A;     // in A's frame
     RScalar keptMax = 0, droppedMin = 0;  // m

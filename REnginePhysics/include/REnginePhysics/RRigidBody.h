@@ -227,6 +227,9 @@ class RRigidBody {
     }
     return m_worldForm;
   }
+  // The body's construction (see m_serial): equal for a body and its copies, different for
+  // any other body constructed in this process.
+  std::uint64_t Serial() const { return m_serial.value; }
   // How many times the world form has been computed (for tests and profiling).
   std::uint64_t WorldFormComputations() const { return m_worldFormComputations; }
 
@@ -275,6 +278,18 @@ class RRigidBody {
   friend class RWorldStep;
   friend class RBodies;
 
+  // Which construction this body's shape and mass came from: a number drawn from a
+  // process-wide counter by every constructor, kept by copies, so that state kept about a
+  // body between steps (the contact memory of a pair, the queries' proxies) can tell a body
+  // the game replaced in its place (`bodies[k] = RRigidBody(def)`) from the one it knew.
+  // Assigning a body also counts as an edit (BodyEditCount): the queries look again.
+  struct RSerial {
+    std::uint64_t value = 0;
+    RSerial();
+    RSerial(const RSerial&) = default;
+    RSerial& operator=(const RSerial& other);
+  };
+  RSerial m_serial;
   std::string m_name;
   std::uint32_t m_id = 0;
   std::vector<std::uint32_t> m_ignore;  // sorted
@@ -349,8 +364,9 @@ class RRigidBody {
   mutable std::uint64_t m_worldFormComputations = 0;
 };
 
-// How many times game code has, anywhere in the process, moved a body or changed its filter
-// bits between steps (SetShapePose, SetCollisionFilter). Caches of bodies' poses outside the
+// How many times game code has, anywhere in the process, moved a body, changed its filter
+// bits or assigned one body over another between steps (SetShapePose, SetCollisionFilter,
+// operator=). Caches of bodies' poses outside the
 // step (RQueries' tree) compare it, with RBodies' stamps, to know they are current: a body
 // does not know its container, so the count is process-wide (a teleport in one world makes
 // another world's queries refresh once, which costs time, never an answer).
