@@ -96,7 +96,7 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) m_sweepBoxes[i] = SweepBox(bodies[i], i);
   });
-  // The bodies that left their fat boxes (or whose box stopped or started being finite).
+  // The bodies that left their fat boxes (or whose box stopped or started being a number).
   m_moved.clear();
   const bool rebuild = !m_fatValid || m_fatBoxes.size() != n || m_fatRefits >= kFatRefits;
   if (!rebuild) {
