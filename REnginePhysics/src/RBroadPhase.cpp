@@ -114,7 +114,7 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   }
   ++m_fatRefits;
   if (m_moved.empty()) return;
-  m_movedMark.assign(n, 0);
+  m_movedMark.resize(n, 0);  // all 0 between steps: cleared below after use
   for (std::uint32_t i : m_moved) m_fatBoxes[i] = FatBox(bodies[i], i), m_movedMark[i] = 1;
   m_fatTree.Refit(m_fatBoxes.data());
   // Each moved body's new partners, from the tree; a pair of two moved bodies is taken by
@@ -147,6 +147,7 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   std::merge(m_fatScratch.begin(), m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh),
              m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh), m_fatScratch.end(), m_fatMerged.begin());
   std::swap(m_fatPairs, m_fatMerged);
+  for (std::uint32_t i : m_moved) m_movedMark[i] = 0;
 }
 
 // Every body's fat box anew, its tree built, and every pair of overlapping fat boxes

@@ -66,17 +66,9 @@
 namespace REngine {
 
 // A query that cannot be answered: which argument ("ray.direction") and what is wrong.
-class RQueryError : public std::invalid_argument {
+class RQueryError : public RFieldError {
  public:
-  RQueryError(std::string field, std::string problem)
-      : std::invalid_argument(field + ": " + problem),
-        m_field(std::move(field)),
-        m_problem(std::move(problem)) {}
-  const std::string& Field() const { return m_field; }
-  const std::string& Problem() const { return m_problem; }
-
- private:
-  std::string m_field, m_problem;
+  using RFieldError::RFieldError;
 };
 
 // The game's veto on a body a query hits: return false to skip it. A plain function pointer

@@ -33,11 +33,11 @@ struct RWorldForm {
   RScalar sphereRadius = 0;
 };
 
-// A body definition that cannot make a body: which field (named as in the scene format,
-// e.g. "shape.radius") and what is wrong with it.
-class RBodyError : public std::invalid_argument {
+// Input refused at the door: which field or argument (named as the scene format or the API
+// names it) and what is wrong with it. The engine's errors of this kind derive from it.
+class RFieldError : public std::invalid_argument {
  public:
-  RBodyError(std::string field, std::string problem)
+  RFieldError(std::string field, std::string problem)
       : std::invalid_argument(field + ": " + problem),
         m_field(std::move(field)),
         m_problem(std::move(problem)) {}
@@ -46,6 +46,12 @@ class RBodyError : public std::invalid_argument {
 
  private:
   std::string m_field, m_problem;
+};
+
+// A body definition that cannot make a body: which field (e.g. "shape.radius") and why.
+class RBodyError : public RFieldError {
+ public:
+  using RFieldError::RFieldError;
 };
 
 // A collision shape prepared once and shared, immutable, by every body made from it: the
