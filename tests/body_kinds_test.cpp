@@ -379,6 +379,64 @@ TEST(Locks, RowsWithoutEffectiveMassStayFinite) {
   }
 }
 
+// A sphere locked along x and z (and about z) spins on the ground; a kinematic paddle
+// sweeps into it along the xz-plane. The normal passes through the centre and lies in what
+// the locks hold, but for rounding (a y component of 1e-16): no motion the sphere may make
+// answers it, so the contact gives way as between kinematic bodies and the sphere goes on
+// exactly as without the paddle. (Its effective mass, 1e-32 of its own, once took an
+// impulse of 1e30 N s and flung the pile it sat in to 1e48 m.)
+TEST(Locks, ANormalInsideTheLocksGivesWayToAKinematicBody) {
+  auto world = [](bool paddle) {
+    std::vector<BodyDef> defs = {
+        GroundDef(),
+        SphereDef(0.3).Mass(1.9).At(RVec3(0.7, 0.3, 0.4)).Spinning(RVec3(-25, 0.65, 0))
+            .LockLinear(true, false, true).LockAngular(false, false, true).Named("ball")};
+    if (paddle) {
+      defs.push_back(BoxDef(RVec3(3, 0.3, 0.3)).Kinematic().At(RVec3(0, 0.3, -1.5))
+                         .Spinning(RVec3(0, 1.5, 0)).Named("paddle"));
+    }
+    return MakeBodies(defs);
+  };
+  std::vector<RRigidBody> alone = world(false), hit = world(true);
+  RIntegrator a(EarthGravity()), b(EarthGravity());
+  bool touched = false;
+  for (int n = 0; n < 120; ++n) {
+    a.Update(alone, kDt), b.Update(hit, kDt);
+    for (const RContact& c : b.Contacts()) touched = touched || (c.b == 2 && c.manifold.pointCount > 0 && c.manifold.query.separation < 0);
+    ASSERT_TRUE(b.NonFiniteInLastStep().empty()) << "step " << n + 1;
+    ASSERT_LT((hit[1].Position_W() - alone[1].Position_W()).norm(), 1e-9) << "step " << n + 1;
+    ASSERT_LT((hit[1].AngularVelocity_W() - alone[1].AngularVelocity_W()).norm(), 1e-9) << "step " << n + 1;
+  }
+  EXPECT_TRUE(touched) << "the paddle never reached the ball: move it";
+}
+
+// A box locked along x, turned 30 degrees about y, pushed by a kinematic wall moving along x
+// (no gravity, no friction): the wall's face meets the box's face, so the box is squeezed
+// out along z, v_z = 5 m/s / tan 30 degrees, and the contact's impulses pass through its centre:
+// it never spins. The wall arrives within a step, so the impact phase defers part of the
+// change and the contact phase solves the rest with lever arms shifted by it; the lock's
+// reaction, at the centre, cancels the shift's moment for the impulse along x. Without it
+// the rows weighed a spin about y the box did not get, and it left spinning.
+TEST(Locks, WedgedBoxIsSqueezedOutWithoutSpin) {
+  const RScalar angle = M_PI / 6;
+  std::vector<RRigidBody> bodies = MakeBodies(std::vector<BodyDef>{
+      BoxDef(RVec3(0.5, 0.5, 0.5)).Mass(1).Friction(0).Restitution(0)
+          .Oriented(QuatAxisAngle(RVec3::UnitY(), angle)).LockLinear(true, false, false).Named("box"),
+      BoxDef(RVec3(0.2, 2, 2)).Kinematic().Friction(0).Restitution(0)
+          .Oriented(QuatAxisAngle(RVec3::UnitY(), angle))
+          .At(RVec3(-0.5 / std::cos(angle) - 0.2 / std::cos(angle) - 0.04, 0, 0)).Moving(RVec3(5, 0, 0))
+          .Named("wall")});
+  RIntegrator integrator(ZeroGravity());
+  for (int n = 0; n < 30; ++n) {
+    integrator.Update(bodies, kDt);
+    ASSERT_LT(bodies[0].AngularVelocity_W().norm(), 1e-9) << "step " << n + 1;
+  }
+  EXPECT_EQ(bodies[0].Position_W().x(), 0);
+  // The wall's face moves along its normal n = (cos a, 0, -sin a) at 5 cos a m/s; the box,
+  // free along z only, keeps up when -sin a v_z = 5 cos a.
+  EXPECT_NEAR(bodies[0].Velocity_W().z(), -5 / std::tan(angle), 1e-9);
+}
+
 // All six axes locked: the body is kinematic and at rest, with no NaN anywhere: a ball
 // bounces off it as off a wall of infinite mass (v -> -e v), and it never moves.
 TEST(Locks, AllSixLockedActsAsKinematic) {

@@ -448,7 +448,7 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
     const char* hash;
   } pins[] = {
       {"box_pile_1000", "48c8f893fa1b60f5"},     {"box_stack_10", "a93d403c225364fd"},
-      {"debris_cloud_1000", "4a21507c31948404"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"debris_cloud_1000", "46e78f8e43bcae1a"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {

@@ -469,3 +469,45 @@ TEST(CollisionAdversarial, NeedleHullAndSmallBoxApart) {
     EXPECT_EQ(ans.r.status, RCollisionStatus::kSeparated);
   }
 }
+
+// A box a few micrometres above a hull of 2000 points on an ellipsoid (the shortcut bench's
+// static_hulls): GJK ends on a triangle of facets a metre across, whose closest point to the
+// origin carries rounding of the triangle's size, so the direction of v is off by that over
+// the micrometre and its support bound falls short of the distance by 1e-12 m, more than the
+// certificate allows. The answer from the triangle's plane (RefineOnTrianglePlane) meets the
+// bound; this checks it against the brute-force distance at each gap. Far from the origin
+// the reference is that of the pose the pair frame sees (the rounded positions'
+// difference): a box corner a micrometre from a facet's vertex turns its normal by the
+// rounding over the gap (4e-9 m over 1e-6 m at 1e7 m), a true change, not an error.
+TEST(CollisionAdversarial, BoxMicrometresAboveADenseHull) {
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<RScalar> u(-1, 1);
+  std::vector<RVec3> cloud;
+  while (cloud.size() < 2000) {
+    const RVec3 p(u(rng), u(rng), u(rng));
+    if (p.norm() < 1e-3) continue;
+    cloud.push_back(p.normalized().cwiseProduct(RVec3(6, 3, 5)));
+  }
+  const BodySpec rock{HullShape(cloud), RVec3::Zero()};
+  const RQuat tilt = QuatExp(RVec3(0.2, 0.7, -0.1));
+  for (const RScalar gap : {1e-4, 1e-5, 1e-6}) {
+    BodySpec box{BoxShape(RVec3(0.6, 0.4, 0.5)), RVec3(1.5, 10, -1), tilt};
+    // Down along the closest points' direction until the gap is the one asked for.
+    const Reference far = ReferenceFor(rock, box);
+    box.position_W -= (far.separation - gap) * far.normals[0];
+    for (const RScalar offset : {0.0, 1e6, 1e7}) {
+      SCOPED_TRACE("gap " + std::to_string(gap) + " m, offset " + std::to_string(offset) + " m");
+      const RRigidBody a = MakeBody(rock, offset * kDiagonal), b = MakeBody(box, offset * kDiagonal);
+      BodySpec seen = box;  // the box where the pair frame sees it (differences are exact)
+      seen.position_W = (box.position_W + offset * kDiagonal) - (rock.position_W + offset * kDiagonal);
+      const Reference ref = ReferenceFor(rock, seen);
+      ASSERT_NEAR(ref.separation, gap, 1e-8);
+      const RDistanceResult r = RCollisionSolver::Distance(ShapeOf(a), ShapeOf(b), RelativePose(a, b));
+      EXPECT_EQ(r.status, RCollisionStatus::kSeparated);
+      EXPECT_NEAR(r.separation, ref.separation, kRelativeTolerance * ref.separation + ref.band);
+      EXPECT_LE(Angle(a.Orientation_WB() * r.normal, ref.normals[0]), kNormalTolerance);
+      EXPECT_LE((r.witnessB - r.witnessA - r.separation * r.normal).norm(),
+                kRelativeTolerance * r.separation + ref.band);
+    }
+  }
+}

@@ -172,11 +172,12 @@ RDistanceResult RCollisionSolver::DistanceWithin(const RConvexShape& a, const RC
     r.status = RCollisionStatus::kSeparated;
     return r;
   }
-  if (Certified(g, band)) {
-    r.separation = g.distance;
-    r.normal = SafeDirection(-g.closest, SafeDirection(X_AB.t_AB, RVec3::UnitX()));
-    r.witnessA = g.witnessA;
-    r.witnessB = g.witnessB;
+  const RGjkResult refined = Certified(g, band) ? g : RefineOnTrianglePlane(sup, g);
+  if (Certified(refined, band)) {
+    r.separation = refined.distance;
+    r.normal = SafeDirection(-refined.closest, SafeDirection(X_AB.t_AB, RVec3::UnitX()));
+    r.witnessA = refined.witnessA;
+    r.witnessB = refined.witnessB;
     r.status = StatusOf(r.separation, band);
     return r;
   }

@@ -120,19 +120,32 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // a row's normal (a box landing flat) leaves the row's angular terms as they were.
   // Position correction shares the rows' directions and sees the same arms (it moves
   // positions only: no energy).
-  auto deferArm = [this, dt](std::uint32_t i) -> RVec3 { return dt * m_solverBodies[i].deferV; };
+  // A body with linear locks gets the moment of the shift only for the impulse's free part:
+  // along a locked axis the lock's reaction cancels the impulse at the body's centre, which
+  // moved with it, and the spin it is handed below is dt deferV x (its velocity change times
+  // its mass), the free part alone. Solved with the whole impulse's moment, the rows weighed
+  // a spin the body never got (a crate locked on x, squeezed by a kinematic paddle along x,
+  // left a step at 515 rad/s where the solve had 20).
+  auto shiftArms = [this, dt](RDirection& dir, const RVec3& rA, const RVec3& rB, std::uint32_t a, std::uint32_t b) {
+    const RSolverBody& sa = m_solverBodies[a];
+    const RSolverBody& sb = m_solverBodies[b];
+    const RVec3 d = dir.d;
+    SetDirection(dir, d, rA + dt * sa.deferV, rB + dt * sb.deferV, sa, sb);
+    if (!sa.linLocked && !sb.linLocked) return;
+    if (sa.linLocked) dir.rAxd = rA.cross(d) + (dt * sa.deferV).cross(d.cwiseProduct(sa.linMask));
+    if (sb.linLocked) dir.rBxd = rB.cross(d) + (dt * sb.deferV).cross(d.cwiseProduct(sb.linMask));
+    SetEffectiveMass(dir, sa, sb);
+  };
+  auto deferred = [this](std::uint32_t i) { return !m_solverBodies[i].deferV.isZero(0); };
   for (RContactRow& r : m_rows) {
-    const RSolverBody& sa = m_solverBodies[r.a];
-    const RSolverBody& sb = m_solverBodies[r.b];
-    if (sa.deferV.isZero(0) && sb.deferV.isZero(0)) continue;
-    SetDirection(r.n, r.n.d, r.rA + deferArm(r.a), r.rB + deferArm(r.b), sa, sb);
+    if (!deferred(r.a) && !deferred(r.b)) continue;
+    shiftArms(r.n, r.rA, r.rB, r.a, r.b);
+    if (!(r.n.k > 0)) r.target = kNever, r.pseudoTarget = 0;  // as BuildContactRows
   }
   for (RBlock& blk : m_blocks) {
     const std::uint32_t a = m_rows[blk.first].a, b = m_rows[blk.first].b;
-    const RSolverBody& sa = m_solverBodies[a];
-    const RSolverBody& sb = m_solverBodies[b];
-    if (sa.deferV.isZero(0) && sb.deferV.isZero(0)) continue;
-    for (RDirection& t : blk.t) SetDirection(t, t.d, blk.rA + deferArm(a), blk.rB + deferArm(b), sa, sb);
+    if (!deferred(a) && !deferred(b)) continue;
+    for (RDirection& t : blk.t) shiftArms(t, blk.rA, blk.rB, a, b);
   }
   const int iterations = std::max(1, m_settings.solverIterations);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points

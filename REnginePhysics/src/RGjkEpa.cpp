@@ -257,6 +257,42 @@ RGjkResult Gjk(RPairSupport& sup, bool booleanOnly, RScalar stopAbove) {
   return r;
 }
 
+RGjkResult RefineOnTrianglePlane(RPairSupport& sup, const RGjkResult& g) {
+  if (g.overlap || g.simplexSize != 3) return g;
+  const RSimplexPoint* p = g.simplex;
+  const RVec3 n = (p[1].w - p[0].w).cross(p[2].w - p[0].w);  // p0, p1, p2 counter-clockwise
+  const RScalar nn = n.squaredNorm();
+  if (!(nn > 0)) return g;
+  // Outward: from the origin toward the triangle (D lies beyond its plane).
+  RVec3 nHat = n / std::sqrt(nn);
+  if (nHat.dot(p[0].w) < 0) nHat = -nHat;
+  const RScalar dist = nHat.dot(p[0].w);
+  const RVec3 q = dist * nHat;  // the origin projected onto the plane
+  // Barycentric coordinates of q: the sub-triangles' signed areas along n.
+  RScalar lambda[3];
+  for (int i = 0; i < 3; ++i) {
+    const RVec3& u = p[(i + 1) % 3].w;
+    const RVec3& v = p[(i + 2) % 3].w;
+    lambda[i] = (u - q).cross(v - q).dot(n) / nn;
+    if (!(lambda[i] > 0)) return g;  // q is not inside: the plane's distance bounds nothing
+  }
+  RGjkResult r = g;
+  // q is a point of D (inside the triangle), so dist is an upper bound; the support plane
+  // along nHat is a lower bound.
+  const RVec3 w = sup.SupportA(-nHat) - sup.SupportB(nHat);
+  r.distance = dist;
+  r.lowerBound = std::max(g.lowerBound, nHat.dot(w));
+  r.closest = q;
+  const RScalar sum = lambda[0] + lambda[1] + lambda[2];
+  r.witnessA.setZero(), r.witnessB.setZero();
+  for (int i = 0; i < 3; ++i) {
+    r.simplex[i] = p[i];
+    r.witnessA += (lambda[i] / sum) * p[i].a;
+    r.witnessB += (lambda[i] / sum) * p[i].b;
+  }
+  return r;
+}
+
 // ----------------------------------------------------------------------------------------
 // EPA
 

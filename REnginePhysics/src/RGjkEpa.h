@@ -50,6 +50,16 @@ struct RGjkResult {
 RGjkResult Gjk(RPairSupport& support, bool booleanOnly,
                RScalar stopAbove = std::numeric_limits<RScalar>::infinity());
 
+// GJK's answer on a triangle of D, its direction recomputed from the triangle's plane. When
+// the distance is small against the triangle (a box resting a micrometre above a dense hull's
+// facets), the barycentric point v has an error of rounding times the triangle's size, so
+// its direction is off by that over |v| and the support along it falls short of |v| by far
+// more than rounding: the certificate fails though the triangle lies on a face of D. The
+// plane's normal, a cross product of the edges, is exact to rounding whatever the distance.
+// Returns g with that plane's distance, normal, witnesses and support bound when the
+// origin projects inside the triangle; otherwise g unchanged.
+RGjkResult RefineOnTrianglePlane(RPairSupport& support, const RGjkResult& g);
+
 struct REpaResult {
   // false: no verdict (the polytope could not be started or grown, or the iteration cap):
   // the caller answers another way.

@@ -24,18 +24,34 @@ RScalar LinearCoupling(const Body& s, const RVec3& d1, const RVec3& d2, RScalar 
   return s.linLocked ? s.invM * d1.cwiseProduct(s.linMask).dot(d2) : s.invM * dd;
 }
 
+// The inverse effective mass of a direction whose lever arms are set (dir.rAxd, dir.rBxd).
+// With linear locks a direction can lie in what the locks hold, all but for rounding: a
+// sphere locked on x and z, hit along the xz-plane by a kinematic paddle, answers only
+// through a normal's y component of 1e-16 (its lever arm crosses the normal to zero), an
+// effective mass of 1e-32 of its own, and an impulse of 1e30 N s. Below 1e-12 of the
+// bodies' inverse masses (a response a millionth of the direction's) the direction has no
+// effective mass: nothing the locks let the bodies do can answer it, and the contact gives
+// way as between two kinematic bodies. Without locks the linear part alone is above that.
+template <class Dir, class Body>
+void SetEffectiveMass(Dir& dir, const Body& a, const Body& b) {
+  dir.iA = a.invI * dir.rAxd;
+  dir.iB = b.invI * dir.rBxd;
+  if (!a.linLocked && !b.linLocked) {
+    dir.k = a.invM + b.invM + dir.rAxd.dot(dir.iA) + dir.rBxd.dot(dir.iB);
+    return;
+  }
+  dir.k = LinearCoupling(a, dir.d, dir.d, 1) + LinearCoupling(b, dir.d, dir.d, 1) +
+          dir.rAxd.dot(dir.iA) + dir.rBxd.dot(dir.iB);
+  if (!(dir.k > RScalar(1e-12) * (a.invM + b.invM))) dir.k = 0;
+}
+
 template <class Dir, class Body>
 void SetDirection(Dir& dir, const RVec3& d, const RVec3& rA, const RVec3& rB, const Body& a,
                   const Body& b) {
   dir.d = d;
   dir.rAxd = rA.cross(d);
   dir.rBxd = rB.cross(d);
-  dir.iA = a.invI * dir.rAxd;
-  dir.iB = b.invI * dir.rBxd;
-  const RScalar linear = a.linLocked || b.linLocked
-                             ? LinearCoupling(a, d, d, 1) + LinearCoupling(b, d, d, 1)
-                             : a.invM + b.invM;
-  dir.k = linear + dir.rAxd.dot(dir.iA) + dir.rBxd.dot(dir.iB);
+  SetEffectiveMass(dir, a, b);
 }
 
 template <class Dir>
