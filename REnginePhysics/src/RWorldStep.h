@@ -360,13 +360,15 @@ class RWorldStep {
   };
   RLeadingPoints LeadingPoints(const RContactManifold& m) const;
   std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt);
-  void SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
+  // Both return the largest change of a row's relative speed their impulses made, m/s
+  // (|delta lambda| k: what SolveBlocks stops on).
+  RScalar SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
   void SolveImpacts(const RStepBodies& bodies, RScalar dt);
   template <class Advance>
   bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
                       const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
                       RDirection* dir) const;
-  void SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
+  RScalar SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
   void WarmStart(RPhase phase);
   void SolveEndOfStep(const RStepBodies& bodies, RScalar dt);
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
