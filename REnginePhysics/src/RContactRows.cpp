@@ -75,6 +75,10 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     m_impacts[blockIndex] = r;
   }
   const RWarmStart* patchWarm = nullptr;  // the first of its points found last step
+  // Last step's points of this pair (m_warm is sorted by pair): found once for the manifold.
+  const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
+  const auto warmFirst = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
+                                          [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; });
   // One contact row per manifold point: no restitution; the contact may close its gap
   // within the step (speculative: a fast body stops at the surface, not inside it) but
   // not approach beyond it.
@@ -99,9 +103,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     r.lever = 0;  // set with the patch below
     // Warm start from the same features last step, or else from the nearest of last
     // step's points of this pair (in a's frame, where a resting contact stays put).
-    const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
-    auto it = std::lower_bound(m_warm.begin(), m_warm.end(), pair,
-                               [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; });
+    auto it = warmFirst;
     const RVec3 point_A = A.m_q_WB.conjugate() * (position - A.m_x_W);
     const std::uint32_t feature = c.manifold.points[r.point].featureId;
     const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());

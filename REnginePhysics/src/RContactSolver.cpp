@@ -317,9 +317,14 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     // the rows' directions after SolveImpacts), so it costs no energy the solve did not see.
     b.m_angularImpulse_W += dt * s.deferV.cross(s.contactDeltaV / b.m_invMass);
   }
-  std::sort(m_warmNext.begin(), m_warmNext.end(), [](const RWarmStart& x, const RWarmStart& y) {
+  // Rows come in the pair sweep's order, which is slot order unless bodies were added or
+  // removed (or it is a plain vector reordered): sorted already, most steps.
+  auto before = [](const RWarmStart& x, const RWarmStart& y) {
     return x.pair < y.pair || (x.pair == y.pair && x.feature < y.feature);
-  });
+  };
+  if (!std::is_sorted(m_warmNext.begin(), m_warmNext.end(), before)) {
+    std::sort(m_warmNext.begin(), m_warmNext.end(), before);
+  }
   std::swap(m_warm, m_warmNext);
 }
 
