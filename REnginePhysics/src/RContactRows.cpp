@@ -36,7 +36,7 @@ RWorldStep::RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) 
 // rows found a warm start.
 std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
   const RContact& c = m_contacts[ci];
-  const std::uint32_t firstRow = m_rowStart[ci].first, blockIndex = m_rowStart[ci].second;
+  const std::uint32_t firstRow = m_rowStart[ci].row, blockIndex = m_rowStart[ci].block;
   const RRigidBody& A = bodies[c.a];
   const RRigidBody& B = bodies[c.b];
   std::uint32_t warmStarted = 0;
@@ -72,7 +72,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
     r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
     r.miss = false;
-    m_impacts[blockIndex] = r;
+    m_impacts[m_rowStart[ci].impact] = r;
   }
   const RWarmStart* patchWarm = nullptr;  // the first of its points found last step
   // Last step's points of this pair (m_warm is sorted by pair): found once for the manifold.

@@ -58,21 +58,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // The rows, impact rows and friction patches of every contact, each contact's at places
   // counted beforehand (the same order as one after another), so that contacts are built
   // as tasks side by side.
-  m_rowStart.resize(m_contacts.size());
-  std::uint32_t rowCount = 0, blockCount = 0;
-  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
-    RContact& c = m_contacts[ci];
-    const RRigidBody& A = bodies[c.a];
-    const RRigidBody& B = bodies[c.b];
-    // A manifold without points (the narrow phase hit its iteration cap) gives no rows: its
-    // impact point and centroid would be 0/0; nor do separations that are not numbers
-    // (see ImpactGeometry), which leave no point within the slop of the deepest.
-    c.resolved = A.m_responds && B.m_responds && !(A.Immovable() && B.Immovable()) &&
-                 c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
-    m_rowStart[ci] = {rowCount, blockCount};
-    if (c.resolved) rowCount += c.manifold.pointCount, ++blockCount;
-  }
-  m_rows.resize(rowCount), m_impacts.resize(blockCount), m_blocks.resize(blockCount);
+  LayOutIslands(bodies);
   if (m_warmTasks.size() < m_tasks) m_warmTasks.resize(m_tasks);
   const std::size_t rowTasks = ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 32, [&](std::size_t c0, std::size_t c1, std::size_t task) {
     m_warmTasks[task] = 0;
@@ -93,10 +79,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // start of the step (which said it would) would stop the bodies short, an inelastic
   // collision that never happened. Points already touching keep their rows.
   // (Impact rows and blocks are both one per resolved contact, in the same order.)
-  for (std::size_t i = 0; i < m_impacts.size(); ++i) {
-    if (!m_impacts[i].miss || m_impacts[i].lambdaN != 0) continue;
-    for (int k = 0; k < m_blocks[i].count; ++k) {
-      RContactRow& r = m_rows[m_blocks[i].first + k];
+  for (const RImpactRow& impact : m_impacts) {
+    if (!impact.miss || impact.lambdaN != 0) continue;
+    const RBlock& blk = m_blocks[m_rowStart[impact.contact].block];
+    for (int k = 0; k < blk.count; ++k) {
+      RContactRow& r = m_rows[blk.first + k];
       if (r.gap > 0 && r.lambdaN == 0) r.target = kNever;
     }
   }
@@ -250,7 +237,16 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
       sb.endAngular += (rB + shift).cross(J);
     }
   };
-  for (const RContactRow& r : m_rows) {
+  // Contact by contact, in their order (not the rows' island order): each body's impulses
+  // add up in the order they always did, and next step's warm starts come out sorted.
+  auto rowsOf = [this](std::uint32_t ci) {
+    const RBlock& blk = m_blocks[m_rowStart[ci].block];
+    return std::pair(m_rows.begin() + blk.first, m_rows.begin() + blk.first + blk.count);
+  };
+  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
+   if (!m_contacts[ci].resolved) continue;
+   for (auto [row, end] = rowsOf(ci); row != end; ++row) {
+    const RContactRow& r = *row;
     accumulate(r.a, r.b, r.rA, r.rB, r.lambdaN * r.n.d);
     if (r.lambdaE != 0) accumulateEnd(r.a, r.b, r.rA, r.rB, r.lambdaE * r.n.d);
     m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN + r.lambdaE;
@@ -272,8 +268,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     }
     // A step that overflowed must not seed the next one (its bodies are put back).
     if (finite) m_warmNext.push_back(w);
+   }
   }
-  for (const RBlock& blk : m_blocks) {
+  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
+    if (!m_contacts[ci].resolved) continue;
+    const RBlock& blk = m_blocks[m_rowStart[ci].block];
     const RContactRow& r = m_rows[blk.first];
     accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[0] * blk.t[0].d + blk.lambdaT2[0] * blk.t[1].d);
     accumulateEnd(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[1] * blk.t[0].d + blk.lambdaT2[1] * blk.t[1].d);

@@ -76,22 +76,32 @@ void EnvelopeCholeskySolve(const RScalar* L, int m, int ld, const int* first, RS
 // meanwhile; the direct solve holds it exactly in the first step. Friction keeps its
 // iterated impulses, clamped again to the new cones. Larger islands (a whole pile) keep
 // the iterated answer: a dense solve grows as the cube of the rows.
-void RWorldStep::BuildIslands(const RStepBodies& bodies) {
+void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   m_islandSets.Reset(n);
-  for (const RContactRow& r : m_rows) {
-    if (bodies[r.a].Immovable() || bodies[r.b].Immovable()) continue;
-    m_islandSets.Union(r.a, r.b);
+  m_rowStart.resize(m_contacts.size());
+  std::uint32_t blockCount = 0;
+  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
+    RContact& c = m_contacts[ci];
+    const RRigidBody& A = bodies[c.a];
+    const RRigidBody& B = bodies[c.b];
+    // A manifold without points (the narrow phase hit its iteration cap) gives no rows: its
+    // impact point and centroid would be 0/0; nor do separations that are not numbers
+    // (see ImpactGeometry), which leave no point within the slop of the deepest.
+    c.resolved = A.m_responds && B.m_responds && !(A.Immovable() && B.Immovable()) &&
+                 c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
+    if (!c.resolved) continue;
+    m_rowStart[ci].impact = blockCount++;
+    if (!A.Immovable() && !B.Immovable()) m_islandSets.Union(c.a, c.b);
   }
-  // The manifolds grouped by island for the passes (SolveBlocks): a counting sort by the
-  // island's representative (its smallest body index), each island's manifolds in their
-  // order.
-  m_islandOfBlock.resize(m_blocks.size());
+  // A counting sort of the resolved contacts by their island's representative (its smallest
+  // body index), each island's in the contacts' order.
   m_blockStart.assign(n + 1, 0);
-  for (std::size_t k = 0; k < m_blocks.size(); ++k) {
-    const RContactRow& r = m_rows[m_blocks[k].first];
-    const std::uint32_t root = m_islandSets.Find(bodies[r.a].Immovable() ? r.b : r.a);
-    m_islandOfBlock[k] = root;
+  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
+    const RContact& c = m_contacts[ci];
+    if (!c.resolved) continue;
+    const std::uint32_t root = m_islandSets.Find(bodies[c.a].Immovable() ? c.b : c.a);
+    m_rowStart[ci].block = root;  // for now
     ++m_blockStart[root + 1];
   }
   m_blockIslands.clear();
@@ -102,10 +112,28 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
     }
     m_blockStart[i + 1] += m_blockStart[i];
   }
-  m_blockOrder.resize(m_blocks.size());
-  for (std::size_t k = 0; k < m_blocks.size(); ++k) {
-    m_blockOrder[m_blockStart[m_islandOfBlock[k]]++] = static_cast<std::uint32_t>(k);
+  m_blockContact.resize(blockCount);
+  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
+    if (!m_contacts[ci].resolved) continue;
+    const std::uint32_t block = m_blockStart[m_rowStart[ci].block]++;
+    m_rowStart[ci].block = block;
+    m_blockContact[block] = ci;
   }
+  std::uint32_t rowCount = 0;
+  for (std::uint32_t block = 0; block < blockCount; ++block) {
+    const std::uint32_t ci = m_blockContact[block];
+    m_rowStart[ci].row = rowCount;
+    rowCount += static_cast<std::uint32_t>(m_contacts[ci].manifold.pointCount);
+  }
+  m_rows.resize(rowCount), m_impacts.resize(blockCount), m_blocks.resize(blockCount);
+}
+
+// The islands' manifolds, laid out island by island (LayOutIslands): the passes' order and
+// the islands solved directly.
+void RWorldStep::BuildIslands(const RStepBodies& bodies) {
+  (void)bodies;
+  m_blockOrder.resize(m_blocks.size());
+  for (std::size_t k = 0; k < m_blocks.size(); ++k) m_blockOrder[k] = static_cast<std::uint32_t>(k);
 
   // Their rows, island by island in increasing order (a block's rows are consecutive), and
   // the islands solved directly: several manifolds (one alone is already solved exactly by

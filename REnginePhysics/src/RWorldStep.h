@@ -347,9 +347,15 @@ class RWorldStep {
     RScalar targetT[2][2];
   };
   std::vector<RBlock> m_blocks;
-  // Row building (FindImpulses): each contact's first row and its block (= impact row)
-  // index, and each task's count of warm-started rows.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_rowStart;
+  // Row building (FindImpulses): where each resolved contact's rows, block and impact row
+  // go. Blocks and rows are laid out island by island (LayOutIslands), so that the passes
+  // and direct solves, which work island by island, read them in order; impact rows stay in
+  // the contacts' order (the impact phase is one sweep over every island).
+  struct RContactSlots {
+    std::uint32_t row, block, impact;
+  };
+  std::vector<RContactSlots> m_rowStart;
+  std::vector<std::uint32_t> m_blockContact;  // the contact of each block
   std::vector<std::uint32_t> m_warmTasks;
   std::vector<std::uint64_t> m_inverseTasks;  // each task's count of block inverses kept
   std::vector<char> m_anyTasks;  // SolveEndOfStep: whether a task's rows close at the end
@@ -372,12 +378,15 @@ class RWorldStep {
   void WarmStart(RPhase phase);
   void SolveEndOfStep(const RStepBodies& bodies, RScalar dt);
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
+  // Islands of the resolved contacts (bodies linked through two movable bodies) and each
+  // contact's slots, islands in the order of their smallest body, contacts in order within.
+  void LayOutIslands(const RStepBodies& bodies);
   void BuildIslands(const RStepBodies& bodies);
   void SolveBlocks(RPhase phase, int iterations);
   // The manifolds grouped by island (BuildIslands): m_blockOrder lists block indices island
   // by island, each island's in increasing order; m_blockIslands holds each island's
   // [first, last) in it.
-  std::vector<std::uint32_t> m_blockOrder, m_islandOfBlock, m_blockStart;
+  std::vector<std::uint32_t> m_blockOrder, m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
   // Runs f(first, last) for every island's range of m_blockOrder, islands as tasks: they
   // share no body an impulse moves (WarmStart, SolveBlocks).
