@@ -62,8 +62,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   if (m_warmTasks.size() < m_tasks) m_warmTasks.resize(m_tasks);
   const std::size_t rowTasks = ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 32, [&](std::size_t c0, std::size_t c1, std::size_t task) {
     m_warmTasks[task] = 0;
+    std::size_t warmFrom = 0;
     for (std::size_t ci = c0; ci < c1; ++ci) {
-      if (m_contacts[ci].resolved) m_warmTasks[task] += BuildContactRows(bodies, static_cast<std::uint32_t>(ci), dt);
+      if (m_contacts[ci].resolved) m_warmTasks[task] += BuildContactRows(bodies, static_cast<std::uint32_t>(ci), dt, warmFrom);
     }
   });
   for (std::size_t t = 0; t < rowTasks; ++t) m_pairStats.warmStarted += m_warmTasks[t];

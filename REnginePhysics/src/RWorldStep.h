@@ -365,7 +365,10 @@ class RWorldStep {
     RVec3 centre;  // contact frame as the manifold's points
   };
   RLeadingPoints LeadingPoints(const RContactManifold& m) const;
-  std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt);
+  // warmFrom: where the last contact's warm starts began in m_warm (updated), the search's
+  // start when the contacts' pairs increase (see FindWarmStarts).
+  std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt,
+                                 std::size_t& warmFrom);
   // Both return the largest change of a row's relative speed their impulses made, m/s
   // (|delta lambda| k: what SolveBlocks stops on).
   RScalar SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
