@@ -84,12 +84,13 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   RVec3 t1, t2;
   OrthonormalBasis(normal, t1, t2);
   {
-    RImpactRow r;
+    RImpactRow& r = m_impacts[m_rowStart[ci].impact];  // written in place: its tangents' arms stay unset
     r.a = c.a, r.b = c.b, r.contact = ci, r.point = deepest;
     const RVec3 rA = leadCentre - A.m_x_W, rB = leadCentre - B.m_x_W;
+    // The normal's arms for the impact phase's approach test; the tangents are worked out
+    // there, from their directions, only for a manifold that impacts.
     SetDirection(r.dir[0], normal, rA, rB, sa, sb);
-    SetDirection(r.dir[1], t1, rA, rB, sa, sb);
-    SetDirection(r.dir[2], t2, rA, rB, sa, sb);
+    r.dir[1].d = t1, r.dir[2].d = t2;
     r.rA = rA, r.rB = rB;
     r.gap = leadSeparation;
     r.restitution = e;
@@ -98,7 +99,6 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
     r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
     r.miss = false;
-    m_impacts[m_rowStart[ci].impact] = r;
   }
   const RWarmStart* patchWarm = nullptr;  // the first of its points found last step
   // Last step's points of this pair (m_warm is sorted by pair): found once for the manifold.

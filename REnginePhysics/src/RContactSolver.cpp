@@ -26,9 +26,6 @@ using namespace solver;
 // pseudo-velocities (split impulses), solved apart so that position correction never adds
 // kinetic energy.
 void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
-  m_rows.clear();
-  m_impacts.clear();
-  m_blocks.clear();
   const std::size_t n = bodies.size();
   // Warm-start memory is keyed by slot (and generation). A plain vector's slots are its
   // indices: when the game adds or removes bodies they shift, and another pair would
@@ -48,6 +45,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   }
   m_solved = anyRow;
   if (!anyRow) {
+    m_rows.clear(), m_impacts.clear(), m_blocks.clear();
     std::swap(m_warm, m_warmNext);
     return;
   }

@@ -254,7 +254,7 @@ class RWorldStep {
     std::uint32_t a, b;        // body indices
     std::uint32_t contact;     // index into m_contacts
     int point;                 // the manifold's deepest point, where the impulse is reported
-    RDirection dir[3];         // normal (A to B) and two tangents
+    RDirection dir[3];         // normal (A to B) and two tangents (their d only)
     RVec3 rA, rB;              // the point from each centre of mass, world, m
     RScalar gap;               // the leading points' separation, m (negative: overlap)
     RScalar restitution;       // combined coefficient
