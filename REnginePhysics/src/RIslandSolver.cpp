@@ -142,32 +142,26 @@ void RWorldStep::BuildIslands(const RStepBodies& bodies) {
   // its block), at most kDirectRows rows.
   m_islandRows.clear();
   m_islands.clear();
+  m_directOfIsland.clear();
   for (const auto& [first, last] : m_blockIslands) {
     const std::size_t rowsFirst = m_islandRows.size();
     for (std::uint32_t k = first; k < last; ++k) {
       const RBlock& blk = m_blocks[m_blockOrder[k]];
       for (int i = 0; i < blk.count; ++i) m_islandRows.push_back(blk.first + static_cast<std::uint32_t>(i));
     }
+    m_directOfIsland.push_back(-1);
     if (last - first > 1 && m_islandRows.size() - rowsFirst <= std::size_t(kDirectRows)) {
+      m_directOfIsland.back() = static_cast<std::int32_t>(m_islands.size());
       m_islands.emplace_back(rowsFirst, m_islandRows.size());
     }
   }
 }
 
-// Islands share no body an impulse moves: each is solved on its own, as a task with its own
-// scratch, on as many threads as there are; the result does not depend on which.
-void RWorldStep::SolveIslands(RPhase phase) {
-  if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
-  ParallelRanges(m_jobs, m_islands.size(), m_tasks, 2, [&](std::size_t i0, std::size_t i1, std::size_t task) {
-    RIslandScratch& sc = m_islandScratch[task];
-    for (std::size_t island = i0; island < i1; ++island) {
-      const auto [first, last] = m_islands[island];
-      sc.index.assign(m_islandRows.begin() + static_cast<std::ptrdiff_t>(first),
-                      m_islandRows.begin() + static_cast<std::ptrdiff_t>(last));
-      sc.kReady = false;
-      SolveIslandDirect(phase, sc);
-    }
-  });
+void RWorldStep::PrepareIslandDirect(std::size_t k, RIslandScratch& sc) {
+  const auto [first, last] = m_islands[k];
+  sc.index.assign(m_islandRows.begin() + static_cast<std::ptrdiff_t>(first),
+                  m_islandRows.begin() + static_cast<std::ptrdiff_t>(last));
+  sc.kReady = false;
 }
 
 // The island's matrix K (m x m, row-major, in sc.K), assembled from the pairs of

@@ -4,11 +4,12 @@
 //   RPairSweep.cpp      DetectPairs, TimeOfImpact
 //   RBroadPhase.cpp     UpdateBroadPhase, RebuildFatPairs, SweepBox, FatBox, TreePairs
 //                       (trees: RBoundsTree.cpp)
-//   RContactSolver.cpp  FindImpulses, SolveBlocks, WarmStart, SolvePatch, SolveNormalBlock,
-//                       SolveEndOfStep
+//   RContactSolver.cpp  FindImpulses, SolveNormalBlock
+//   RContactPasses.cpp  SolveContactIslands, BlockInverse, SolveIslandBlocks, WarmStart,
+//                       SolvePatch, CloseAtEnd
 //   RContactRows.cpp    BuildContactRows, LeadingPoints
 //   RImpactPhase.cpp    SolveImpacts, ImpactGeometry
-//   RIslandSolver.cpp   BuildIslands, SolveIslands, SolveIslandDirect
+//   RIslandSolver.cpp   LayOutIslands, BuildIslands, SolveIslandDirect
 //   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
 //   RIntegration.cpp    Integrate (the motion)
 //   RBodyMotion.cpp     kinematic bodies, angular locks, drag, gravity scales
@@ -379,13 +380,18 @@ class RWorldStep {
                       RDirection* dir) const;
   RScalar SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
   void WarmStart(RPhase phase);
-  void SolveEndOfStep(const RStepBodies& bodies, RScalar dt);
+  void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
+  // The contact phase after the impacts, island by island (RContactPasses.cpp).
+  void SolveContactIslands(const RStepBodies& bodies, RScalar dt, int iterations);
+  bool BlockInverse(RBlock& blk);
+  bool CloseAtEnd(RContactRow& r, const RStepBodies& bodies, RScalar dt) const;
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
   // Islands of the resolved contacts (bodies linked through two movable bodies) and each
   // contact's slots, islands in the order of their smallest body, contacts in order within.
   void LayOutIslands(const RStepBodies& bodies);
   void BuildIslands(const RStepBodies& bodies);
-  void SolveBlocks(RPhase phase, int iterations);
+  // An island's passes: blocks [first, last) of m_blockOrder.
+  void SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last);
   // The manifolds grouped by island (BuildIslands): m_blockOrder lists block indices island
   // by island, each island's in increasing order; m_blockIslands holds each island's
   // [first, last) in it.
@@ -399,7 +405,11 @@ class RWorldStep {
       for (std::size_t isl = i0; isl < i1; ++isl) f(m_blockIslands[isl].first, m_blockIslands[isl].second);
     });
   }
-  void SolveIslands(RPhase phase);
+  // Each island's index in m_islands (solved directly), or -1; whether it has a row closed
+  // at the end of the step.
+  std::vector<std::int32_t> m_directOfIsland;
+  std::vector<char> m_islandCloses;
+
   // One island's direct solve: its rows and the dense scratch (kDirectRows^2 at most),
   // one per task so that islands are solved side by side.
   struct RIslandScratch {
@@ -412,6 +422,8 @@ class RWorldStep {
   };
   std::vector<RIslandScratch> m_islandScratch;
   bool SolveIslandDirect(RPhase phase, RIslandScratch& sc);
+  // Points the scratch at direct island k's rows, its matrix to be assembled.
+  void PrepareIslandDirect(std::size_t k, RIslandScratch& sc);
   void AssembleIslandMatrix(RIslandScratch& sc);
   // Islands up to this many rows get their normal impulses solved directly (see
   // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.

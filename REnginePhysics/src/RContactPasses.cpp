@@ -1,0 +1,307 @@
+// The contact phase's passes and its order of work (RWorldStep::SolveContactIslands): block
+// inverses, sequential-impulse passes over the manifolds, their friction patches, warm
+// starts, which rows close at the end of the step, island by island.
+#include "RWorldStep.h"
+
+#include "RSolverRows.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace REngine {
+
+using namespace solver;
+
+// A manifold's block inverse (see FindImpulses): returns whether it was kept from the
+// manifold's memory.
+bool RWorldStep::BlockInverse(RBlock& blk) {
+  if (!blk.useBlock) return false;
+  const std::uint32_t first = blk.first;
+  const RSolverBody& sa = m_solverBodies[m_rows[first].a];
+  const RSolverBody& sb = m_solverBodies[m_rows[first].b];
+  // Padded with zeros to 4 x 4: the padding's eigenvalues are 0 and drop out of the
+  // inverse, so one fixed-size symmetric eigensolver serves every point count.
+  Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero();
+  for (int i = 0; i < blk.count; ++i) {
+    const RDirection& di = m_rows[first + i].n;
+    for (int j = 0; j <= i; ++j) {
+      const RDirection& dj = m_rows[first + j].n;
+      const RScalar dd = di.d.dot(dj.d);
+      const RScalar linear = sa.linLocked || sb.linLocked
+                                 ? LinearCoupling(sa, di.d, dj.d, dd) + LinearCoupling(sb, di.d, dj.d, dd)
+                                 : (sa.invM + sb.invM) * dd;
+      K(i, j) = K(j, i) = linear + di.rAxd.dot(dj.iA) + di.rBxd.dot(dj.iB);
+    }
+  }
+  // A manifold kept from an earlier step (contact reuse) keeps its inverse while the
+  // matrix stays within 1e-12 of the one it was computed for: the bodies have moved by
+  // less than the touching band, and the inverse's error is then 1e-12 of the block's
+  // condition, far below what the passes resolve. (The eigen-solve is the costliest
+  // part of building a resting pile's rows.)
+  const std::uint32_t memory = m_contactMemory.empty() ? kNoMemory : m_contactMemory[m_rows[first].contact];
+  RManifoldMemory* mem = memory == kNoMemory ? nullptr : &m_manifolds[memory];
+  if (mem && mem->hasInverse &&
+      (K - mem->K).cwiseAbs().maxCoeff() <= RScalar(1e-12) * mem->K.cwiseAbs().maxCoeff()) {
+    blk.pinv = mem->pinv;
+    return true;
+  }
+  // Minimum-norm inverse: sum of v v^T / s over the eigenpairs with s above 1e-12 of the
+  // largest. The directions below are the coplanar points' null space (exactly 0 but for
+  // rounding, ~1e-16 of the largest); the softest real direction, a heavy body's, is
+  // shared with the light body it touches and stays near the light body's stiffness.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<RScalar, 4, 4>> eigen(K);
+  const Eigen::Matrix<RScalar, 4, 1>& s = eigen.eigenvalues();  // ascending
+  const RScalar floor = RScalar(1e-14) * s[3];
+  blk.pinv.setZero();
+  for (int k = 0; k < 4; ++k) {
+    if (!(s[k] > floor)) continue;
+    const Eigen::Matrix<RScalar, 4, 1> v = eigen.eigenvectors().col(k);
+    blk.pinv += (v / s[k]) * v.transpose();
+  }
+  if (mem) mem->hasInverse = true, mem->K = K, mem->pinv = blk.pinv;
+  return false;
+}
+
+// The contact phase after the impacts, island by island: an island's block inverses, its
+// passes, its direct solves (velocities, then positions) and which of its rows are closed
+// at the end of the step, one island after another, so that its rows, blocks and bodies
+// are read from the cache, not gathered again from all over memory by a sweep per stage (a
+// 10000-box pile's rows and blocks are 15 MB). Then, when some row is closed at the end,
+// the second half-kick and the end's warm starts, passes and direct solves, again island by
+// island. Islands share no body an impulse moves: the stages of one island in a row give
+// what a sweep of each stage over every island gave, bit for bit, on any thread count.
+void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int iterations) {
+  const RScalar halfDt = RScalar(0.5) * dt;
+  const std::size_t islands = m_blockIslands.size();
+  if (m_inverseTasks.size() < m_tasks) m_inverseTasks.resize(m_tasks);
+  if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
+  m_islandCloses.resize(islands);
+  const std::size_t tasks = ParallelRanges(m_jobs, islands, m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+    m_inverseTasks[task] = 0;
+    RIslandScratch& sc = m_islandScratch[task];
+    for (std::size_t isl = i0; isl < i1; ++isl) {
+      const auto [first, last] = m_blockIslands[isl];
+      for (std::uint32_t k = first; k < last; ++k) m_inverseTasks[task] += BlockInverse(m_blocks[m_blockOrder[k]]);
+      SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
+      if (m_directOfIsland[isl] >= 0) {
+        PrepareIslandDirect(static_cast<std::size_t>(m_directOfIsland[isl]), sc);
+        SolveIslandDirect(RPhase::kVelocity, sc);
+        SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
+      }
+      bool closes = false;
+      for (std::uint32_t k = first; k < last; ++k) {
+        const RBlock& blk = m_blocks[m_blockOrder[k]];
+        for (int i = 0; i < blk.count; ++i) closes = CloseAtEnd(m_rows[blk.first + i], bodies, dt) || closes;
+      }
+      m_islandCloses[isl] = closes;
+    }
+  });
+  for (std::size_t t = 0; t < tasks; ++t) m_pairStats.reusedInverses += m_inverseTasks[t];
+  // What the contact phase changed after the impacts (see the deferred impulses, FindImpulses).
+  for (RSolverBody& s : m_solverBodies) s.contactDeltaV = s.v - s.vImpacts;
+
+  bool any = false;
+  for (char closes : m_islandCloses) any = any || closes;
+  if (!any) {
+    for (RContactRow& r : m_rows) r.lambdaE = 0;
+    for (RBlock& blk : m_blocks) blk.lambdaT1[1] = blk.lambdaT2[1] = blk.lambdaTwist[1] = 0;
+    return;
+  }
+  // The end velocities: the second half-kick of the applied forces and gravity.
+  ParallelRanges(m_jobs, bodies.size(), m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      const RRigidBody& b = bodies[i];
+      RSolverBody& s = m_solverBodies[i];
+      s.vMid = s.v - s.deferV;
+      if (b.Immovable()) continue;
+      s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
+      s.w += s.invI * EndAngularKick_W(b, halfDt);
+    }
+  });
+  const int endIterations = std::max(1, m_settings.solverIterations);
+  ParallelRanges(m_jobs, islands, m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+    RIslandScratch& sc = m_islandScratch[task];
+    for (std::size_t isl = i0; isl < i1; ++isl) {
+      const auto [first, last] = m_blockIslands[isl];
+      WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
+      SolveIslandBlocks(RPhase::kEnd, endIterations, first, last);
+      if (m_directOfIsland[isl] >= 0) {
+        PrepareIslandDirect(static_cast<std::size_t>(m_directOfIsland[isl]), sc);
+        SolveIslandDirect(RPhase::kEnd, sc);
+      }
+    }
+  });
+}
+
+// The sequential-impulse passes over the manifolds, alternating the sweep's direction (for
+// the same reason as the blocks across manifolds). kVelocity: each manifold's normal rows
+// (reach the targets, never pull), its friction bounded by this pass's normal impulses,
+// then position correction on the pseudo-velocities, as a block like the velocities (one
+// point at a time, the first point of a face would be favoured and the correction would
+// tilt the box: a 20-box stack then leans further every step and falls). kEnd: normal rows
+// and friction on the end velocities.
+//
+// Manifolds of different islands (bodies linked through dynamic bodies, BuildIslands)
+// share no body that an impulse moves, so each island's passes are those of the whole
+// sweep restricted to its manifolds, in the same order: the islands are solved apart, on
+// as many threads as there are, with bit-identical results.
+//
+// An island's passes stop early once one changes no row's relative speed by more than
+// kConverged: the passes after it would only move rounding about. A resting pile's warm
+// starts are right to 1e-13 m/s, and most of its islands stop after the first pass or two
+// instead of running all ten (twice a step, with the end's). A pass that changes nothing
+// at all is followed by passes that change nothing (each manifold's solve depends only on
+// its bodies' velocities and its impulses), so a stop at rounding changes the answer by no
+// more than rounding's worth per pass it skips.
+void RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last) {
+  constexpr RScalar kConverged = 1e-12;  // m/s
+  for (int it = 0; it < iterations; ++it) {
+    RScalar change = 0;
+    for (std::uint32_t k = first; k < last; ++k) {
+      RBlock& blk = m_blocks[m_blockOrder[(it % 2 == 0) ? k : last - 1 - (k - first)]];
+      RContactRow* rows = &m_rows[blk.first];
+      if (phase == RPhase::kVelocity) {
+        change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kVelocity));
+        change = std::max(change, SolvePatch(blk, false, RPhase::kVelocity));
+        change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kPosition));
+      } else {
+        change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kEnd));
+        change = std::max(change, SolvePatch(blk, false, RPhase::kEnd));
+      }
+    }
+    if (!(change > kConverged)) break;
+  }
+}
+
+// Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when
+// the rows were built) to the solver bodies' velocities.
+// Island by island, as the passes (SolveBlocks): each island's rows in order, then its
+// patches, which is the whole world's order restricted to the island.
+void RWorldStep::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last) {
+  const int ph = phase == RPhase::kEnd ? 1 : 0;
+  for (std::uint32_t k = first; k < last; ++k) {
+    const RBlock& blk = m_blocks[m_blockOrder[k]];
+    for (int i = 0; i < blk.count; ++i) {
+      RContactRow& r = m_rows[blk.first + i];
+      const RScalar lambda = Lambda(r, phase);
+      if (lambda == 0) continue;
+      RSolverBody& sa = m_solverBodies[r.a];
+      RSolverBody& sb = m_solverBodies[r.b];
+      Push(r.n, lambda, sa, sb, sa.v, sa.w, sb.v, sb.w);
+    }
+  }
+  for (std::uint32_t k = first; k < last; ++k) {
+    const RBlock& blk = m_blocks[m_blockOrder[k]];
+    ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
+  }
+}
+
+void RWorldStep::WarmStart(RPhase phase) {
+  ForEachBlockIsland([&](std::uint32_t first, std::uint32_t last) { WarmStartIsland(phase, first, last); });
+}
+
+// Applies patch impulses (tangential at the centroid, twist about the normal) to the solver
+// bodies' velocities.
+void RWorldStep::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist) {
+  const RContactRow& r = m_rows[blk.first];
+  RSolverBody& sa = m_solverBodies[r.a];
+  RSolverBody& sb = m_solverBodies[r.b];
+  if (d1 != 0) Push(blk.t[0], d1, sa, sb, sa.v, sa.w, sb.v, sb.w);
+  if (d2 != 0) Push(blk.t[1], d2, sa, sb, sa.v, sa.w, sb.v, sb.w);
+  if (dTwist != 0) {
+    if (sa.invM != 0) sa.w -= dTwist * blk.twistIA;
+    if (sb.invM != 0) sb.w += dTwist * blk.twistIB;
+  }
+}
+
+// A manifold's friction: the tangential impulse at its centroid stops the sliding there,
+// within the Coulomb disc of mu times the manifold's total normal impulse, and the twist
+// stops the spin about the normal within mu times the sum of each point's normal impulse
+// times its distance from the centroid. One patch instead of friction at each point: the
+// points' friction solved one after another twists the body a little and leaves each
+// point's impulse slightly off the sliding direction, which loses about 1% of the friction
+// of a box sliding down an incline. clampOnly: only bring the impulses back inside limits
+// that the normal impulses changed.
+RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
+  const int ph = phase == RPhase::kEnd ? 1 : 0;
+  RContactRow* rows = &m_rows[blk.first];
+  RScalar normal = 0, twistArm = 0;
+  for (int i = 0; i < blk.count; ++i) {
+    const RScalar l = Lambda(rows[i], phase);
+    normal += l, twistArm += l * rows[i].lever;
+  }
+  const RSolverBody& sa = m_solverBodies[rows[0].a];
+  const RSolverBody& sb = m_solverBodies[rows[0].b];
+  RScalar lt1 = blk.lambdaT1[ph], lt2 = blk.lambdaT2[ph], lw = blk.lambdaTwist[ph];
+  if (!clampOnly) {
+    // Both tangents at once, through the 2 x 2 effective mass: one at a time the answer
+    // would depend on which two tangents the basis picked, and that choice jumps when the
+    // normal's z component changes sign (a slope moved 1e6 m away slid 1e-5 m further).
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][0],
+                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][1], sa, sb);
+    lt1 += step.x(), lt2 += step.y();
+    if (blk.kTwist > 0) lw -= blk.normal.dot(sb.w - sa.w) / blk.kTwist;
+  }
+  const RScalar limit = blk.friction * normal;
+  const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);  // std::hypot: 5% of a pile step
+  if (norm > limit) lt1 *= limit / norm, lt2 *= limit / norm;
+  const RScalar twistLimit = blk.friction * twistArm;
+  lw = std::clamp(lw, -twistLimit, twistLimit);
+  const RScalar d1 = lt1 - blk.lambdaT1[ph], d2 = lt2 - blk.lambdaT2[ph], dw = lw - blk.lambdaTwist[ph];
+  blk.lambdaT1[ph] = lt1, blk.lambdaT2[ph] = lt2, blk.lambdaTwist[ph] = lw;
+  ApplyPatch(blk, d1, d2, dw);
+  return std::max({std::abs(d1) * blk.t[0].k, std::abs(d2) * blk.t[1].k, std::abs(dw) * blk.kTwist});
+}
+
+// The end of the step. The contact impulses found so far act at its start, on the velocity
+// the bodies move with (the mid-step velocity of kick-drift-kick), which is what keeps a
+// resting box exactly in place; but the step's second half-kick of gravity then leaves it
+// with -g dt / 2 at the end, and a box stuck on a slope with g sin(theta) dt / 2 down the
+// slope: at rest, reported moving. So every contact that is closed at the end of the step
+// gets a second impulse there (SolveContactIslands): no approach, friction within its cone, solved like the
+// first (blocks, patches, islands) on the end velocities. A resting body then ends each
+// step at rest, and the support it needs is shared between the two ends of the step, the
+// way kick-drift-kick shares a force; a sliding box's friction is shared the same way. The
+// impulses are inelastic (targets of zero, never pulling): they cannot add energy.
+// Whether row r is closed at the end of the step (endTarget 0), or not (kNever, and no end
+// impulse).
+bool RWorldStep::CloseAtEnd(RContactRow& r, const RStepBodies& bodies, RScalar dt) const {
+  const RScalar halfDt = RScalar(0.5) * dt;
+  const RSolverBody& sa = m_solverBodies[r.a];
+  const RSolverBody& sb = m_solverBodies[r.b];
+  // Closed at the end: the gap after moving with this step's velocities (a touching band
+  // of a micrometre per metre of size for rounding).
+  const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
+  const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
+  const RScalar band = 1e-6 * (bodies[r.a].BoundingRadius() + bodies[r.b].BoundingRadius());
+  // A contact that closes faster than the restitution threshold is an impact, and the
+  // next step's impact phase bounces it; stopped here it would end inelastic.
+  auto accel = [&](std::uint32_t i) -> RVec3 {
+    const RRigidBody& b = bodies[i];
+    return b.m_isStatic ? RVec3::Zero() : Acceleration(b, m_settings.gravity_W);
+  };
+  const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
+  // A body that had an impact this step is not at rest: its end-of-step velocity is the
+  // impact's outcome, left as it is.
+  const bool impacted = sa.tau > 0 || sb.tau > 0;
+  // Nor is a polyhedron whose spin carries the contact point further than the slop within
+  // the step: this impulse is solved with the lever arms of the step's start and applied
+  // at its end, and on a cube spinning at 5 rad/s the arm has turned 0.08 m by then, so an
+  // impulse that stops the approach in the solver's frame adds energy in the body's (a
+  // pair in the debris cloud gained 1e-5 of its energy in one step). A sphere's contact
+  // point does not turn with it, and a kinematic body's impulse is not applied (a crate on
+  // a turntable keeps its end impulses).
+  auto arc = [&](std::uint32_t i, const RSolverBody& s, const RVec3& arm) {
+    return bodies[i].Polyhedron_B() && s.invM != 0 ? s.w.norm() * arm.norm() * dt : RScalar(0);
+  };
+  const bool spinning = arc(r.a, sa, r.rA) + arc(r.b, sb, r.rB) > m_settings.penetrationSlop;
+  r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
+                        !spinning && r.n.k > 0
+                    ? RScalar(0) : kNever;
+  if (r.endTarget == kNever) r.lambdaE = 0;
+  return r.endTarget == 0;
+}
+
+}  // namespace REngine
