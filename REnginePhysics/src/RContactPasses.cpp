@@ -112,6 +112,7 @@ void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int 
   // The end velocities: the second half-kick of the applied forces and gravity.
   ParallelRanges(m_jobs, bodies.size(), m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
+      if (!m_inRows[i]) continue;  // no end impulse reaches it
       const RRigidBody& b = bodies[i];
       RSolverBody& s = m_solverBodies[i];
       s.vMid = s.v - s.deferV;

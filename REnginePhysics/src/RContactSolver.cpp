@@ -49,14 +49,20 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     std::swap(m_warm, m_warmNext);
     return;
   }
-  // Each body's solver state: the velocities it moves with this step (m_moveV, from
-  // CollisionDetection's pre-pass), its world inverse inertia and masks (RBodyMotion.cpp).
-  for (std::size_t i = 0; i < n; ++i) InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt);
-
   // The rows, impact rows and friction patches of every contact, each contact's at places
-  // counted beforehand (the same order as one after another), so that contacts are built
-  // as tasks side by side.
+  // counted beforehand (LayOutIslands: island by island), so that contacts are built as
+  // tasks side by side.
   LayOutIslands(bodies);
+  // Each body's solver state: the velocities it moves with this step (m_moveV, from
+  // CollisionDetection's pre-pass), its world inverse inertia and masks (RBodyMotion.cpp);
+  // a body in no row (most of a debris cloud's) only gets empty outputs.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (m_inRows[i]) {
+      InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt);
+    } else {
+      InitIdleSolverBody(m_solverBodies[i], bodies[i]);
+    }
+  }
   if (m_warmTasks.size() < m_tasks) m_warmTasks.resize(m_tasks);
   const std::size_t rowTasks = ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 32, [&](std::size_t c0, std::size_t c1, std::size_t task) {
     m_warmTasks[task] = 0;

@@ -80,6 +80,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   m_islandSets.Reset(n);
   m_rowStart.resize(m_contacts.size());
+  m_inRows.assign(n, 0);
   std::uint32_t blockCount = 0;
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
     RContact& c = m_contacts[ci];
@@ -91,6 +92,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     c.resolved = A.m_responds && B.m_responds && !(A.Immovable() && B.Immovable()) &&
                  c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
     if (!c.resolved) continue;
+    m_inRows[c.a] = m_inRows[c.b] = 1;
     m_rowStart[ci].impact = blockCount++;
     if (!A.Immovable() && !B.Immovable()) m_islandSets.Union(c.a, c.b);
   }

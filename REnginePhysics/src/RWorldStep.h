@@ -113,6 +113,8 @@ class RWorldStep {
   // A body's solver state at the start of FindImpulses: vMove its mid-step velocity (m/s).
   struct RSolverBody;
   static void InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt);
+  // A body in no row: outputs that change nothing (no impulses, no pseudo-velocity).
+  static void InitIdleSolverBody(RSolverBody& s, const RRigidBody& b);
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
   static void MoveKinematic(RRigidBody& b, RScalar dt);
   // A body with angular locks: its world spin, drag and kicks, turned about the world axis
@@ -357,6 +359,7 @@ class RWorldStep {
   };
   std::vector<RContactSlots> m_rowStart;
   std::vector<std::uint32_t> m_blockContact;  // the contact of each block
+  std::vector<char> m_inRows;  // per body: in some resolved contact's rows this step
   std::vector<std::uint32_t> m_warmTasks;
   std::vector<std::uint64_t> m_inverseTasks;  // each task's count of block inverses kept
   std::vector<char> m_anyTasks;  // SolveEndOfStep: whether a task's rows close at the end
