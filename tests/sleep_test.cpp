@@ -3,6 +3,7 @@
 // where it changes only the residual velocity it zeroes. The shortcuts that claim to be
 // exact (bounds rejection, static world forms) are checked in pair_sweep_test.cpp.
 #include <REngineMath/RQuaternion.h>
+#include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 
 #include <gtest/gtest.h>
@@ -168,28 +169,94 @@ TEST(Sleep, RemovingABodyWakesEverything) {
   }
 }
 
-// Moving static geometry wakes every sleeping body (which ones it held is not kept while
-// they sleep): a box on a platform lowered by 1 m falls onto it (lands within the slop of
-// its new top). Changing gravity wakes everything too.
-TEST(Sleep, MovingStaticGeometryOrGravityWakes) {
+// Moving static geometry wakes the sleepers about it, where it was and where it is (which
+// ones it held is not kept while they sleep), and nothing else: a box on a platform lowered
+// by 1 m falls onto it (lands within the slop of its new top) while a box on the ground
+// 80 m away sleeps on. Changing gravity wakes everything.
+TEST(Sleep, MovingStaticGeometryWakesWhatItTouchesGravityEverything) {
   const RBodyDef platform =
       BoxDef(RVec3(2, 0.5, 2)).Static().At(RVec3(20, -0.5, 0)).Named("platform");
   std::vector<RRigidBody> bodies{RRigidBody(GroundDef(RVec3(-60, -0.5, 0))), RRigidBody(platform),
                                  RRigidBody(UnitBoxDef(RVec3(-60, 0.5, 0)).Named("on ground")),
-                                 RRigidBody(UnitBoxDef(RVec3(20, 0.5, 0)).Named("on platform"))};
+                                 RRigidBody(UnitBoxDef(RVec3(20, 0.5, 0)).Named("on platform")),
+                                 RRigidBody(BoxDef(RVec3(0.5, 1, 1)).Static().At(RVec3(200, 1, 0)).Named("wall"))};
   RIntegrator integrator(EarthGravity());
   Step(integrator, bodies, 60);
   ASSERT_EQ(Sleeping(bodies), 2);
   bodies[1].SetShapePose(RVec3(20, -1.5, 0), RQuat::Identity());
   integrator.Update(bodies, kDt);
-  EXPECT_EQ(Sleeping(bodies), 0) << "a static body moved";
+  EXPECT_FALSE(bodies[3].IsSleeping()) << "the platform it rested on moved";
+  EXPECT_TRUE(bodies[2].IsSleeping()) << "a static body 80 m away moved";
   Step(integrator, bodies, 120);
   EXPECT_NEAR(bodies[3].Position_W().y(), -0.5, 5e-4) << "landed on the lowered platform";
   EXPECT_LT((bodies[2].Position_W() - RVec3(-60, 0.5, 0)).norm(), 1e-12) << "the other box did not move";
   ASSERT_EQ(Sleeping(bodies), 2);
+  // A static wall brought from 200 m away and set down beside the sleeping box on the
+  // ground, touching it: it wakes (the wall may push it), the box on the platform does not.
+  bodies[4].SetShapePose(RVec3(-59, 1, 0), RQuat::Identity());
+  integrator.Update(bodies, kDt);
+  EXPECT_FALSE(bodies[2].IsSleeping()) << "a static body was set down touching it";
+  EXPECT_TRUE(bodies[3].IsSleeping()) << "a static body 80 m away moved";
+  Step(integrator, bodies, 120);
+  ASSERT_GE(Sleeping(bodies), 1);
   integrator.Settings().gravity_W = RVec3(0, -9.81, 0.1);
   integrator.Update(bodies, kDt);
   EXPECT_EQ(Sleeping(bodies), 0) << "gravity changed";
+}
+
+// Static and kinematic bodies added to, removed from or teleported in an RBodies wake the
+// sleepers about them, not the world: two sleeping stacks 50 m apart, and each edit near
+// one of them wakes that one only. A removed floor drops its stack in free fall.
+TEST(Sleep, AddingRemovingOrTeleportingStaticBodiesWakesOnlyTheirNeighbours) {
+  RBodies world;
+  const RBodyHandle floorA = world.Add(BoxDef(RVec3(3, 0.5, 3)).Static().At(RVec3(0, -0.5, 0)).Named("floor A"));
+  world.Add(BoxDef(RVec3(3, 0.5, 3)).Static().At(RVec3(50, -0.5, 0)).Named("floor B"));
+  std::vector<RBodyHandle> stackA, stackB;
+  for (int k = 0; k < 3; ++k) {
+    stackA.push_back(world.Add(UnitBoxDef(RVec3(0, 0.5 + k, 0)).Named("a" + std::to_string(k))));
+    stackB.push_back(world.Add(UnitBoxDef(RVec3(50, 0.5 + k, 0)).Named("b" + std::to_string(k))));
+  }
+  RIntegrator integrator(EarthGravity());
+  auto asleep = [&](const std::vector<RBodyHandle>& stack) {
+    int n = 0;
+    for (RBodyHandle h : stack) n += world[h].IsSleeping();
+    return n;
+  };
+  auto settle = [&] {
+    for (int k = 0; k < 240 && (asleep(stackA) < 3 || asleep(stackB) < 3); ++k) integrator.Update(world, kDt);
+    ASSERT_EQ(asleep(stackA), 3);
+    ASSERT_EQ(asleep(stackB), 3);
+  };
+  settle();
+  // A kinematic pusher appears touching stack A's middle box.
+  const RBodyHandle pusher = world.Add(BoxDef(RVec3(0.5, 0.5, 0.5)).Kinematic().At(RVec3(1.0, 1.5, 0)).Named("pusher"));
+  integrator.Update(world, kDt);
+  EXPECT_EQ(asleep(stackA), 0) << "a kinematic body appeared touching it";
+  EXPECT_EQ(asleep(stackB), 3);
+  world.Remove(pusher);
+  settle();
+  // A static post teleported from far away to touch stack B's top box.
+  const RBodyHandle post = world.Add(BoxDef(RVec3(0.2, 2, 0.2)).Static().At(RVec3(-100, 2, 0)).Named("post"));
+  integrator.Update(world, kDt);
+  EXPECT_EQ(asleep(stackA), 3) << "a static body appeared 100 m away";
+  EXPECT_EQ(asleep(stackB), 3);
+  world[post].SetShapePose(RVec3(50.7, 2, 0), RQuat::Identity());
+  integrator.Update(world, kDt);
+  EXPECT_EQ(asleep(stackA), 3);
+  EXPECT_EQ(asleep(stackB), 0) << "a static body was set down touching it";
+  world.Remove(post);
+  settle();
+  // Stack A's floor goes: A falls freely (g t^2 / 2), B sleeps on.
+  std::vector<RScalar> y0;
+  for (RBodyHandle h : stackA) y0.push_back(world[h].Position_W().y());
+  world.Remove(floorA);
+  const int steps = 30;
+  for (int k = 0; k < steps; ++k) integrator.Update(world, kDt);
+  const RScalar t = steps * kDt, fall = 0.5 * 9.81 * t * t;
+  for (std::size_t k = 0; k < stackA.size(); ++k) {
+    EXPECT_NEAR(y0[k] - world[stackA[k]].Position_W().y(), fall, 1e-12) << k;
+  }
+  EXPECT_EQ(asleep(stackB), 3) << "a static body 50 m away was removed";
 }
 
 // A body that does not respond (a laser, a sensor) passing through a sleeping box is

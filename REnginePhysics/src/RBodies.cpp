@@ -69,7 +69,11 @@ void RBodies::SwapDense(std::uint32_t i, std::uint32_t j) {
 
 void RBodies::WakeForDeparture(RRigidBody& b) {
   if (b.Immovable()) {
-    m_wakeAll = true;
+    if (b.m_slotWorld != 0) {  // stepped: sleepers may rest on it
+      RVec3 lo, hi;
+      b.WorldBox(lo, hi);
+      m_wakeBoxes.push_back(lo), m_wakeBoxes.push_back(hi);
+    }
   } else if (b.m_sleepIsland != RRigidBody::kNoIsland) {
     // Asleep, or woken by the game since the last step: its island still has the id.
     m_wakeIslands.push_back(b.m_sleepIsland);

@@ -122,6 +122,7 @@ void RIntegrator::Update(RBodies& bodies, RScalar dt) {
   view.byIndex = false;
   view.wakeIslands = &bodies.m_wakeIslands;
   view.wakeAll = &bodies.m_wakeAll;
+  view.wakeBoxes = &bodies.m_wakeBoxes;
   // Queries' caches of the poses (RQueries) see the bodies moved, also when the step throws
   // part way.
   bodies.m_poseStamp.Bump();

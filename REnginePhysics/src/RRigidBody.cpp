@@ -201,17 +201,34 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   SetAngularVelocity_W(def.angularVelocity_W);
 }
 
+void RRigidBody::WorldBox(RVec3& min_W, RVec3& max_W) const {
+  const RMat3 R = m_q_WB.toRotationMatrix();
+  const RVec3 centre = m_x_W + R * m_boxCenter_B;
+  const RVec3 half = R.cwiseAbs() * m_boxHalf_B;
+  min_W = centre - half, max_W = centre + half;
+}
+
+void RRigidBody::NoteImmovableEdit() {
+  if (!Immovable()) return;
+  // Where it was at the last step: the poses it is given between two steps held nothing.
+  if (m_slotWorld != 0 && !m_wakeFromSet) {
+    WorldBox(m_wakeFromMin_W, m_wakeFromMax_W);
+    m_wakeFromSet = true;
+  }
+  m_staticMoved = true;
+}
+
 void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q) {
   Require(InRange(position_W), "position", kPositionRange);
   const std::optional<RQuat> q_WS = QuatNormalized(q);
   Require(q_WS.has_value(), "orientation", "must be a finite quaternion of non-zero length");
+  // A static or kinematic body set to a pose jumps there: the sleepers that rested on it
+  // where it was lose their support, and those it lands on are pushed (WakeIslands).
+  NoteImmovableEdit();
   m_q_WB = *q_WS * m_q_BS.conjugate();
   m_q_WB.normalize();
   m_x_W = position_W - m_q_WB * m_p_BS;
   m_worldForm.stamp = 0;  // moved outside a step: the cached world form is stale
-  // A kinematic body set to a pose jumps there, as a moved static body does: sleepers that
-  // rested on it anywhere lose their support.
-  if (Immovable()) m_staticMoved = true;
   if (m_worldSpin) m_w_B = m_q_WB.conjugate() * m_w_W;
   CountEdit();
   Wake();
@@ -253,9 +270,9 @@ void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
   const auto it = std::lower_bound(m_ignore.begin(), m_ignore.end(), otherId);
   if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
   // A sleeping pair is not looked at: it would never learn to ignore. A static body cannot
-  // sleep; which sleeper it names is not known here, so it wakes everything, as if moved.
+  // sleep: the sleepers about it wake, as if it had moved.
   Wake();
-  if (Immovable()) m_staticMoved = true;
+  NoteImmovableEdit();
 }
 
 void RRigidBody::SetCollisionFilter(std::uint32_t category, std::uint32_t mask) {
@@ -263,7 +280,7 @@ void RRigidBody::SetCollisionFilter(std::uint32_t category, std::uint32_t mask) 
   m_category = category, m_mask = mask;
   CountEdit();  // queries cache the category beside the bounds
   Wake();
-  if (Immovable()) m_staticMoved = true;
+  NoteImmovableEdit();
 }
 
 void RRigidBody::SetVelocity_W(const RVec3& v_W) {

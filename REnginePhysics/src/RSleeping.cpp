@@ -33,20 +33,33 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   // A plain vector's bodies are known by index: when bodies were added or removed the ids
   // mean nothing, and a removed body may have held a sleeping stack up. An RBodies reports
   // its departures instead (RBodies::Remove, Disable): only their islands wake.
-  // A sleeping body ignores gravity, so a change of gravity wakes everything; and so does
-  // static geometry that the game moved or added, which may hold or have held sleeping bodies
-  // (their contacts are not kept while they sleep, so which ones is not known).
+  // A sleeping body ignores gravity, so a change of gravity wakes everything.
   // Any body not where this integrator left it (see RRigidBody::m_slot) wakes everything:
   // in a plain vector a removal and an addition in one frame keep the count and may still
   // remove a support; a body that was stepped by another integrator brings island ids
   // that mean nothing here. (A body an RBodies has just added has not been stepped.)
+  // Static and kinematic bodies that the game moved, added or removed may hold or have held
+  // sleeping bodies (their contacts are not kept while they sleep): the sleepers whose
+  // boxes touch where such a body was or is wake, with their islands (below). A moving
+  // platform no longer wakes the world each time the game sets its pose.
   bool moved = m_wakeAll || (bodies.wakeAll && *bodies.wakeAll);
+  m_wakeBoxes.clear();
+  if (bodies.wakeBoxes) m_wakeBoxes.swap(*bodies.wakeBoxes), bodies.wakeBoxes->clear();
   for (std::size_t i = 0; i < n && !moved; ++i) {
-    const RRigidBody& b = bodies[i];
+    RRigidBody& b = bodies[i];
     const bool fresh = !bodies.byIndex && b.m_slotWorld == 0;
-    moved = b.m_staticMoved ||
-            (!fresh && (b.m_slot != bodies.Slot(i) || b.m_slotWorld != m_worldId.value));
+    moved = !fresh && (b.m_slot != bodies.Slot(i) || b.m_slotWorld != m_worldId.value);
+    if (!b.m_staticMoved) continue;
+    RVec3 lo, hi;
+    b.WorldBox(lo, hi);
+    m_wakeBoxes.push_back(lo), m_wakeBoxes.push_back(hi);
+    if (b.m_wakeFromSet) m_wakeBoxes.push_back(b.m_wakeFromMin_W), m_wakeBoxes.push_back(b.m_wakeFromMax_W);
+    b.m_wakeFromSet = false;
   }
+  // Past a few hundred edits a frame, a sweep of every box against every sleeper would
+  // cost more than the wake it saves.
+  constexpr std::size_t kMostWakeBoxes = 256;
+  moved = moved || m_wakeBoxes.size() > 2 * kMostWakeBoxes;
   m_wakeAll = false;
   if (bodies.wakeAll) *bodies.wakeAll = false;
   const bool countChanged = bodies.byIndex && n != m_sleepBodyCount;
@@ -71,10 +84,24 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
     }
     bodies.wakeIslands->clear();
   }
-  // A body the game woke (RRigidBody::Wake) still names the island it slept with.
+  // A body the game woke (RRigidBody::Wake) still names the island it slept with; a
+  // sleeper whose box touches one of the moved static and kinematic bodies' boxes wakes its
+  // island (boxes grown by twice the slop and a hundredth of the sleeper's size: a resting
+  // contact overlaps by at most the slop).
   for (const RRigidBody& b : bodies) {
     if (!b.m_sleeping && b.m_sleepIsland < m_wakeMark.size()) {
       m_wakeMark[b.m_sleepIsland] = 1, any = true;
+    }
+    if (!b.m_sleeping || m_wakeBoxes.empty() || !(b.m_sleepIsland < m_wakeMark.size())) continue;
+    RVec3 lo, hi;
+    b.WorldBox(lo, hi);
+    const RScalar grow = 2 * m_settings.penetrationSlop + RScalar(0.01) * b.m_boundingRadius;
+    lo.array() -= grow, hi.array() += grow;
+    for (std::size_t k = 0; k < m_wakeBoxes.size(); k += 2) {
+      if ((lo.array() <= m_wakeBoxes[k + 1].array()).all() && (m_wakeBoxes[k].array() <= hi.array()).all()) {
+        m_wakeMark[b.m_sleepIsland] = 1, any = true;
+        break;
+      }
     }
   }
   if (any) WakeMarked(bodies);
@@ -99,7 +126,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   std::uint64_t asleep = 0;
   for (std::size_t i = 0; i < n; ++i) {
     RRigidBody& b = bodies[i];
-    b.m_staticMoved = false, b.m_slot = bodies.Slot(i), b.m_slotWorld = m_worldId.value;
+    b.m_staticMoved = false, b.m_wakeFromSet = false, b.m_slot = bodies.Slot(i), b.m_slotWorld = m_worldId.value;
     anyRested = anyRested || (!b.Immovable() && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
     asleep += b.m_sleeping;
   }

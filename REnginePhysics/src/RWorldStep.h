@@ -50,6 +50,7 @@ struct RStepBodies {
   // An RBodies' departures since the last step: islands to wake, or all (read and cleared).
   std::vector<std::uint32_t>* wakeIslands = nullptr;
   bool* wakeAll = nullptr;
+  std::vector<RVec3>* wakeBoxes = nullptr;  // static and kinematic departures' boxes
 
   RRigidBody& operator[](std::size_t i) const { return data[i]; }
   std::size_t size() const { return count; }
@@ -441,6 +442,7 @@ class RWorldStep {
   void KeepSleepingWarmStarts(const RStepBodies& bodies);
   // Sleeping: islands to wake (by island id), union-find and per-island state (scratch).
   std::vector<char> m_wakeMark;
+  std::vector<RVec3> m_wakeBoxes;  // WakeIslands: boxes whose sleepers wake (min, max, ...)
   RUnionFind m_sleepSets;
   std::vector<RScalar> m_sleepRest;
   std::vector<char> m_sleepSupported, m_sleepStill;

@@ -129,8 +129,8 @@ class RBodies {
   static constexpr std::uint32_t kFree = std::numeric_limits<std::uint32_t>::max();
   std::uint32_t DenseIndex(RBodyHandle h) const;
   void SwapDense(std::uint32_t i, std::uint32_t j);
-  // What leaving the step does to sleepers: a sleeping body's island wakes, a static body
-  // wakes everything.
+  // What leaving the step does to sleepers: a sleeping body's island wakes, a static or
+  // kinematic body wakes the sleepers about it.
   void WakeForDeparture(RRigidBody& b);
 
   std::vector<RRigidBody> m_bodies;   // dense: enabled [0, m_enabled), then disabled
@@ -142,6 +142,9 @@ class RBodies {
   // Read and cleared by the next Update: islands to wake (by island id), or all of them.
   std::vector<std::uint32_t> m_wakeIslands;
   bool m_wakeAll = false;
+  // ... and the world boxes (min, max, min, max, ...) of the static and kinematic bodies that
+  // left: the sleepers they touched wake.
+  std::vector<RVec3> m_wakeBoxes;
   RBodiesStamp m_layoutStamp, m_poseStamp;
   void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(); }
 };

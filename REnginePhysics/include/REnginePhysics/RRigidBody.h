@@ -341,6 +341,16 @@ class RRigidBody {
   static constexpr std::uint32_t kNoIsland = 0xffffffffu;
   bool m_sleeping = false;
   bool m_staticMoved = false;  // a static body the game moved since the last step
+  // Where a static or kinematic body the game moved (or refiltered) was at the last step,
+  // world box (valid when m_wakeFromSet): the sleepers that touched it there wake, and those
+  // that touch it where it is now, not the world.
+  bool m_wakeFromSet = false;
+  RVec3 m_wakeFromMin_W = RVec3::Zero(), m_wakeFromMax_W = RVec3::Zero();
+  // An edit of a static or kinematic body: notes its box before the edit (a body never
+  // stepped held no sleeper) and marks it moved.
+  void NoteImmovableEdit();
+  // A box about the body at its pose, world (its body-frame box turned: |R| h about R c).
+  void WorldBox(RVec3& min_W, RVec3& max_W) const;
   RScalar m_restTime = 0;
   std::uint32_t m_sleepIsland = kNoIsland;
   // Where the body was at the end of its last step: which integrator stepped it and at
