@@ -39,14 +39,17 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   // Any body not where this integrator left it (see RRigidBody::m_slot) wakes everything:
   // in a plain vector a removal and an addition in one frame keep the count and may still
   // remove a support; a body that was stepped by another integrator brings island ids
-  // that mean nothing here. (A body an RBodies has just added has not been stepped.)
+  // that mean nothing here (a copy of this integrator's, before its first step, is this
+  // world: RWorldId). (A body an RBodies has just added has not been stepped.)
   bool moved = m_wakeAll || (bodies.wakeAll && *bodies.wakeAll);
   for (std::size_t i = 0; i < n && !moved; ++i) {
     const RRigidBody& b = bodies[i];
     const bool fresh = !bodies.byIndex && b.m_slotWorld == 0;
     moved = b.m_staticMoved ||
-            (!fresh && (b.m_slot != bodies.Slot(i) || b.m_slotWorld != m_worldId.value));
+            (!fresh && (b.m_slot != bodies.Slot(i) || !m_worldId.Owns(b.m_slotWorld)));
   }
+  // From this step on the bodies carry this integrator's own id (SleepIslands).
+  m_worldId.inherited = 0;
   m_wakeAll = false;
   if (bodies.wakeAll) *bodies.wakeAll = false;
   const bool countChanged = bodies.byIndex && n != m_sleepBodyCount;

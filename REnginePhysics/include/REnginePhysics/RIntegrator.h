@@ -195,7 +195,10 @@ class RIntegrator {
   RIntegrator();
   explicit RIntegrator(const RWorldSettings& settings);
   ~RIntegrator();
-  // A copy is another world with the same settings, contact memory and outputs.
+  // A copy is another world with the same settings, contact memory and outputs: stepping it
+  // and a copy of the bodies goes on bit for bit as the original would, sleepers asleep
+  // (until its first step it takes the original's bodies as its own; bodies the original
+  // steps after that wake everything when the copy steps them).
   RIntegrator(const RIntegrator& other);
   RIntegrator& operator=(const RIntegrator& other);
   RIntegrator(RIntegrator&&) noexcept;
