@@ -357,9 +357,11 @@ TEST(Sleep, ChangingAnIgnoreListWakes) {
   EXPECT_LT(again[1].Position_W().y(), 0) << "the ground let it through";
 }
 
-// A copy of an integrator is another world: bodies it did not step wake there (island ids
-// are another world's indices), while the original keeps its sleepers asleep.
-TEST(Sleep, CopiedIntegratorIsAnotherWorld) {
+// A copy of an integrator with a copy of its bodies is the same world: its sleepers stay
+// asleep and it goes on as the original does (copying used to wake every sleeper). Bodies the
+// original stepped after that are another world's to the copy (island ids of another world):
+// stepped by the copy, they wake.
+TEST(Sleep, CopiedIntegratorKeepsItsSleepers) {
   std::vector<RRigidBody> a = MakeBodies(BoxStackDefs(2));
   RIntegrator ia(EarthGravity());
   Step(ia, a, 60);
@@ -367,9 +369,13 @@ TEST(Sleep, CopiedIntegratorIsAnotherWorld) {
   RIntegrator ib = ia;
   std::vector<RRigidBody> b = a;
   ib.Update(b, kDt);
-  EXPECT_EQ(Sleeping(b), 0) << "stepped by the copy: another world";
   ia.Update(a, kDt);
+  EXPECT_EQ(Sleeping(b), 2) << "stepped by the copy: the same world";
   EXPECT_EQ(Sleeping(a), 2) << "the original world";
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].Position_W(), b[i].Position_W()) << i;
+  std::vector<RRigidBody> fromOriginal = a;
+  ib.Update(fromOriginal, kDt);
+  EXPECT_EQ(Sleeping(fromOriginal), 0) << "the original's bodies, stepped by the copy";
 }
 
 // A static sensor (does not respond) keeps reporting a box that sleeps on it: pressure

@@ -3,7 +3,7 @@
 # seed and reproducer must pass), then fuzzes for a while. Builds them in build-asan/ with the
 # sanitizers (tools/sanitize.sh's build, which includes them).
 #
-#   tools/fuzz.sh [--seconds N] [--merge] [target ...]   # default: all four, 60 s each
+#   tools/fuzz.sh [--seconds N] [--merge] [target ...]   # default: all five, 60 s each
 #   tools/fuzz.sh --ci                                    # replay, then a fixed fuzz run
 #
 # --ci fuzzes a fixed number of inputs from a fixed seed (about 30 s a target here), so a CI
@@ -25,7 +25,7 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene fuzz_hull fuzz_narrowphase fuzz_world)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene fuzz_hull fuzz_narrowphase fuzz_world fuzz_state)
 RENGINE_SANITIZE_BUILD_ONLY=1 ./tools/sanitize.sh
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
@@ -43,7 +43,8 @@ for t in "${targets[@]}"; do
   status=0
   if [ "$ci" = 1 ]; then
     case "$t" in  # inputs for about 30 s each on a 2-core machine under the sanitizers
-      fuzz_scene) runs=400000 ;; fuzz_hull) runs=60000 ;; fuzz_narrowphase) runs=40000 ;; *) runs=12000 ;;
+      fuzz_scene) runs=400000 ;; fuzz_hull) runs=60000 ;; fuzz_narrowphase) runs=40000 ;; fuzz_state) runs=1500 ;;
+      *) runs=12000 ;;
     esac
     echo "== $t: fuzzing $runs inputs from seed 1"
     rm -rf "$scratch" && mkdir -p "$scratch"

@@ -37,7 +37,8 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   // Any body not where this integrator left it (see RRigidBody::m_slot) wakes everything:
   // in a plain vector a removal and an addition in one frame keep the count and may still
   // remove a support; a body that was stepped by another integrator brings island ids
-  // that mean nothing here. (A body an RBodies has just added has not been stepped.)
+  // that mean nothing here (a copy of this integrator's, before its first step, is this
+  // world: RWorldId). (A body an RBodies has just added has not been stepped.)
   // Static and kinematic bodies that the game moved, added or removed may hold or have held
   // sleeping bodies (their contacts are not kept while they sleep): the sleepers whose
   // boxes touch where such a body was or is wake, with their islands (below). A moving
@@ -48,7 +49,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   for (std::size_t i = 0; i < n && !moved; ++i) {
     RRigidBody& b = bodies[i];
     const bool fresh = !bodies.byIndex && b.m_slotWorld == 0;
-    moved = !fresh && (b.m_slot != bodies.Slot(i) || b.m_slotWorld != m_worldId.value);
+    moved = !fresh && (b.m_slot != bodies.Slot(i) || !m_worldId.Owns(b.m_slotWorld));
     if (!b.m_staticMoved) continue;
     RVec3 lo, hi;
     b.WorldBox(lo, hi);
@@ -56,6 +57,8 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
     if (b.m_wakeFromSet) m_wakeBoxes.push_back(b.m_wakeFromMin_W), m_wakeBoxes.push_back(b.m_wakeFromMax_W);
     b.m_wakeFromSet = false;
   }
+  // From this step on the bodies carry this integrator's own id (SleepIslands).
+  m_worldId.inherited = 0;
   // Past a few hundred edits a frame, a sweep of every box against every sleeper would
   // cost more than the wake it saves.
   constexpr std::size_t kMostWakeBoxes = 256;

@@ -449,15 +449,23 @@ class RWorldStep {
   std::size_t m_sleepBodyCount = 0;
   bool m_wakeAll = false;  // ForgetContacts, SetPairFilter
   // This integrator, as the bodies it stepped remember it (a process-wide count). A copy of
-  // an integrator is another world: it draws its own id.
+  // an integrator draws its own id, and until its first step also takes the bodies the
+  // original stepped as its own: a world copied with its bodies goes on as the original
+  // would, sleepers asleep, while bodies the original steps after the copy's first step wake
+  // everything when the copy steps them (their island ids are another world's). A load
+  // (RWorldState.cpp) gives the bodies it restores this integrator's id.
   struct RWorldId {
     std::uint64_t value = NextCacheStamp();
+    std::uint64_t inherited = 0;  // the original's id until the first step; 0: none
     RWorldId() = default;
-    RWorldId(const RWorldId&) : value(NextCacheStamp()) {}
-    RWorldId& operator=(const RWorldId&) {
-      value = NextCacheStamp();
+    RWorldId(const RWorldId& other) : value(NextCacheStamp()), inherited(other.Lineage()) {}
+    RWorldId& operator=(const RWorldId& other) {
+      value = NextCacheStamp(), inherited = other.Lineage();
       return *this;
     }
+    // The id the bodies of this world carry: a copy not yet stepped has only its original's.
+    std::uint64_t Lineage() const { return inherited != 0 ? inherited : value; }
+    bool Owns(std::uint64_t slotWorld) const { return slotWorld == value || (inherited != 0 && slotWorld == inherited); }
   } m_worldId;
   RVec3 m_sleepGravity_W = RVec3::Zero();
   RPairStats m_pairStats;

@@ -11,6 +11,7 @@ its encoding can express (see each fuzz_*.cpp for the encoding):
               infinities and NaN). The engine-level reproducers (an infinite force freezing
               a stack, a zero quaternion, a negative dt, a spin of 1e8 rad/s) are gtests in
               api_input_test.cpp and rotation_test.cpp, where each value is exact.
+  fuzz_state: a state loaded intact, with a bit flipped (resealed, and not), and cut.
 """
 import json
 import os
@@ -100,3 +101,12 @@ write("fuzz_world", "infinite_force", bytes([1, 10, 1]) + u16(0.5) + bytes([2]) 
       bytes([2, 0, 0, 0, 0]) + raw(float("inf")) + bytes([1]) + raw(1) + bytes([1]) + raw(0) + bytes([1]))
 write("fuzz_world", "nan_pose", bytes([0, 4, 0]) + u16(0.5) + bytes([1]) + body(0) +
       bytes([3, 0, 0, 6]) + bytes([0]) + raw(float("nan")) * 7)
+
+# --- fuzz_state: steps, mode (1: cut, 2: reseal), edits, (offset: 3 bytes, xor)..., cut length: 3 bytes
+def offset(n):
+    return bytes([n & 0xff, (n >> 8) & 0xff, (n >> 16) & 0xff])
+write("fuzz_state", "intact", bytes([30, 0, 0]))
+write("fuzz_state", "flipped", bytes([30, 0, 1]) + offset(700) + bytes([0x10]))
+write("fuzz_state", "flipped_resealed", bytes([30, 2, 2]) + offset(700) + bytes([0x10]) + offset(1500) + bytes([0x80]))
+write("fuzz_state", "cut", bytes([12, 1, 0]) + offset(1000))
+write("fuzz_state", "cut_resealed", bytes([12, 3, 0]) + offset(1000))

@@ -22,6 +22,10 @@ const EventWriter::Known& EventWriter::Body(RBodyHandle h, const RBodies& bodies
   return m_known.emplace(key, std::move(k)).first->second;
 }
 
+void EventWriter::Know(const RBodies& bodies) {
+  for (std::size_t d = 0; d < bodies.Size(); ++d) Body(bodies.HandleAt(d), bodies);
+}
+
 void EventWriter::Write(std::uint64_t step, double dt, const std::vector<RContactEvent>& events,
                         const RBodies& bodies) {
   m_rows.clear();

@@ -23,6 +23,9 @@ class EventWriter {
   // first (the scene's order, then the order of `add` actions: RRigidBody::Id), the normal
   // points from it to body_b, and rows are sorted by body_a, body_b, begin before end.
   void Write(std::uint64_t step, double dt, const std::vector<RContactEvent>& events, const RBodies& bodies);
+  // Learns the names of every body in the container now: a run loaded from a state
+  // (--load-state) may end a pair that began before it, of a body removed since.
+  void Know(const RBodies& bodies);
   // Writes what is buffered; false when any write failed.
   bool Flush();
 

@@ -2,6 +2,7 @@
 //
 //   rengine-sim SCENE.json [--out TRAJ.csv] [--steps N] [--dt S] [--every K] [--quiet]
 //               [--max-seconds S] [--rays RAYS.csv] [--events EVENTS.csv]
+//               [--save-state N:FILE] [--load-state FILE]
 //   rengine-sim SCENE.json --describe
 //
 // Exit codes: 0 success; 2 bad input (scene, options, files); 1 a failure during the run.
@@ -11,6 +12,7 @@
 #include "csv.h"
 #include "events.h"
 #include "rays.h"
+#include "state.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -226,6 +228,7 @@ int Run(int argc, char** argv) {
   CLI::App app{"Runs a REngine scene (rengine-scene/1) and writes its trajectory as CSV.",
                "rengine-sim"};
   std::string scenePath, outPath, stepsText, dtText, everyText, maxSecondsText, raysPath, eventsPath;
+  std::string saveStateText, loadStatePath;
   int threads = 0;
   bool quiet = false, describe = false, profile = false;
   app.add_option("scene", scenePath, "Scene file (JSON)")->required();
@@ -243,6 +246,10 @@ int Run(int argc, char** argv) {
   auto* events = app.add_option("--events", eventsPath,
                                 "Write the contact events into this CSV (step,time,event,body_a,body_b,"
                                 "x,y,z,nx,ny,nz,normal_impulse,tangent_impulse)");
+  auto* saveState = app.add_option("--save-state", saveStateText,
+                                   "Write the whole world state after step N (and its actions) to FILE: N:FILE");
+  auto* loadState = app.add_option("--load-state", loadStatePath,
+                                   "Start from a state written by --save-state for this scene instead of step 0");
   app.add_flag("--quiet", quiet, "No progress display");
   app.add_option("--threads", threads,
                  "Threads the step runs on (default 0: what the machine has); the hash does not "
@@ -252,7 +259,7 @@ int Run(int argc, char** argv) {
                "Also print the mean time per step of each stage (RStepProfile), ms");
   app.add_flag("--describe", describe,
                "Print each body's mass, centre of mass and principal axes as JSON, then exit")
-      ->excludes(out, steps, dt, every, rays, events);
+      ->excludes(out, steps, dt, every, rays, events, saveState, loadState);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -262,6 +269,10 @@ int Run(int argc, char** argv) {
 
   RScene scene;
   std::optional<RSceneWorld> world;
+  RIntegrator integrator;
+  std::uint64_t startStep = 0;  // the loaded state's, or 0
+  std::optional<sim::StateSave> stateSave;
+  std::uint64_t sceneTag = 0;
   std::uint64_t everyK = 1;
   double budget = std::numeric_limits<double>::infinity();  // s of stepping
   try {
@@ -273,13 +284,36 @@ int Run(int argc, char** argv) {
         dt->count() ? std::optional(ParseStepSize(dtText, "--dt")) : std::nullopt;
     if (every->count()) everyK = ParseCount(everyText, "--every", 1);
     if (maxSeconds->count()) budget = ParseStepSize(maxSecondsText, "--max-seconds");
+    if (saveState->count()) stateSave = sim::ParseSaveState(saveStateText);
     scene = LoadScene(scenePath);
     if (stepsOverride) scene.steps = *stepsOverride;
     if (dtOverride) scene.dt = *dtOverride;
     CheckSceneLimits(scene, RSceneLimits{});  // --steps may have raised the work
     world.emplace(scene);
-    // The actions of step 0 come before the first row: the state the first step starts from.
-    world->ApplyActions(0);
+    scene.settings.threads = threads;
+    // Contact events cost only when asked for: by --events, or by --save-state, whose state
+    // must hold the pairs touching at its step for a run loaded from it to write the same
+    // events as the run that never stopped (they change nothing else).
+    const bool contactEvents = events->count() > 0 || stateSave.has_value();
+    scene.settings.contactEvents = contactEvents;
+    integrator = RIntegrator(scene.settings);
+    if (stateSave || loadState->count()) sceneTag = sim::SceneTag(scenePath, scene.dt);
+    if (loadState->count()) {
+      // The state holds the world after its step's actions; the run goes on from there.
+      startStep = sim::LoadSceneState(loadStatePath, scene, sceneTag, *world, integrator);
+      integrator.Settings().threads = threads;
+      integrator.Settings().contactEvents = contactEvents;
+    } else {
+      // The actions of step 0 come before the first row: the state the first step starts from.
+      world->ApplyActions(0);
+    }
+    if (stateSave && (stateSave->step < startStep || stateSave->step > scene.steps)) {
+      throw UsageError{"--save-state: step " + std::to_string(stateSave->step) + " is not among the steps this run " +
+                       "has (" + std::to_string(startStep) + " to " + std::to_string(scene.steps) + ")"};
+    }
+  } catch (const sim::StateError& e) {
+    std::fprintf(stderr, "error: %s\n", e.message.c_str());
+    return kExitBadInput;
   } catch (const UsageError& e) {
     std::fprintf(stderr, "error: %s\n", e.message.c_str());
     return kExitBadInput;
@@ -299,16 +333,20 @@ int Run(int argc, char** argv) {
   std::FILE* raysFile = file && rays->count() ? OpenOutput(raysPath) : nullptr;
   const bool raysOpen = !rays->count() || raysFile;
   std::FILE* eventsFile = file && raysOpen && events->count() ? OpenOutput(eventsPath) : nullptr;
-  if (!file || !raysOpen || (events->count() && !eventsFile)) {
+  const bool eventsOpen = !events->count() || eventsFile;
+  std::FILE* stateFile = file && raysOpen && eventsOpen && stateSave ? OpenOutput(stateSave->path) : nullptr;
+  if (!file || !raysOpen || !eventsOpen || (stateSave && !stateFile)) {
     if (file && file != stdout) std::fclose(file);
     if (raysFile) std::fclose(raysFile);
+    if (eventsFile) std::fclose(eventsFile);
     return kExitBadInput;
   }
   TrajectoryWriter writer(file);
   std::optional<sim::RayWriter> rayWriter;
   if (raysFile) rayWriter.emplace(scene, raysFile);
   std::optional<sim::EventWriter> eventWriter;
-  if (eventsFile) eventWriter.emplace(eventsFile);
+  if (eventsFile) eventWriter.emplace(eventsFile), eventWriter->Know(world->Bodies());
+  bool stateReached = false, stateWritten = false;
   const auto finishOutput = [&] {
     bool ok = writer.Flush();
     if (file != stdout) ok = std::fclose(file) == 0 && ok;
@@ -330,18 +368,35 @@ int Run(int argc, char** argv) {
       }
       ok = ok && eventsOk;
     }
+    if (stateFile) {
+      const bool closed = std::fclose(stateFile) == 0;
+      if (!stateReached) {
+        // The run stopped before the step (exit 1 either way): no state, not an empty one.
+        std::remove(stateSave->path.c_str());
+        std::fprintf(stderr, "error: %s: no state written: the run stopped before step %" PRIu64 "\n",
+                     stateSave->path.c_str(), stateSave->step);
+      } else if (!(closed && stateWritten)) {
+        std::fprintf(stderr, "error: %s: write failed: %s\n", stateSave->path.c_str(), std::strerror(errno));
+      }
+      ok = ok && closed && stateWritten;
+    }
     return ok;
   };
+  // --save-state: the world after step k and its actions, as the trajectory's row k shows it.
+  const auto saveAt = [&](std::uint64_t step) {
+    if (stateFile && step == stateSave->step) {
+      stateReached = true;
+      stateWritten = sim::WriteSceneState(stateFile, integrator, *world, sceneTag);
+    }
+  };
 
-  writer.Rows(0, scene.dt, *world);
-  if (rayWriter) rayWriter->Answer(0, *world);
-  scene.settings.threads = threads;
-  scene.settings.contactEvents = eventWriter.has_value();  // their cost only when asked for
-  RIntegrator integrator(scene.settings);
+  writer.Rows(startStep, scene.dt, *world);
+  if (rayWriter) rayWriter->Answer(startStep, *world);
+  saveAt(startStep);
   Progress progress(!quiet && StderrIsTerminal(), scene.steps);
   Clock::duration stepping{};
   RStepProfile profileSum;
-  for (std::uint64_t step = 1; step <= scene.steps; ++step) {
+  for (std::uint64_t step = startStep + 1; step <= scene.steps; ++step) {
     const Clock::time_point t0 = Clock::now();
     integrator.Update(world->Bodies(), scene.dt);
     const Clock::time_point t1 = Clock::now();
@@ -369,6 +424,7 @@ int Run(int argc, char** argv) {
                    bad->bodyName.c_str(), bad->step);
       return kExitRunFailed;
     }
+    saveAt(step);
     if (step % everyK == 0 || step == scene.steps) writer.Rows(step, scene.dt, *world);
     if (rayWriter) rayWriter->Answer(step, *world);
     progress.Show(step, t1);
@@ -384,12 +440,13 @@ int Run(int argc, char** argv) {
   progress.Clear();
   if (!finishOutput()) return kExitRunFailed;
 
+  const std::uint64_t stepsRun = scene.steps - startStep;
   const double msPerStep =
-      scene.steps == 0 ? 0.0
-                       : std::chrono::duration<double, std::milli>(stepping).count() /
-                             static_cast<double>(scene.steps);
-  if (profile && scene.steps > 0) {
-    const double n = static_cast<double>(scene.steps);
+      stepsRun == 0 ? 0.0
+                    : std::chrono::duration<double, std::milli>(stepping).count() /
+                          static_cast<double>(stepsRun);
+  if (profile && stepsRun > 0) {
+    const double n = static_cast<double>(stepsRun);
     std::fprintf(stderr, "profile_ms: collision_detection=%.4g find_impulses=%.4g update_objects=%.4g "
                  "contact_events=%.4g total=%.4g\n", profileSum.collisionDetection / n, profileSum.findImpulses / n,
                  profileSum.updateObjects / n, profileSum.contactEvents / n, profileSum.total / n);

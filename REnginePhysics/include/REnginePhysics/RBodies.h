@@ -126,6 +126,7 @@ class RBodies {
 
  private:
   friend class RIntegrator;
+  friend struct RStateAccess;  // save and load (RWorldState.h)
   static constexpr std::uint32_t kFree = std::numeric_limits<std::uint32_t>::max();
   std::uint32_t DenseIndex(RBodyHandle h) const;
   void SwapDense(std::uint32_t i, std::uint32_t j);

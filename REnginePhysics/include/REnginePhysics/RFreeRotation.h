@@ -51,6 +51,7 @@ class RFreeRotation {
   int QuadraturePanels() const { return m_panels + (m_periods > 0 ? m_periodPanels : 0); }
 
  private:
+  friend struct RStateAccess;  // save and load (RWorldState.h): the cache, bit for bit
   // Fills the polhode's constants for (h, w_B); false for a steady spin (omega constant).
   bool ComputeConstants(RScalar h, const RVec3& w_B);
   // The body axis the polhode circles, signed to the side the angular momentum is on.

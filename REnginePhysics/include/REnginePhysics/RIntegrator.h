@@ -195,7 +195,11 @@ class RIntegrator {
   RIntegrator();
   explicit RIntegrator(const RWorldSettings& settings);
   ~RIntegrator();
-  // A copy is another world with the same settings, contact memory and outputs.
+  // A copy is another world with the same settings, contact memory and outputs: stepping it
+  // and a copy of the bodies goes on bit for bit as the original would, sleepers asleep
+  // (until its first step it takes the original's bodies as its own; bodies the original
+  // steps after that wake everything when the copy steps them). RWorldState.h saves a world
+  // to bytes.
   RIntegrator(const RIntegrator& other);
   RIntegrator& operator=(const RIntegrator& other);
   RIntegrator(RIntegrator&&) noexcept;
@@ -248,6 +252,7 @@ class RIntegrator {
   void SetJobSystem(RJobSystem* jobs);
 
  private:
+  friend struct RStateAccess;  // save and load (RWorldState.h)
   // The step, as the design reads: stamp, CollisionDetection, UpdateObjects; then the events.
   void Step(const RStepBodies& bodies, RScalar dt);
   // Pairs -> CheckCollision -> FindImpulses: impulses accumulated on the bodies.

@@ -283,6 +283,7 @@ class RRigidBody {
   friend class RIntegrator;
   friend class RWorldStep;
   friend class RBodies;
+  friend struct RStateAccess;  // save and load (RWorldState.h)
 
   // Which construction this body's shape and mass came from: a number drawn from a
   // process-wide counter by every constructor, kept by copies, so that state kept about a
