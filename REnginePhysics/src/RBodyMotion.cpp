@@ -49,8 +49,12 @@ RVec3 RWorldStep::MidStepSpin_W(const RRigidBody& b, const RMat3& R_WB, const RM
   return kick.isZero(0) ? w : RVec3(w + invI_W * kick);
 }
 
-void RWorldStep::InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt) {
+void RWorldStep::InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt,
+                                const RVec3& gravity_W) {
   s.invM = b.m_invMass;
+  s.accel = b.m_isStatic ? RVec3::Zero() : Acceleration(b, gravity_W);
+  s.radius = b.BoundingRadius();
+  s.armTurns = b.Polyhedron_B() && b.m_invMass != 0;
   s.linMask = b.m_linearMask, s.linLocked = b.m_linearLocked;
   s.endLinear.setZero(), s.endAngular.setZero(), s.deferredImpulse.setZero();
   s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();

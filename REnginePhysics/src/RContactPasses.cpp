@@ -93,7 +93,7 @@ void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int 
       bool closes = false;
       for (std::uint32_t k = first; k < last; ++k) {
         const RBlock& blk = m_blocks[m_blockOrder[k]];
-        for (int i = 0; i < blk.count; ++i) closes = CloseAtEnd(m_rows[blk.first + i], bodies, dt) || closes;
+        for (int i = 0; i < blk.count; ++i) closes = CloseAtEnd(m_rows[blk.first + i], dt) || closes;
       }
       m_islandCloses[isl] = closes;
     }
@@ -268,7 +268,7 @@ RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
 // impulses are inelastic (targets of zero, never pulling): they cannot add energy.
 // Whether row r is closed at the end of the step (endTarget 0), or not (kNever, and no end
 // impulse).
-bool RWorldStep::CloseAtEnd(RContactRow& r, const RStepBodies& bodies, RScalar dt) const {
+bool RWorldStep::CloseAtEnd(RContactRow& r, RScalar dt) const {
   const RScalar halfDt = RScalar(0.5) * dt;
   const RSolverBody& sa = m_solverBodies[r.a];
   const RSolverBody& sb = m_solverBodies[r.b];
@@ -276,14 +276,10 @@ bool RWorldStep::CloseAtEnd(RContactRow& r, const RStepBodies& bodies, RScalar d
   // of a micrometre per metre of size for rounding).
   const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
   const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
-  const RScalar band = 1e-6 * (bodies[r.a].BoundingRadius() + bodies[r.b].BoundingRadius());
+  const RScalar band = 1e-6 * (sa.radius + sb.radius);
   // A contact that closes faster than the restitution threshold is an impact, and the
   // next step's impact phase bounces it; stopped here it would end inelastic.
-  auto accel = [&](std::uint32_t i) -> RVec3 {
-    const RRigidBody& b = bodies[i];
-    return b.m_isStatic ? RVec3::Zero() : Acceleration(b, m_settings.gravity_W);
-  };
-  const RScalar vnEnd = vn + halfDt * r.n.d.dot(accel(r.b) - accel(r.a));
+  const RScalar vnEnd = vn + halfDt * r.n.d.dot(sb.accel - sa.accel);
   // A body that had an impact this step is not at rest: its end-of-step velocity is the
   // impact's outcome, left as it is.
   const bool impacted = sa.tau > 0 || sb.tau > 0;
@@ -294,10 +290,10 @@ bool RWorldStep::CloseAtEnd(RContactRow& r, const RStepBodies& bodies, RScalar d
   // pair in the debris cloud gained 1e-5 of its energy in one step). A sphere's contact
   // point does not turn with it, and a kinematic body's impulse is not applied (a crate on
   // a turntable keeps its end impulses).
-  auto arc = [&](std::uint32_t i, const RSolverBody& s, const RVec3& arm) {
-    return bodies[i].Polyhedron_B() && s.invM != 0 ? s.w.norm() * arm.norm() * dt : RScalar(0);
+  auto arc = [dt](const RSolverBody& s, const RVec3& arm) {
+    return s.armTurns ? s.w.norm() * arm.norm() * dt : RScalar(0);
   };
-  const bool spinning = arc(r.a, sa, r.rA) + arc(r.b, sb, r.rB) > m_settings.penetrationSlop;
+  const bool spinning = arc(sa, r.rA) + arc(sb, r.rB) > m_settings.penetrationSlop;
   r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
                         !spinning && r.n.k > 0
                     ? RScalar(0) : kNever;

@@ -58,7 +58,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // a body in no row (most of a debris cloud's) only gets empty outputs.
   for (std::size_t i = 0; i < n; ++i) {
     if (m_inRows[i]) {
-      InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt);
+      InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
     } else {
       InitIdleSolverBody(m_solverBodies[i], bodies[i]);
     }

@@ -113,7 +113,8 @@ class RWorldStep {
   static RVec3 KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScalar dt, bool end);
   // A body's solver state at the start of FindImpulses: vMove its mid-step velocity (m/s).
   struct RSolverBody;
-  static void InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt);
+  static void InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt,
+                             const RVec3& gravity_W);
   // A body in no row: outputs that change nothing (no impulses, no pseudo-velocity).
   static void InitIdleSolverBody(RSolverBody& s, const RRigidBody& b);
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
@@ -297,6 +298,12 @@ class RWorldStep {
     // to the step's end (N s). Valid when m_solved.
     RVec3 endLinear, endAngular;
     RVec3 deferredImpulse;
+    // What CloseAtEnd asks of the body, read here instead of from the body: its acceleration
+    // (0 when static), bounding radius, and whether its spin turns a contact's arm (a
+    // dynamic polyhedron's does; a sphere's contact point does not turn with it).
+    RVec3 accel;
+    RScalar radius;
+    bool armTurns;
   };
   // Whether FindImpulses solved this step (else no body has solver outputs).
   bool m_solved = false;
@@ -388,7 +395,7 @@ class RWorldStep {
   // The contact phase after the impacts, island by island (RContactPasses.cpp).
   void SolveContactIslands(const RStepBodies& bodies, RScalar dt, int iterations);
   bool BlockInverse(RBlock& blk);
-  bool CloseAtEnd(RContactRow& r, const RStepBodies& bodies, RScalar dt) const;
+  bool CloseAtEnd(RContactRow& r, RScalar dt) const;
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
   // Islands of the resolved contacts (bodies linked through two movable bodies) and each
   // contact's slots, islands in the order of their smallest body, contacts in order within.
