@@ -131,6 +131,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     // step's points of this pair (in a's frame, where a resting contact stays put).
     auto it = warmFirst;
     const RVec3 point_A = A.m_q_WB.conjugate() * (position - A.m_x_W);
+    m_rowPoint_A[firstRow + k] = point_A;  // where next step looks for this row's impulse
     const std::uint32_t feature = c.manifold.points[r.point].featureId;
     const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());
     // The same feature wins over any nearer point. Two new rows may take the same old

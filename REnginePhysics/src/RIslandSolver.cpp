@@ -130,6 +130,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   // Resized, not cleared first: BuildContactRows writes every element whole, and a clear
   // would have resize zero 15 MB a step in a 10000-box pile.
   m_rows.resize(rowCount), m_impacts.resize(blockCount), m_blocks.resize(blockCount);
+  m_rowPoint_A.resize(rowCount);
 }
 
 // The islands' manifolds, laid out island by island (LayOutIslands): the passes' order and

@@ -304,6 +304,9 @@ class RWorldStep {
     RVec3 accel;
     RScalar radius;
     bool armTurns;
+    // The body's impulses (world, N s and N m s about its centre): its own, then the
+    // contacts' added (FindImpulses), written back to the body at the end of the solve.
+    RVec3 impulse, angularImpulse;
   };
   // Whether FindImpulses solved this step (else no body has solver outputs).
   bool m_solved = false;
@@ -368,6 +371,7 @@ class RWorldStep {
   std::vector<RContactSlots> m_rowStart;
   std::vector<std::uint32_t> m_blockContact;  // the contact of each block
   std::vector<char> m_inRows;  // per body: in some resolved contact's rows this step
+  std::vector<RVec3> m_rowPoint_A;  // per row: its point in body a's frame (next warm start)
   std::vector<std::uint32_t> m_warmTasks;
   std::vector<std::uint64_t> m_inverseTasks;  // each task's count of block inverses kept
   std::vector<char> m_anyTasks;  // SolveEndOfStep: whether a task's rows close at the end
