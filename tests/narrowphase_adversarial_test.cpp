@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "RGjkEpa.h"  // private: GJK and its refinement, beside the public answers
 #include "support/CollisionOracles.h"
 #include "support/NarrowphaseTolerances.h"
 #include "support/TestBodies.h"
@@ -471,11 +472,14 @@ TEST(CollisionAdversarial, NeedleHullAndSmallBoxApart) {
 }
 
 // A box a few micrometres above a hull of 2000 points on an ellipsoid (the shortcut bench's
-// static_hulls): GJK ends on a triangle of facets a metre across, whose closest point to the
-// origin carries rounding of the triangle's size, so the direction of v is off by that over
-// the micrometre and its support bound falls short of the distance by 1e-12 m, more than the
-// certificate allows. The answer from the triangle's plane (RefineOnTrianglePlane) meets the
-// bound; this checks it against the brute-force distance at each gap. Far from the origin
+// static_hulls). Resting face down on the rock's top facet, as a crate comes to rest, GJK
+// ends on a triangle of the Minkowski difference's face, whose closest point to the origin
+// carries rounding of the triangle's size: the direction of v is off by that over the
+// micrometre and its support bound falls 1e-12..1e-10 m short of the distance, more than the
+// certificate allows. The answer from the triangle's plane (RefineOnTrianglePlane) meets it
+// (checked through the private header); without it the exact enumeration answers, 16 times
+// slower. Turned, a corner or an edge is nearest and GJK ends on a segment: the enumeration
+// answers. Every answer is checked against the brute-force distance at each gap. Far from the origin
 // the reference is that of the pose the pair frame sees (the rounded positions'
 // difference): a box corner a micrometre from a facet's vertex turns its normal by the
 // rounding over the gap (4e-9 m over 1e-6 m at 1e7 m), a true change, not an error.
@@ -490,8 +494,26 @@ TEST(CollisionAdversarial, BoxMicrometresAboveADenseHull) {
   }
   const BodySpec rock{HullShape(cloud), RVec3::Zero()};
   const RQuat tilt = QuatExp(RVec3(0.2, 0.7, -0.1));
-  for (const RScalar gap : {1e-4, 1e-5, 1e-6}) {
+  int rawMissed = 0;
+  for (const auto& [gap, turned] : {std::pair(1e-4, true), std::pair(1e-5, true), std::pair(1e-6, true),
+                                     std::pair(1e-4, false), std::pair(1e-5, false), std::pair(1e-6, false)}) {
+    // Turned, a corner or an edge of the box is nearest (GJK ends on a segment); else its
+    // bottom face lies on the rock's top facet, the way a crate comes to rest (a triangle).
     BodySpec box{BoxShape(RVec3(0.6, 0.4, 0.5)), RVec3(1.5, 10, -1), tilt};
+    if (!turned) {
+      const RConvexPolyhedron hull = WorldPolyhedron(MakeBody(rock, RVec3::Zero()));
+      const RFace* top = &hull.Faces()[0];
+      for (const RFace& f : hull.Faces()) {
+        if (f.plane.normal.y() > top->plane.normal.y()) top = &f;
+      }
+      RVec3 centroid = RVec3::Zero();
+      for (std::uint32_t k = 0; k < top->vertexCount; ++k) {
+        centroid += hull.Vertices()[hull.LoopVertices()[top->firstVertex + k]];
+      }
+      centroid /= top->vertexCount;
+      box.q_WS = RQuat::FromTwoVectors(RVec3::UnitY(), top->plane.normal);
+      box.position_W = centroid + 10 * top->plane.normal;
+    }
     // Down along the closest points' direction until the gap is the one asked for.
     const Reference far = ReferenceFor(rock, box);
     box.position_W -= (far.separation - gap) * far.normals[0];
@@ -508,6 +530,29 @@ TEST(CollisionAdversarial, BoxMicrometresAboveADenseHull) {
       EXPECT_LE(Angle(a.Orientation_WB() * r.normal, ref.normals[0]), kNormalTolerance);
       EXPECT_LE((r.witnessB - r.witnessA - r.separation * r.normal).norm(),
                 kRelativeTolerance * r.separation + ref.band);
+      // The answer above is right with or without the refinement (the exact enumeration
+      // gives it too, 16 times slower): here GJK's own bounds miss the certificate
+      // (RCollisionSolver.cpp: within 1e-9 of the distance plus 1e-14 of the size) and the
+      // refined ones meet it.
+      const RConvexShape sa = ShapeOf(a), sb = ShapeOf(b);
+      const RRelativePose X = RelativePose(a, b);
+      RPairSupport sup(sa, sb, X);
+      const RGjkResult g = Gjk(sup, false);
+      const RScalar floor = 1e-5 * RCollisionSolver::kTouchingTolerance * (sa.boundingRadius + sb.boundingRadius);
+      auto certified = [&](const RGjkResult& x) {
+        return x.converged && !x.overlap && x.distance - x.lowerBound <= 1e-9 * x.distance + floor;
+      };
+      const RGjkResult refined = RefineOnTrianglePlane(sup, g);
+      std::printf("    GJK ends on %d points, bounds %.1e apart; refined %.1e (certificate %.1e)\n",
+                  g.simplexSize, g.distance - g.lowerBound, refined.distance - refined.lowerBound,
+                  1e-9 * refined.distance + floor);
+      if (certified(refined)) {
+        EXPECT_NEAR(refined.distance, ref.separation, kRelativeTolerance * ref.separation + ref.band);
+      }
+      if (turned) continue;  // GJK ends on a segment: the enumeration answers
+      rawMissed += !certified(g);
+      EXPECT_TRUE(certified(refined)) << "bounds " << refined.distance - refined.lowerBound << " apart";
     }
   }
+  EXPECT_GE(rawMissed, 6) << "GJK certified the resting box itself: the test no longer needs the refinement";
 }

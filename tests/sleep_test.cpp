@@ -259,6 +259,33 @@ TEST(Sleep, AddingRemovingOrTeleportingStaticBodiesWakesOnlyTheirNeighbours) {
   EXPECT_EQ(asleep(stackB), 3) << "a static body 50 m away was removed";
 }
 
+// A floor moved far away and then removed (or disabled) before the next step: where it was
+// at the last step is where its sleepers rest, and they fall (found by review: only the
+// box at its new pose was kept).
+TEST(Sleep, StaticBodyMovedThenRemovedDropsItsSleepers) {
+  for (const bool disable : {false, true}) {
+    SCOPED_TRACE(disable ? "disabled" : "removed");
+    RBodies world;
+    const RBodyHandle floor = world.Add(BoxDef(RVec3(3, 0.5, 3)).Static().At(RVec3(0, -0.5, 0)).Named("floor"));
+    std::vector<RBodyHandle> stack;
+    for (int k = 0; k < 3; ++k) stack.push_back(world.Add(UnitBoxDef(RVec3(0, 0.5 + k, 0)).Named("s" + std::to_string(k))));
+    RIntegrator integrator(EarthGravity());
+    for (int k = 0; k < 240 && !world[stack[2]].IsSleeping(); ++k) integrator.Update(world, kDt);
+    ASSERT_TRUE(world[stack[0]].IsSleeping() && world[stack[2]].IsSleeping());
+    const RScalar y0 = world[stack[0]].Position_W().y();
+    world[floor].SetShapePose(RVec3(500, -0.5, 0), RQuat::Identity());
+    if (disable) {
+      world.Disable(floor);
+    } else {
+      world.Remove(floor);
+    }
+    const int steps = 30;
+    for (int k = 0; k < steps; ++k) integrator.Update(world, kDt);
+    const RScalar t = steps * kDt;
+    EXPECT_NEAR(y0 - world[stack[0]].Position_W().y(), 0.5 * 9.81 * t * t, 1e-12) << "free fall";
+  }
+}
+
 // A body that does not respond (a laser, a sensor) passing through a sleeping box is
 // reported against it without waking it.
 TEST(Sleep, SensorsDoNotWake) {

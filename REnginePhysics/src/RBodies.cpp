@@ -74,6 +74,9 @@ void RBodies::WakeForDeparture(RRigidBody& b) {
       b.WorldBox(lo, hi);
       m_wakeBoxes.push_back(lo), m_wakeBoxes.push_back(hi);
     }
+    // Moved since the last step, then taken away: where it was is where sleepers rest.
+    if (b.m_wakeFromSet) m_wakeBoxes.push_back(b.m_wakeFromMin_W), m_wakeBoxes.push_back(b.m_wakeFromMax_W);
+    b.m_wakeFromSet = false, b.m_staticMoved = false;
   } else if (b.m_sleepIsland != RRigidBody::kNoIsland) {
     // Asleep, or woken by the game since the last step: its island still has the id.
     m_wakeIslands.push_back(b.m_sleepIsland);

@@ -178,7 +178,7 @@ void RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t f
 
 // Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when
 // the rows were built) to the solver bodies' velocities.
-// Island by island, as the passes (SolveBlocks): each island's rows in order, then its
+// Island by island, as the passes (SolveIslandBlocks): each island's rows in order, then its
 // patches, which is the whole world's order restricted to the island.
 void RWorldStep::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
@@ -228,10 +228,11 @@ void RWorldStep::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar d
 RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   RContactRow* rows = &m_rows[blk.first];
-  RScalar normal = 0, twistArm = 0;
+  RScalar normal = 0, twistArm = 0, reach = 0;
   for (int i = 0; i < blk.count; ++i) {
     const RScalar l = Lambda(rows[i], phase);
     normal += l, twistArm += l * rows[i].lever;
+    reach = std::max(reach, rows[i].lever);
   }
   const RSolverBody& sa = m_solverBodies[rows[0].a];
   const RSolverBody& sb = m_solverBodies[rows[0].b];
@@ -253,7 +254,8 @@ RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
   const RScalar d1 = lt1 - blk.lambdaT1[ph], d2 = lt2 - blk.lambdaT2[ph], dw = lw - blk.lambdaTwist[ph];
   blk.lambdaT1[ph] = lt1, blk.lambdaT2[ph] = lt2, blk.lambdaTwist[ph] = lw;
   ApplyPatch(blk, d1, d2, dw);
-  return std::max({std::abs(d1) * blk.t[0].k, std::abs(d2) * blk.t[1].k, std::abs(dw) * blk.kTwist});
+  // The twist's change of spin (rad/s) as the speed it gives the patch's farthest point.
+  return std::max({std::abs(d1) * blk.t[0].k, std::abs(d2) * blk.t[1].k, std::abs(dw) * blk.kTwist * reach});
 }
 
 // The end of the step. The contact impulses found so far act at its start, on the velocity

@@ -21,10 +21,10 @@ using namespace solver;
 // then the contacts: accumulated normal impulses clamped at zero (a contact pushes, never
 // pulls: the separating-velocity guard), friction per manifold within the Coulomb disc of
 // mu times the manifold's normal impulse (SolvePatch), every row starting from last step's
-// impulses for the same features; small islands solved exactly (SolveIslands); then the
-// end of the step (SolveEndOfStep). Penetration beyond a slop is removed by
-// pseudo-velocities (split impulses), solved apart so that position correction never adds
-// kinetic energy.
+// impulses for the same features; small islands solved exactly; then the end of the step
+// (all island by island: SolveContactIslands, RContactPasses.cpp). Penetration beyond a slop
+// is removed by pseudo-velocities (split impulses), solved apart so that position
+// correction never adds kinetic energy.
 void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   const std::size_t n = bodies.size();
   // Warm-start memory is keyed by slot (and generation). A plain vector's slots are its
@@ -83,7 +83,8 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // happen within this step keeps no speculative rows: their linear prediction from the
   // start of the step (which said it would) would stop the bodies short, an inelastic
   // collision that never happened. Points already touching keep their rows.
-  // (Impact rows and blocks are both one per resolved contact, in the same order.)
+  // (One impact row and one block per resolved contact: impact rows in the contacts' order,
+  // blocks in the islands' (LayOutIslands), found through the contact.)
   for (const RImpactRow& impact : m_impacts) {
     if (!impact.miss || impact.lambdaN != 0) continue;
     const RBlock& blk = m_blocks[m_rowStart[impact.contact].block];

@@ -267,6 +267,8 @@ RGjkResult RefineOnTrianglePlane(RPairSupport& sup, const RGjkResult& g) {
   RVec3 nHat = n / std::sqrt(nn);
   if (nHat.dot(p[0].w) < 0) nHat = -nHat;
   const RScalar dist = nHat.dot(p[0].w);
+  // The origin on the plane: no direction to give (the caller's fallbacks decide).
+  if (!(dist > 0)) return g;
   const RVec3 q = dist * nHat;  // the origin projected onto the plane
   // Barycentric coordinates of q: the sub-triangles' signed areas along n.
   RScalar lambda[3];

@@ -1,5 +1,5 @@
 // The island direct solve: islands of contact rows solved exactly by an active-set method
-// on their dense matrix (RWorldStep::BuildIslands, SolveIslands).
+// on their dense matrix (RWorldStep::LayOutIslands, BuildIslands, SolveIslandDirect).
 #include "RWorldStep.h"
 
 #include "RSolverRows.h"

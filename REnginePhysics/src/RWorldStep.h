@@ -374,7 +374,6 @@ class RWorldStep {
   std::vector<RVec3> m_rowPoint_A;  // per row: its point in body a's frame (next warm start)
   std::vector<std::uint32_t> m_warmTasks;
   std::vector<std::uint64_t> m_inverseTasks;  // each task's count of block inverses kept
-  std::vector<char> m_anyTasks;  // SolveEndOfStep: whether a task's rows close at the end
   struct RLeadingPoints {
     int deepest = 0;
     int count = 0;
@@ -386,7 +385,7 @@ class RWorldStep {
   std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt,
                                  std::size_t& warmFrom);
   // Both return the largest change of a row's relative speed their impulses made, m/s
-  // (|delta lambda| k: what SolveBlocks stops on).
+  // (|delta lambda| k: what SolveIslandBlocks stops on).
   RScalar SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
   void SolveImpacts(const RStepBodies& bodies, RScalar dt);
   template <class Advance>
@@ -413,7 +412,7 @@ class RWorldStep {
   std::vector<std::uint32_t> m_blockOrder, m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
   // Runs f(first, last) for every island's range of m_blockOrder, islands as tasks: they
-  // share no body an impulse moves (WarmStart, SolveBlocks).
+  // share no body an impulse moves (WarmStart).
   template <class F>
   void ForEachBlockIsland(const F& f) {
     ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t) {
@@ -441,7 +440,7 @@ class RWorldStep {
   void PrepareIslandDirect(std::size_t k, RIslandScratch& sc);
   void AssembleIslandMatrix(RIslandScratch& sc);
   // Islands up to this many rows get their normal impulses solved directly (see
-  // SolveIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
+  // SolveContactIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
   RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
   std::vector<std::uint32_t> m_islandRows;  // rows island by island (as m_blockOrder's blocks)

@@ -242,8 +242,9 @@ class RRigidBody {
   // Setters for game code between steps. Velocities are ignored on static bodies; on a
   // kinematic body they are its motion; components along locked axes are set to 0. Each
   // wakes the body, and with it its island (RWorldSettings::RShortcuts::sleeping); moving a
-  // static or kinematic body with SetShapePose wakes every sleeping body (a kinematic body
-  // moved by its velocity wakes only what it touches). A body with angular locks or a
+  // static or kinematic body with SetShapePose wakes the sleepers whose boxes touch where it
+  // was at the last step or where it is now (a kinematic body moved by its velocity wakes
+  // only what it touches). A body with angular locks or a
   // kinematic one keeps its world angular velocity through SetShapePose; others keep their
   // body-frame one. Invalid values are refused at the door: a
   // non-finite velocity or quaternion, a quaternion of zero length (q_WS is normalised), or
