@@ -89,8 +89,8 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     const RVec3 rA = leadCentre - A.m_x_W, rB = leadCentre - B.m_x_W;
     // The normal's arms for the impact phase's approach test; the tangents are worked out
     // there, from their directions, only for a manifold that impacts.
-    SetDirection(r.dir[0], normal, rA, rB, sa, sb);
-    r.dir[1].d = t1, r.dir[2].d = t2;
+    SetDirection(r.normal, normal, rA, rB, sa, sb);
+    r.tangent[0] = t1, r.tangent[1] = t2;
     r.rA = rA, r.rB = rB;
     r.gap = leadSeparation;
     r.restitution = e;

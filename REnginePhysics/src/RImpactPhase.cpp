@@ -102,7 +102,7 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
       RImpactRow& r = m_impacts[(pass % 2 == 0) ? ii : count - 1 - ii];
       RSolverBody& sa = m_solverBodies[r.a];
       RSolverBody& sb = m_solverBodies[r.b];
-      const RScalar vn0 = Speed(r.dir[0], sa.v, sa.w, sb.v, sb.w);
+      const RScalar vn0 = Speed(r.normal, sa.v, sa.w, sb.v, sb.w);
       if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
       // When: the gap closed at this approach, and no earlier than either body's last.
       RScalar t = std::max(sa.tau, sb.tau);
@@ -114,7 +114,9 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
       if (t == 0) {
         // At the start: the manifold's own impact point and normal.
         rA = r.rA, rB = r.rB;
-        for (int k = 0; k < 3; ++k) SetDirection(dir[k], r.dir[k].d, rA, rB, sa, sb);
+        SetDirection(dir[0], r.normal.d, rA, rB, sa, sb);
+        SetDirection(dir[1], r.tangent[0], rA, rB, sa, sb);
+        SetDirection(dir[2], r.tangent[1], rA, rB, sa, sb);
       } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir)) {
         r.miss = true;  // they pass each other, or meet only after the step
         continue;

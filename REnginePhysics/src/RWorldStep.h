@@ -259,7 +259,8 @@ class RWorldStep {
     std::uint32_t a, b;        // body indices
     std::uint32_t contact;     // index into m_contacts
     int point;                 // the manifold's deepest point, where the impulse is reported
-    RDirection dir[3];         // normal (A to B) and two tangents (their d only)
+    RDirection normal;         // A to B, with the arms of the leading points' centre
+    RVec3 tangent[2];          // the tangents' directions (arms worked out at the impact)
     RVec3 rA, rB;              // the point from each centre of mass, world, m
     RScalar gap;               // the leading points' separation, m (negative: overlap)
     RScalar restitution;       // combined coefficient
