@@ -80,13 +80,6 @@ void RWorldStep::InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3
   s.w = R * b.m_w_B + s.invI * StartAngularKick_W(b, halfDt);
 }
 
-void RWorldStep::InitIdleSolverBody(RSolverBody& s, const RRigidBody& b) {
-  s.invM = b.m_invMass;
-  s.linLocked = false;
-  s.v.setZero(), s.w.setZero(), s.vp.setZero(), s.wp.setZero(), s.vMid.setZero();
-  s.endLinear.setZero(), s.endAngular.setZero(), s.deferredImpulse.setZero();
-}
-
 // Constant velocities: the centre moves on a line and the body turns about the world axis
 // of its spin, q(t) = exp(w t) q(0); one step's rotation exp(w dt) is the same rotation
 // every step, so the pose after n steps is the exact one but for rounding.

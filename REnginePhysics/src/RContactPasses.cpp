@@ -100,7 +100,7 @@ void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int 
   });
   for (std::size_t t = 0; t < tasks; ++t) m_pairStats.reusedInverses += m_inverseTasks[t];
   // What the contact phase changed after the impacts (see the deferred impulses, FindImpulses).
-  for (RSolverBody& s : m_solverBodies) s.contactDeltaV = s.v - s.vImpacts;
+  for (std::uint32_t i : m_rowBodies) m_solverBodies[i].contactDeltaV = m_solverBodies[i].v - m_solverBodies[i].vImpacts;
 
   bool any = false;
   for (char closes : m_islandCloses) any = any || closes;
@@ -110,9 +110,9 @@ void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int 
     return;
   }
   // The end velocities: the second half-kick of the applied forces and gravity.
-  ParallelRanges(m_jobs, bodies.size(), m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
-    for (std::size_t i = i0; i < i1; ++i) {
-      if (!m_inRows[i]) continue;  // no end impulse reaches it
+  ParallelRanges(m_jobs, m_rowBodies.size(), m_tasks, 512, [&](std::size_t k0, std::size_t k1, std::size_t) {
+    for (std::size_t k = k0; k < k1; ++k) {
+      const std::uint32_t i = m_rowBodies[k];  // no end impulse reaches the others
       const RRigidBody& b = bodies[i];
       RSolverBody& s = m_solverBodies[i];
       s.vMid = s.v - s.deferV;

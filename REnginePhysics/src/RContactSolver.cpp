@@ -55,14 +55,8 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   LayOutIslands(bodies);
   // Each body's solver state: the velocities it moves with this step (m_moveV, from
   // CollisionDetection's pre-pass), its world inverse inertia and masks (RBodyMotion.cpp);
-  // a body in no row (most of a debris cloud's) only gets empty outputs.
-  for (std::size_t i = 0; i < n; ++i) {
-    if (m_inRows[i]) {
-      InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
-    } else {
-      InitIdleSolverBody(m_solverBodies[i], bodies[i]);
-    }
-  }
+  // only for the bodies in some row (most of a debris cloud's touch nothing).
+  for (std::uint32_t i : m_rowBodies) InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
   if (m_warmTasks.size() < m_tasks) m_warmTasks.resize(m_tasks);
   const std::size_t rowTasks = ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 32, [&](std::size_t c0, std::size_t c1, std::size_t task) {
     m_warmTasks[task] = 0;
@@ -256,9 +250,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   }
   // Impacts within the step: the bodies move with their piecewise path's velocity and get
   // the rest at the end (SolveImpacts).
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::uint32_t i : m_rowBodies) {
     RSolverBody& s = m_solverBodies[i];
-    if (!m_inRows[i] || s.invM == 0) continue;
+    if (s.invM == 0) continue;
     RRigidBody& b = bodies[i];
     if (!s.deferV.isZero(0)) {
     const RVec3 J = s.deferV / b.m_invMass;

@@ -80,13 +80,15 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
 // it ends with is the one after its impacts: the difference is deferred to the end of the
 // step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
 void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
-  for (RSolverBody& s : m_solverBodies) {
+  // The bodies in rows (the others have no solver state: see m_rowBodies).
+  for (std::uint32_t i : m_rowBodies) {
+    RSolverBody& s = m_solverBodies[i];
     s.moved.setZero(), s.tau = 0;
     s.deferV.setZero();
   }
   const std::size_t count = m_impacts.size();
   if (count == 0) {
-    for (RSolverBody& s : m_solverBodies) s.vImpacts = s.v;
+    for (std::uint32_t i : m_rowBodies) m_solverBodies[i].vImpacts = m_solverBodies[i].v;
     return;
   }
   // Moves a body along its present velocity up to time t of the step.
@@ -145,13 +147,14 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
     }
     if (!any) break;
   }
-  for (RSolverBody& s : m_solverBodies) s.vImpacts = s.v;
+  for (std::uint32_t i : m_rowBodies) m_solverBodies[i].vImpacts = m_solverBodies[i].v;
   if (!anyImpact) return;
   // The velocity each body moves with this step gives its piecewise path; the rest of the
   // change waits for the end of the step. The contact phase works on the velocities after
   // the impacts, the bodies' real ones, so that its impulses, inelastic there, cannot add
   // energy; the difference is taken out of the motion only (FindImpulses).
-  for (RSolverBody& s : m_solverBodies) {
+  for (std::uint32_t i : m_rowBodies) {
+    RSolverBody& s = m_solverBodies[i];
     if (s.tau <= 0 || s.invM == 0) continue;
     advance(s, dt);
     // Rotation is not split: moving a body's orientation along a piecewise spin and then

@@ -68,7 +68,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       // Position correction: displacement without velocity (split impulses). A body it moves
       // faster than the sleep speed is not at rest.
       RScalar pseudoSpeed = 0;
-      const RSolverBody* out = m_solved ? &m_solverBodies[i] : nullptr;
+      const RSolverBody* out = m_solved && m_inRows[i] ? &m_solverBodies[i] : nullptr;
       if (out && (!out->vp.isZero(0) || !out->wp.isZero(0))) {
         pseudoSpeed = out->vp.norm() + out->wp.norm() * b.m_boundingRadius;
         b.m_x_W += out->vp * dt;

@@ -131,6 +131,10 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   // would have resize zero 15 MB a step in a 10000-box pile.
   m_rows.resize(rowCount), m_impacts.resize(blockCount), m_blocks.resize(blockCount);
   m_rowPoint_A.resize(rowCount);
+  m_rowBodies.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (m_inRows[i]) m_rowBodies.push_back(static_cast<std::uint32_t>(i));
+  }
 }
 
 // The islands' manifolds, laid out island by island (LayOutIslands): the passes' order and
