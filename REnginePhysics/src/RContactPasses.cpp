@@ -83,7 +83,7 @@ void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int 
     RIslandScratch& sc = m_islandScratch[task];
     for (std::size_t isl = i0; isl < i1; ++isl) {
       const auto [first, last] = m_blockIslands[isl];
-      for (std::uint32_t k = first; k < last; ++k) m_inverseTasks[task] += BlockInverse(m_blocks[m_blockOrder[k]]);
+      for (std::uint32_t k = first; k < last; ++k) m_inverseTasks[task] += BlockInverse(m_blocks[k]);
       SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
       if (m_directOfIsland[isl] >= 0) {
         PrepareIslandDirect(static_cast<std::size_t>(m_directOfIsland[isl]), sc);
@@ -92,7 +92,7 @@ void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int 
       }
       bool closes = false;
       for (std::uint32_t k = first; k < last; ++k) {
-        const RBlock& blk = m_blocks[m_blockOrder[k]];
+        const RBlock& blk = m_blocks[k];
         for (int i = 0; i < blk.count; ++i) closes = CloseAtEnd(m_rows[blk.first + i], dt) || closes;
       }
       m_islandCloses[isl] = closes;
@@ -161,7 +161,7 @@ void RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t f
   for (int it = 0; it < iterations; ++it) {
     RScalar change = 0;
     for (std::uint32_t k = first; k < last; ++k) {
-      RBlock& blk = m_blocks[m_blockOrder[(it % 2 == 0) ? k : last - 1 - (k - first)]];
+      RBlock& blk = m_blocks[(it % 2 == 0) ? k : last - 1 - (k - first)];
       RContactRow* rows = &m_rows[blk.first];
       if (phase == RPhase::kVelocity) {
         change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kVelocity));
@@ -183,7 +183,7 @@ void RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t f
 void RWorldStep::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   for (std::uint32_t k = first; k < last; ++k) {
-    const RBlock& blk = m_blocks[m_blockOrder[k]];
+    const RBlock& blk = m_blocks[k];
     for (int i = 0; i < blk.count; ++i) {
       RContactRow& r = m_rows[blk.first + i];
       const RScalar lambda = Lambda(r, phase);
@@ -194,7 +194,7 @@ void RWorldStep::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_
     }
   }
   for (std::uint32_t k = first; k < last; ++k) {
-    const RBlock& blk = m_blocks[m_blockOrder[k]];
+    const RBlock& blk = m_blocks[k];
     ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
   }
 }

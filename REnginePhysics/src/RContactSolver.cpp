@@ -70,7 +70,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   m_pairStats.contactPoints = m_rows.size();
   // Islands (bodies linked through dynamic bodies) from the rows alone: warm starting, the
   // passes and the direct solves then work island by island.
-  BuildIslands(bodies);
+  BuildIslands();
   WarmStart(RPhase::kVelocity);
   SolveImpacts(bodies, dt);
   // A manifold whose impact the narrow phase, run again along the motion, found not to
@@ -116,11 +116,10 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   auto shiftArms = [this, dt](RDirection& dir, const RVec3& rA, const RVec3& rB, std::uint32_t a, std::uint32_t b) {
     const RSolverBody& sa = m_solverBodies[a];
     const RSolverBody& sb = m_solverBodies[b];
-    const RVec3 d = dir.d;
-    SetDirection(dir, d, rA + dt * sa.deferV, rB + dt * sb.deferV, sa, sb);
-    if (!sa.linLocked && !sb.linLocked) return;
-    if (sa.linLocked) dir.rAxd = rA.cross(d) + (dt * sa.deferV).cross(d.cwiseProduct(sa.linMask));
-    if (sb.linLocked) dir.rBxd = rB.cross(d) + (dt * sb.deferV).cross(d.cwiseProduct(sb.linMask));
+    const RVec3& d = dir.d;
+    const RVec3 shiftA = dt * sa.deferV, shiftB = dt * sb.deferV;
+    dir.rAxd = sa.linLocked ? RVec3(rA.cross(d) + shiftA.cross(d.cwiseProduct(sa.linMask))) : RVec3((rA + shiftA).cross(d));
+    dir.rBxd = sb.linLocked ? RVec3(rB.cross(d) + shiftB.cross(d.cwiseProduct(sb.linMask))) : RVec3((rB + shiftB).cross(d));
     SetEffectiveMass(dir, sa, sb);
   };
   auto deferred = [this](std::uint32_t i) { return !m_solverBodies[i].deferV.isZero(0); };

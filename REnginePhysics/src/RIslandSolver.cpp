@@ -137,37 +137,27 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   }
 }
 
-// The islands' manifolds, laid out island by island (LayOutIslands): the passes' order and
-// the islands solved directly.
-void RWorldStep::BuildIslands(const RStepBodies& bodies) {
-  (void)bodies;
-  m_blockOrder.resize(m_blocks.size());
-  for (std::size_t k = 0; k < m_blocks.size(); ++k) m_blockOrder[k] = static_cast<std::uint32_t>(k);
-
-  // Their rows, island by island in increasing order (a block's rows are consecutive), and
-  // the islands solved directly: several manifolds (one alone is already solved exactly by
-  // its block), at most kDirectRows rows.
-  m_islandRows.clear();
+// The islands solved directly: several manifolds (one alone is already solved exactly by its
+// block), at most kDirectRows rows. Laid out island by island (LayOutIslands), an island's
+// blocks and their rows are each one run.
+void RWorldStep::BuildIslands() {
   m_islands.clear();
   m_directOfIsland.clear();
   for (const auto& [first, last] : m_blockIslands) {
-    const std::size_t rowsFirst = m_islandRows.size();
-    for (std::uint32_t k = first; k < last; ++k) {
-      const RBlock& blk = m_blocks[m_blockOrder[k]];
-      for (int i = 0; i < blk.count; ++i) m_islandRows.push_back(blk.first + static_cast<std::uint32_t>(i));
-    }
+    const std::size_t rowsFirst = m_blocks[first].first;
+    const std::size_t rowsLast = m_blocks[last - 1].first + static_cast<std::size_t>(m_blocks[last - 1].count);
     m_directOfIsland.push_back(-1);
-    if (last - first > 1 && m_islandRows.size() - rowsFirst <= std::size_t(kDirectRows)) {
+    if (last - first > 1 && rowsLast - rowsFirst <= std::size_t(kDirectRows)) {
       m_directOfIsland.back() = static_cast<std::int32_t>(m_islands.size());
-      m_islands.emplace_back(rowsFirst, m_islandRows.size());
+      m_islands.emplace_back(rowsFirst, rowsLast);
     }
   }
 }
 
 void RWorldStep::PrepareIslandDirect(std::size_t k, RIslandScratch& sc) {
   const auto [first, last] = m_islands[k];
-  sc.index.assign(m_islandRows.begin() + static_cast<std::ptrdiff_t>(first),
-                  m_islandRows.begin() + static_cast<std::ptrdiff_t>(last));
+  sc.index.resize(last - first);
+  for (std::size_t i = 0; i < sc.index.size(); ++i) sc.index[i] = static_cast<std::uint32_t>(first + i);
   sc.kReady = false;
 }
 

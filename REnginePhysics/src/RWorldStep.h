@@ -406,15 +406,14 @@ class RWorldStep {
   // Islands of the resolved contacts (bodies linked through two movable bodies) and each
   // contact's slots, islands in the order of their smallest body, contacts in order within.
   void LayOutIslands(const RStepBodies& bodies);
-  void BuildIslands(const RStepBodies& bodies);
-  // An island's passes: blocks [first, last) of m_blockOrder.
+  void BuildIslands();
+  // An island's passes: blocks [first, last).
   void SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last);
-  // The manifolds grouped by island (BuildIslands): m_blockOrder lists block indices island
-  // by island, each island's in increasing order; m_blockIslands holds each island's
-  // [first, last) in it.
-  std::vector<std::uint32_t> m_blockOrder, m_blockStart;
+  // The manifolds lie island by island (LayOutIslands), each island's in the contacts' order;
+  // m_blockIslands holds each island's [first, last) of m_blocks.
+  std::vector<std::uint32_t> m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
-  // Runs f(first, last) for every island's range of m_blockOrder, islands as tasks: they
+  // Runs f(first, last) for every island's range of m_blocks, islands as tasks: they
   // share no body an impulse moves (WarmStart).
   template <class F>
   void ForEachBlockIsland(const F& f) {
@@ -446,8 +445,7 @@ class RWorldStep {
   // SolveContactIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
   RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
-  std::vector<std::uint32_t> m_islandRows;  // rows island by island (as m_blockOrder's blocks)
-  std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_islandRows
+  std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_rows
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   std::size_t m_warmBodyCount = 0;
   // Keeps the warm starts of pairs that sleep (both bodies asleep, or one asleep and one
