@@ -447,8 +447,8 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
     const char* scene;
     const char* hash;
   } pins[] = {
-      {"box_pile_1000", "f553582e87608d50"},     {"box_stack_10", "7fd563de808ea14a"},
-      {"debris_cloud_1000", "b02c9a2334808d8b"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"box_pile_1000", "50ca44904ebc9754"},     {"box_stack_10", "7fd563de808ea14a"},
+      {"debris_cloud_1000", "0ac525493062c88e"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {

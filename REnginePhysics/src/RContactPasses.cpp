@@ -1,4 +1,4 @@
-// The contact phase's passes and its order of work (RWorldStep::SolveContactIslands): block
+// An island's contact phase after its impacts (RWorldStep::SolveIslandContacts): block
 // inverses, sequential-impulse passes over the manifolds, their friction patches, warm
 // starts, which rows close at the end of the step, island by island.
 #include "RWorldStep.h"
@@ -64,76 +64,61 @@ bool RWorldStep::BlockInverse(RBlock& blk) {
   return false;
 }
 
-// The contact phase after the impacts, island by island: an island's block inverses, its
-// passes, its direct solves (velocities, then positions) and which of its rows are closed
-// at the end of the step, one island after another, so that its rows, blocks and bodies
-// are read from the cache, not gathered again from all over memory by a sweep per stage (a
-// 10000-box pile's rows and blocks are 15 MB). Then, when some row is closed at the end,
-// the second half-kick and the end's warm starts, passes and direct solves, again island by
-// island. Islands share no body an impulse moves: the stages of one island in a row give
-// what a sweep of each stage over every island gave, bit for bit, on any thread count.
-void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int iterations) {
+// An island's contact phase after its impacts: its block inverses, its passes, its direct
+// solves (velocities, then positions) and which of its rows are closed at the end of the
+// step; then, when some row is closed at the end, the second half-kick and the end's warm
+// starts, passes and direct solves. One island at a time, start to end (SolveIsland), its
+// rows, blocks and bodies are read from the cache, not gathered again from all over memory
+// by a sweep per stage (a 10000-box pile's rows and blocks are 15 MB). Islands share no
+// body an impulse moves: solved side by side on any number of threads, each gives the same
+// answer bit for bit.
+void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
+                                     RIslandScratch& sc, RIslandTally& tally) {
   const RScalar halfDt = RScalar(0.5) * dt;
-  const std::size_t islands = m_blockIslands.size();
-  if (m_inverseTasks.size() < m_tasks) m_inverseTasks.resize(m_tasks);
-  if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
-  m_islandCloses.resize(islands);
-  const std::size_t tasks = ParallelRanges(m_jobs, islands, m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
-    m_inverseTasks[task] = 0;
-    RIslandScratch& sc = m_islandScratch[task];
-    for (std::size_t isl = i0; isl < i1; ++isl) {
-      const auto [first, last] = m_blockIslands[isl];
-      for (std::uint32_t k = first; k < last; ++k) m_inverseTasks[task] += BlockInverse(m_blocks[k]);
-      SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
-      if (m_directOfIsland[isl] >= 0) {
-        PrepareIslandDirect(static_cast<std::size_t>(m_directOfIsland[isl]), sc);
-        SolveIslandDirect(RPhase::kVelocity, sc);
-        SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
-      }
-      bool closes = false;
-      for (std::uint32_t k = first; k < last; ++k) {
-        const RBlock& blk = m_blocks[k];
-        for (int i = 0; i < blk.count; ++i) closes = CloseAtEnd(m_rows[blk.first + i], dt) || closes;
-      }
-      m_islandCloses[isl] = closes;
+  const int iterations = std::max(1, m_settings.solverIterations);
+  const auto [first, last] = m_blockIslands[island];
+  const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
+  const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
+  for (std::uint32_t k = first; k < last; ++k) tally.reusedInverses += BlockInverse(m_blocks[k]);
+  SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
+  const std::int32_t direct = m_directOfIsland[island];
+  if (direct >= 0) {
+    PrepareIslandDirect(static_cast<std::size_t>(direct), sc);
+    SolveIslandDirect(RPhase::kVelocity, sc);
+    SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
+  }
+  const std::uint32_t rowsFirst = m_blocks[first].first;
+  const std::uint32_t rowsLast = m_blocks[last - 1].first + static_cast<std::uint32_t>(m_blocks[last - 1].count);
+  bool closes = false;
+  for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) closes = CloseAtEnd(m_rows[i], dt) || closes;
+  // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland).
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    RSolverBody& s = m_solverBodies[islandBodies[k]];
+    s.contactDeltaV = s.v - s.vImpacts;
+  }
+  if (!closes) {
+    for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) m_rows[i].lambdaE = 0;
+    for (std::uint32_t k = first; k < last; ++k) {
+      RBlock& blk = m_blocks[k];
+      blk.lambdaT1[1] = blk.lambdaT2[1] = blk.lambdaTwist[1] = 0;
     }
-  });
-  for (std::size_t t = 0; t < tasks; ++t) m_pairStats.reusedInverses += m_inverseTasks[t];
-  // What the contact phase changed after the impacts (see the deferred impulses, FindImpulses).
-  for (std::uint32_t i : m_rowBodies) m_solverBodies[i].contactDeltaV = m_solverBodies[i].v - m_solverBodies[i].vImpacts;
-
-  bool any = false;
-  for (char closes : m_islandCloses) any = any || closes;
-  if (!any) {
-    for (RContactRow& r : m_rows) r.lambdaE = 0;
-    for (RBlock& blk : m_blocks) blk.lambdaT1[1] = blk.lambdaT2[1] = blk.lambdaTwist[1] = 0;
     return;
   }
   // The end velocities: the second half-kick of the applied forces and gravity.
-  ParallelRanges(m_jobs, m_rowBodies.size(), m_tasks, 512, [&](std::size_t k0, std::size_t k1, std::size_t) {
-    for (std::size_t k = k0; k < k1; ++k) {
-      const std::uint32_t i = m_rowBodies[k];  // no end impulse reaches the others
-      const RRigidBody& b = bodies[i];
-      RSolverBody& s = m_solverBodies[i];
-      s.vMid = s.v - s.deferV;
-      if (b.Immovable()) continue;
-      s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
-      s.w += s.invI * EndAngularKick_W(b, halfDt);
-    }
-  });
-  const int endIterations = std::max(1, m_settings.solverIterations);
-  ParallelRanges(m_jobs, islands, m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
-    RIslandScratch& sc = m_islandScratch[task];
-    for (std::size_t isl = i0; isl < i1; ++isl) {
-      const auto [first, last] = m_blockIslands[isl];
-      WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
-      SolveIslandBlocks(RPhase::kEnd, endIterations, first, last);
-      if (m_directOfIsland[isl] >= 0) {
-        PrepareIslandDirect(static_cast<std::size_t>(m_directOfIsland[isl]), sc);
-        SolveIslandDirect(RPhase::kEnd, sc);
-      }
-    }
-  });
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    const std::uint32_t i = islandBodies[k];
+    const RRigidBody& b = bodies[i];
+    RSolverBody& s = m_solverBodies[i];
+    s.vMid = s.v - s.deferV;
+    s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
+    s.w += s.invI * EndAngularKick_W(b, halfDt);
+  }
+  WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
+  SolveIslandBlocks(RPhase::kEnd, iterations, first, last);
+  if (direct >= 0) {
+    PrepareIslandDirect(static_cast<std::size_t>(direct), sc);
+    SolveIslandDirect(RPhase::kEnd, sc);
+  }
 }
 
 // The sequential-impulse passes over the manifolds, alternating the sweep's direction (for
@@ -144,7 +129,7 @@ void RWorldStep::SolveContactIslands(const RStepBodies& bodies, RScalar dt, int 
 // tilt the box: a 20-box stack then leans further every step and falls). kEnd: normal rows
 // and friction on the end velocities.
 //
-// Manifolds of different islands (bodies linked through dynamic bodies, BuildIslands)
+// Manifolds of different islands (bodies linked through dynamic bodies, LayOutIslands)
 // share no body that an impulse moves, so each island's passes are those of the whole
 // sweep restricted to its manifolds, in the same order: the islands are solved apart, on
 // as many threads as there are, with bit-identical results.
@@ -197,10 +182,6 @@ void RWorldStep::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_
     const RBlock& blk = m_blocks[k];
     ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
   }
-}
-
-void RWorldStep::WarmStart(RPhase phase) {
-  ForEachBlockIsland([&](std::uint32_t first, std::uint32_t last) { WarmStartIsland(phase, first, last); });
 }
 
 // Applies patch impulses (tangential at the centroid, twist about the normal) to the solver
@@ -263,7 +244,7 @@ RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
 // resting box exactly in place; but the step's second half-kick of gravity then leaves it
 // with -g dt / 2 at the end, and a box stuck on a slope with g sin(theta) dt / 2 down the
 // slope: at rest, reported moving. So every contact that is closed at the end of the step
-// gets a second impulse there (SolveContactIslands): no approach, friction within its cone, solved like the
+// gets a second impulse there (SolveIslandContacts): no approach, friction within its cone, solved like the
 // first (blocks, patches, islands) on the end velocities. A resting body then ends each
 // step at rest, and the support it needs is shared between the two ends of the step, the
 // way kick-drift-kick shares a force; a sliding box's friction is shared the same way. The

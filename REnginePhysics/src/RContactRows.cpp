@@ -31,20 +31,16 @@ RWorldStep::RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) 
   return lead;
 }
 
-// One resolved contact's rows (at m_rowStart): its impact row, a contact row per manifold
-// point warm-started from last step's impulses, and its friction patch. Returns how many
-// rows found a warm start.
-namespace {
-
 // The first of last step's warm starts (sorted by pair) of `pair`, searched from `from`:
 // every entry before it is of a smaller pair when the contacts come in increasing pairs,
 // as they do unless bodies were added or removed, and the next contact's entries are then
 // a few places on. A gallop from there (1, 2, 4, ... places) and a binary search within
 // the last stride touch a few neighbouring entries instead of a binary search's ~16 over
-// 5 MB (10000 contacts: 600 ns a contact, most of building the rows). Otherwise (a pair
-// below the start's) the whole list is searched.
-std::size_t FindWarmStarts(const std::vector<RWorldStep::RWarmStart>& warm, std::uint64_t pair, std::size_t from) {
-  auto less = [](const RWorldStep::RWarmStart& w, std::uint64_t key) { return w.pair < key; };
+// 5 MB. Otherwise (a pair below the start's) the whole list is searched. LayOutIslands
+// searches in the contacts' order: the rows are built island by island, where a gallop
+// from the last contact's entries would cross the list at every contact.
+std::size_t RWorldStep::FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from) {
+  auto less = [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; };
   if (from > warm.size() || (from > 0 && !(warm[from - 1].pair < pair))) from = 0;
   std::size_t lo = from, hi = from, stride = 1;
   while (hi < warm.size() && warm[hi].pair < pair) {
@@ -57,10 +53,10 @@ std::size_t FindWarmStarts(const std::vector<RWorldStep::RWarmStart>& warm, std:
                                   warm.begin());
 }
 
-}  // namespace
-
-std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt,
-                                           std::size_t& warmFrom) {
+// One resolved contact's rows (at m_rowStart): its impact row, a contact row per manifold
+// point warm-started from last step's impulses, and its friction patch. Returns how many
+// rows found a warm start.
+std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
   const RContact& c = m_contacts[ci];
   const std::uint32_t firstRow = m_rowStart[ci].row, blockIndex = m_rowStart[ci].block;
   const RRigidBody& A = bodies[c.a];
@@ -84,7 +80,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   RVec3 t1, t2;
   OrthonormalBasis(normal, t1, t2);
   {
-    RImpactRow& r = m_impacts[m_rowStart[ci].impact];  // written in place: its tangents' arms stay unset
+    RImpactRow& r = m_impacts[blockIndex];  // written in place: its tangents' arms stay unset
     r.a = c.a, r.b = c.b, r.contact = ci, r.point = deepest;
     const RVec3 rA = leadCentre - A.m_x_W, rB = leadCentre - B.m_x_W;
     // The normal's arms for the impact phase's approach test; the tangents are worked out
@@ -103,8 +99,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   const RWarmStart* patchWarm = nullptr;  // the first of its points found last step
   // Last step's points of this pair (m_warm is sorted by pair): found once for the manifold.
   const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
-  warmFrom = FindWarmStarts(m_warm, pair, warmFrom);
-  const auto warmFirst = m_warm.begin() + static_cast<std::ptrdiff_t>(warmFrom);
+  const auto warmFirst = m_warm.begin() + static_cast<std::ptrdiff_t>(m_rowStart[ci].warmFound);
   // One contact row per manifold point: no restitution; the contact may close its gap
   // within the step (speculative: a fast body stops at the surface, not inside it) but
   // not approach beyond it.

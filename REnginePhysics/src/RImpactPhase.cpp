@@ -1,4 +1,4 @@
-// The impact phase (RWorldStep::SolveImpacts): impacts at their time within the step,
+// The impact phase (RWorldStep::SolveIslandImpacts): impacts at their time within the step,
 // restitution through one row per manifold.
 #include "RWorldStep.h"
 
@@ -79,18 +79,22 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
 // velocity that gives the piecewise path (before the impact, then after it). The velocity
 // it ends with is the one after its impacts: the difference is deferred to the end of the
 // step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
-void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
-  // The bodies in rows (the others have no solver state: see m_rowBodies).
-  for (std::uint32_t i : m_rowBodies) {
-    RSolverBody& s = m_solverBodies[i];
+//
+// Island by island (SolveIsland): an island's impact rows (one per manifold, its blocks'
+// indices) move only its own bodies. A static or kinematic body, which islands share, is
+// read and never written: its path is known (x + v t), so where it is at an impact's time
+// is worked out on a copy, and its impacts with one body do not order those with another
+// (only a movable body's impacts happen one after another).
+void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island) {
+  const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
+  const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    RSolverBody& s = m_solverBodies[islandBodies[k]];
     s.moved.setZero(), s.tau = 0;
     s.deferV.setZero();
   }
-  const std::size_t count = m_impacts.size();
-  if (count == 0) {
-    for (std::uint32_t i : m_rowBodies) m_solverBodies[i].vImpacts = m_solverBodies[i].v;
-    return;
-  }
+  const auto [first, last] = m_blockIslands[island];
+  const std::size_t count = last - first;
   // Moves a body along its present velocity up to time t of the step.
   auto advance = [](RSolverBody& s, RScalar t) {
     if (t <= s.tau) return;
@@ -98,14 +102,20 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
   };
   bool anyImpact = false;
   const int passes = std::max(1, m_settings.solverIterations);
-  for (int pass = 0; pass < passes; ++pass) {
+  for (int pass = 0; pass < passes && count > 0; ++pass) {
     bool any = false;
     for (std::size_t ii = 0; ii < count; ++ii) {
-      RImpactRow& r = m_impacts[(pass % 2 == 0) ? ii : count - 1 - ii];
-      RSolverBody& sa = m_solverBodies[r.a];
-      RSolverBody& sb = m_solverBodies[r.b];
-      const RScalar vn0 = Speed(r.normal, sa.v, sa.w, sb.v, sb.w);
+      RImpactRow& r = m_impacts[first + ((pass % 2 == 0) ? ii : count - 1 - ii)];
+      RSolverBody* pa = &m_solverBodies[r.a];
+      RSolverBody* pb = &m_solverBodies[r.b];
+      const RScalar vn0 = Speed(r.normal, pa->v, pa->w, pb->v, pb->w);
       if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
+      // A static or kinematic body on a copy, at the start of its path (see above).
+      RSolverBody copyA, copyB;
+      if (pa->invM == 0) copyA = *pa, pa = &copyA;
+      if (pb->invM == 0) copyB = *pb, pb = &copyB;
+      RSolverBody& sa = *pa;
+      RSolverBody& sb = *pb;
       // When: the gap closed at this approach, and no earlier than either body's last.
       RScalar t = std::max(sa.tau, sb.tau);
       if (r.gap > 0) t = std::max(t, r.gap / -vn0);
@@ -147,14 +157,17 @@ void RWorldStep::SolveImpacts(const RStepBodies& bodies, RScalar dt) {
     }
     if (!any) break;
   }
-  for (std::uint32_t i : m_rowBodies) m_solverBodies[i].vImpacts = m_solverBodies[i].v;
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    RSolverBody& s = m_solverBodies[islandBodies[k]];
+    s.vImpacts = s.v;
+  }
   if (!anyImpact) return;
   // The velocity each body moves with this step gives its piecewise path; the rest of the
   // change waits for the end of the step. The contact phase works on the velocities after
   // the impacts, the bodies' real ones, so that its impulses, inelastic there, cannot add
   // energy; the difference is taken out of the motion only (FindImpulses).
-  for (std::uint32_t i : m_rowBodies) {
-    RSolverBody& s = m_solverBodies[i];
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    RSolverBody& s = m_solverBodies[islandBodies[k]];
     if (s.tau <= 0 || s.invM == 0) continue;
     advance(s, dt);
     // Rotation is not split: moving a body's orientation along a piecewise spin and then

@@ -1,5 +1,5 @@
 // The island direct solve: islands of contact rows solved exactly by an active-set method
-// on their dense matrix (RWorldStep::LayOutIslands, BuildIslands, SolveIslandDirect).
+// on their dense matrix (RWorldStep::LayOutIslands, SolveIslandDirect).
 #include "RWorldStep.h"
 
 #include "RSolverRows.h"
@@ -81,7 +81,8 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_islandSets.Reset(n);
   m_rowStart.resize(m_contacts.size());
   m_inRows.assign(n, 0);
-  std::uint32_t blockCount = 0;
+  std::uint32_t blockCount = 0, warmCount = 0;
+  std::size_t warmFrom = 0;
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
     RContact& c = m_contacts[ci];
     const RRigidBody& A = bodies[c.a];
@@ -93,7 +94,13 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
                  c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
     if (!c.resolved) continue;
     m_inRows[c.a] = m_inRows[c.b] = 1;
-    m_rowStart[ci].impact = blockCount++;
+    ++blockCount;
+    // Next step's warm starts come out in the contacts' order, whichever island each
+    // contact's rows are solved in.
+    m_rowStart[ci].warm = warmCount;
+    warmCount += static_cast<std::uint32_t>(c.manifold.pointCount);
+    warmFrom = FindWarmStarts(m_warm, PairKey(c.handleA.index, c.handleB.index), warmFrom);
+    m_rowStart[ci].warmFound = static_cast<std::uint32_t>(warmFrom);
     if (!A.Immovable() && !B.Immovable()) m_islandSets.Union(c.a, c.b);
   }
   // A counting sort of the resolved contacts by their island's representative (its smallest
@@ -107,8 +114,10 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     ++m_blockStart[root + 1];
   }
   m_blockIslands.clear();
+  m_islandOfRoot.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (m_blockStart[i + 1] > 0) {
+      m_islandOfRoot[i] = static_cast<std::uint32_t>(m_blockIslands.size());
       m_blockIslands.emplace_back(static_cast<std::uint32_t>(m_blockStart[i]),
                                   static_cast<std::uint32_t>(m_blockStart[i] + m_blockStart[i + 1]));
     }
@@ -131,21 +140,36 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   // would have resize zero 15 MB a step in a 10000-box pile.
   m_rows.resize(rowCount), m_impacts.resize(blockCount), m_blocks.resize(blockCount);
   m_rowPoint_A.resize(rowCount);
-  m_rowBodies.clear();
+  // The bodies in rows: each movable one with its island (a counting sort by island, in
+  // index order within), the static and kinematic ones apart (shared by islands, which
+  // read their solver state and never write it).
+  const std::size_t islands = m_blockIslands.size();
+  m_islandBodyStart.assign(islands + 1, 0);
+  m_immovableRowBodies.clear();
   for (std::size_t i = 0; i < n; ++i) {
-    if (m_inRows[i]) m_rowBodies.push_back(static_cast<std::uint32_t>(i));
+    if (!m_inRows[i]) continue;
+    if (bodies[i].Immovable()) {
+      m_immovableRowBodies.push_back(static_cast<std::uint32_t>(i));
+    } else {
+      ++m_islandBodyStart[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))] + 1];
+    }
   }
-}
-
-// The islands solved directly: several manifolds (one alone is already solved exactly by its
-// block), at most kDirectRows rows. Laid out island by island (LayOutIslands), an island's
-// blocks and their rows are each one run.
-void RWorldStep::BuildIslands() {
+  for (std::size_t k = 0; k < islands; ++k) m_islandBodyStart[k + 1] += m_islandBodyStart[k];
+  m_islandBodies.resize(m_islandBodyStart[islands]);
+  m_islandBodyFill.assign(m_islandBodyStart.begin(), m_islandBodyStart.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!m_inRows[i] || bodies[i].Immovable()) continue;
+    m_islandBodies[m_islandBodyFill[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))]]++] =
+        static_cast<std::uint32_t>(i);
+  }
+  // The islands solved directly: several manifolds (one alone is already solved exactly by
+  // its block), at most kDirectRows rows; each island's blocks and their rows are one run.
   m_islands.clear();
   m_directOfIsland.clear();
   for (const auto& [first, last] : m_blockIslands) {
-    const std::size_t rowsFirst = m_blocks[first].first;
-    const std::size_t rowsLast = m_blocks[last - 1].first + static_cast<std::size_t>(m_blocks[last - 1].count);
+    const std::size_t rowsFirst = m_rowStart[m_blockContact[first]].row;
+    const std::size_t rowsLast = m_rowStart[m_blockContact[last - 1]].row +
+                                 static_cast<std::size_t>(m_contacts[m_blockContact[last - 1]].manifold.pointCount);
     m_directOfIsland.push_back(-1);
     if (last - first > 1 && rowsLast - rowsFirst <= std::size_t(kDirectRows)) {
       m_directOfIsland.back() = static_cast<std::int32_t>(m_islands.size());

@@ -12,6 +12,8 @@ namespace REngine {
 using namespace solver;
 
 void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
+  // Without sleeping nothing sleeps here (WakeIslands woke everything), and no pair is kept.
+  if (!m_settings.shortcuts.sleeping) return;
   // The body in a slot, if it is the one the memory is of and it is stepped.
   auto passive = [&bodies](std::uint32_t slot, std::uint32_t generation) {
     if (slot >= bodies.slotCount) return false;

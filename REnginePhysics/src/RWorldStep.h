@@ -4,12 +4,13 @@
 //   RPairSweep.cpp      DetectPairs, TimeOfImpact
 //   RBroadPhase.cpp     UpdateBroadPhase, RebuildFatPairs, SweepBox, FatBox, TreePairs
 //                       (trees: RBoundsTree.cpp)
-//   RContactSolver.cpp  FindImpulses, SolveNormalBlock
-//   RContactPasses.cpp  SolveContactIslands, BlockInverse, SolveIslandBlocks, WarmStart,
-//                       SolvePatch, CloseAtEnd
+//   RContactSolver.cpp  FindImpulses, SolveIsland, ShiftArmsAfterImpacts, SolveNormalBlock
+//   RContactPasses.cpp  SolveIslandContacts, BlockInverse, SolveIslandBlocks,
+//                       WarmStartIsland, SolvePatch, CloseAtEnd
+//   RContactReport.cpp  ReportIsland
 //   RContactRows.cpp    BuildContactRows, LeadingPoints
-//   RImpactPhase.cpp    SolveImpacts, ImpactGeometry
-//   RIslandSolver.cpp   LayOutIslands, BuildIslands, SolveIslandDirect
+//   RImpactPhase.cpp    SolveIslandImpacts, ImpactGeometry
+//   RIslandSolver.cpp   LayOutIslands, SolveIslandDirect
 //   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
 //   RIntegration.cpp    Integrate (the motion)
 //   RBodyMotion.cpp     kinematic bodies, angular locks, drag, gravity scales
@@ -278,7 +279,7 @@ class RWorldStep {
     RVec3 v, w;                // linear and angular velocity, world
     RVec3 vp, wp;              // pseudo-velocities (position correction), world
     RVec3 vMid;                // the velocity it moves with, kept for the end of the step
-    // Impacts within the step (SolveImpacts): displacement travelled up to time tau of the
+    // Impacts within the step (SolveIslandImpacts): displacement travelled up to time tau of the
     // step, and the velocity change deferred to the step's end.
     RVec3 moved;
     RScalar tau;
@@ -312,6 +313,9 @@ class RWorldStep {
   // Warm-start memory: last step's impulses by (slot a, slot b, feature id), a the lower
   // slot; the generations tell a body that took over a freed slot from its former holder.
   struct RWarmStart {
+    // Left unset: next step's memory is resized to its slots each step (FindImpulses),
+    // every one of which is then written whole, and 5 MB of zeros a step would be wasted.
+    RWarmStart() {}
     std::uint64_t pair;        // (slot a, slot b)
     std::uint32_t genA, genB;  // the bodies' handle generations
     std::uint32_t feature;
@@ -360,71 +364,80 @@ class RWorldStep {
     RScalar targetT[2][2];
   };
   std::vector<RBlock> m_blocks;
-  // Row building (FindImpulses): where each resolved contact's rows, block and impact row
-  // go. Blocks and rows are laid out island by island (LayOutIslands), so that the passes
-  // and direct solves, which work island by island, read them in order; impact rows stay in
-  // the contacts' order (the impact phase is one sweep over every island).
+  // Row building (FindImpulses): where each resolved contact's rows and block go (its impact
+  // row has its block's index), and where its rows' warm starts go in next step's memory.
+  // Blocks and rows are laid out island by island (LayOutIslands): the whole contact phase
+  // works island by island and reads them in order; the warm starts are in the contacts'
+  // order.
   struct RContactSlots {
-    std::uint32_t row, block, impact;
+    std::uint32_t row, block, warm;
+    std::uint32_t warmFound;  // where its pair's entries begin in last step's memory (m_warm)
   };
   std::vector<RContactSlots> m_rowStart;
   std::vector<std::uint32_t> m_blockContact;  // the contact of each block
-  // Per body: in some resolved contact's rows this step; and those bodies, in index order.
-  // Only they have solver state (the others' m_solverBodies entries are not read: Integrate
-  // asks m_inRows), so a 30 000-body cloud with 3000 contacts walks 3000 entries, not 30 000.
+  // Per body: in some resolved contact's rows this step. Only those have solver state (the
+  // others' m_solverBodies entries are not read: Integrate asks m_inRows), so a 30 000-body
+  // cloud with 3000 contacts sets up 3000 entries, not 30 000. The movable ones by island
+  // (island k's are m_islandBodies[m_islandBodyStart[k], m_islandBodyStart[k + 1]), in index
+  // order), the static and kinematic ones apart: islands share them, and only read them.
   std::vector<char> m_inRows;
-  std::vector<std::uint32_t> m_rowBodies;
+  std::vector<std::uint32_t> m_islandBodies, m_islandBodyStart, m_islandBodyFill, m_islandOfRoot;
+  std::vector<std::uint32_t> m_immovableRowBodies;
   std::vector<RVec3> m_rowPoint_A;  // per row: its point in body a's frame (next warm start)
-  std::vector<std::uint32_t> m_warmTasks;
-  std::vector<std::uint64_t> m_inverseTasks;  // each task's count of block inverses kept
+  // Each task's counts: rows warm-started, block inverses kept; and whether one of its warm
+  // starts was not finite (dropped from the memory).
+  struct RIslandTally {
+    std::uint64_t warmStarted = 0, reusedInverses = 0;
+    bool dropped = false;
+  };
+  std::vector<RIslandTally> m_islandTallies;
   struct RLeadingPoints {
     int deepest = 0;
     int count = 0;
     RVec3 centre;  // contact frame as the manifold's points
   };
   RLeadingPoints LeadingPoints(const RContactManifold& m) const;
-  // warmFrom: where the last contact's warm starts began in m_warm (updated), the search's
-  // start when the contacts' pairs increase (see FindWarmStarts).
-  std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt,
-                                 std::size_t& warmFrom);
+  std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt);
+  static std::size_t FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from);
   // Both return the largest change of a row's relative speed their impulses made, m/s
   // (|delta lambda| k: what SolveIslandBlocks stops on).
   RScalar SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
-  void SolveImpacts(const RStepBodies& bodies, RScalar dt);
+  struct RIslandScratch;
+  // One island's contact phase, start to end (FindImpulses): its bodies' solver state, rows,
+  // warm starts, impacts, passes, direct solves, the end of the step and the report.
+  void SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
+                   RIslandScratch& sc, RIslandTally& tally);
+  // The island's impact phase (RImpactPhase.cpp), then its rows' arms after the impacts.
+  void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island);
+  void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
   template <class Advance>
   bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
                       const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
                       RDirection* dir) const;
   RScalar SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
-  void WarmStart(RPhase phase);
   void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
-  // The contact phase after the impacts, island by island (RContactPasses.cpp).
-  void SolveContactIslands(const RStepBodies& bodies, RScalar dt, int iterations);
+  // An island's contact phase after its impacts (RContactPasses.cpp): block inverses, passes,
+  // direct solves, and, when some row is closed at the end of the step, the end's.
+  void SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc,
+                           RIslandTally& tally);
+  // The island's impulses accumulated on its bodies, reported on its contacts and kept as
+  // next step's warm starts, at m_warmNext[warmBase + the contact's warm slot] (RContactReport.cpp).
+  void ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
+                    RIslandTally& tally);
   bool BlockInverse(RBlock& blk);
   bool CloseAtEnd(RContactRow& r, RScalar dt) const;
   void ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist);
   // Islands of the resolved contacts (bodies linked through two movable bodies) and each
   // contact's slots, islands in the order of their smallest body, contacts in order within.
   void LayOutIslands(const RStepBodies& bodies);
-  void BuildIslands();
   // An island's passes: blocks [first, last).
   void SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last);
   // The manifolds lie island by island (LayOutIslands), each island's in the contacts' order;
   // m_blockIslands holds each island's [first, last) of m_blocks.
   std::vector<std::uint32_t> m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
-  // Runs f(first, last) for every island's range of m_blocks, islands as tasks: they
-  // share no body an impulse moves (WarmStart).
-  template <class F>
-  void ForEachBlockIsland(const F& f) {
-    ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t) {
-      for (std::size_t isl = i0; isl < i1; ++isl) f(m_blockIslands[isl].first, m_blockIslands[isl].second);
-    });
-  }
-  // Each island's index in m_islands (solved directly), or -1; whether it has a row closed
-  // at the end of the step.
+  // Each island's index in m_islands (solved directly), or -1.
   std::vector<std::int32_t> m_directOfIsland;
-  std::vector<char> m_islandCloses;
 
   // One island's direct solve: its rows and the dense scratch (kDirectRows^2 at most),
   // one per task so that islands are solved side by side.
@@ -442,11 +455,12 @@ class RWorldStep {
   void PrepareIslandDirect(std::size_t k, RIslandScratch& sc);
   void AssembleIslandMatrix(RIslandScratch& sc);
   // Islands up to this many rows get their normal impulses solved directly (see
-  // SolveContactIslands): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
+  // SolveIslandContacts): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
   RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
   std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_rows
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
+  static constexpr std::uint64_t kDroppedWarm = ~std::uint64_t{0};  // not a pair: dropped
   std::size_t m_warmBodyCount = 0;
   // Keeps the warm starts of pairs that sleep (both bodies asleep, or one asleep and one
   // static): they are not solved while asleep, and start warm when woken.
