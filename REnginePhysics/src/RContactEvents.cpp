@@ -73,10 +73,15 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   // An impact row pushes only once ImpactGeometry has brought its bodies to touching (or to
   // within the slop, where the solver treats them as touching) at its moment in the step;
   // where and along which normal is the pair's point of touch.
-  for (const RImpactRow& r : m_impacts) {
-    if (!(r.lambdaN > 0)) continue;
-    REventContact& e = m_eventContacts[r.contact];
-    e.flags |= kImpact, e.point_W = r.point_W, e.normal_W = r.normal_W;
+  // (Only islands with impact rows this step wrote theirs: SolveIsland.)
+  for (std::size_t isl = 0; isl < m_islandImpacts.size(); ++isl) {
+    if (!m_islandImpacts[isl]) continue;
+    for (std::uint32_t k = m_blockIslands[isl].first; k < m_blockIslands[isl].second; ++k) {
+      const RImpactRow& r = m_impacts[k];
+      if (!(r.lambdaN > 0)) continue;
+      REventContact& e = m_eventContacts[r.contact];
+      e.flags |= kImpact, e.point_W = r.point_W, e.normal_W = r.normal_W;
+    }
   }
 
   // Each contact alone (tasks over contacts, each writing its own entry).

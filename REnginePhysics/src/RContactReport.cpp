@@ -101,7 +101,7 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
   // An impact's impulse is a one-off, not remembered: carried into the next step it would
   // push apart bodies that are already separating, energy from nowhere. It is reported at
   // the manifold's deepest point.
-  for (std::uint32_t k = first; k < last; ++k) {
+  for (std::uint32_t k = first; k < (m_islandImpacts[island] ? last : first); ++k) {
     const RImpactRow& r = m_impacts[k];
     if (r.lambdaN == 0) continue;
     RSolverBody& A = m_solverBodies[r.a];

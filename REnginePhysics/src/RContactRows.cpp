@@ -53,9 +53,39 @@ std::size_t RWorldStep::FindWarmStarts(const std::vector<RWarmStart>& warm, std:
                                   warm.begin());
 }
 
-// One resolved contact's rows (at m_rowStart): its impact row, a contact row per manifold
-// point warm-started from last step's impulses, and its friction patch. Returns how many
-// rows found a warm start.
+// Impacts bounce in a phase of their own, before the contacts are solved: each manifold
+// gets one impact row at the centre of its leading points (those within the slop of the
+// deepest). A whole face hitting flat bounces through the face's centre, with no torque, a
+// corner through the corner: one constraint, whose outcome is the closed form and conserves
+// energy at e = 1. Restitution targets at several points of one manifold, solved one after
+// another, could return more energy than came in. Built only for an island some row of which
+// approaches (SolveIsland), at its block's index.
+void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block) {
+  const RContact& c = m_contacts[ci];
+  const RRigidBody& A = bodies[c.a];
+  const RRigidBody& B = bodies[c.b];
+  const RLeadingPoints lead = LeadingPoints(c.manifold);
+  const RVec3& normal = c.manifold.normal;
+  RImpactRow& r = m_impacts[block];  // written in place: its tangents' arms stay unset
+  r.a = c.a, r.b = c.b, r.contact = ci, r.point = lead.deepest;
+  const RVec3 rA = lead.centre - A.m_x_W, rB = lead.centre - B.m_x_W;
+  // The normal's arms for the impact phase's approach test; the tangents are worked out
+  // there, from their directions, only for a manifold that impacts.
+  SetDirection(r.normal, normal, rA, rB, m_solverBodies[c.a], m_solverBodies[c.b]);
+  OrthonormalBasis(normal, r.tangent[0], r.tangent[1]);
+  r.rA = rA, r.rB = rB;
+  r.gap = c.manifold.points[lead.deepest].separation;
+  r.restitution = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
+  r.friction = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
+  r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
+  r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
+  r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
+  r.miss = false;
+}
+
+// One resolved contact's rows (at m_rowStart): a contact row per manifold point
+// warm-started from last step's impulses, and its friction patch. Returns how many rows
+// found a warm start.
 std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
   const RContact& c = m_contacts[ci];
   const std::uint32_t firstRow = m_rowStart[ci].row, blockIndex = m_rowStart[ci].block;
@@ -64,38 +94,10 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   std::uint32_t warmStarted = 0;
   const RSolverBody& sa = m_solverBodies[c.a];
   const RSolverBody& sb = m_solverBodies[c.b];
-  const RScalar e = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
   const RScalar mu = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
-  // Impacts bounce in a phase of their own, before the contacts are solved (below): each
-  // manifold gets one impact row at the centre of its leading points (those within the
-  // slop of the deepest). A whole face hitting flat bounces through the face's centre,
-  // with no torque, a corner through the corner: one constraint, whose outcome is the
-  // closed form and conserves energy at e = 1. Restitution targets at several points of
-  // one manifold, solved one after another, could return more energy than came in.
-  const RLeadingPoints lead = LeadingPoints(c.manifold);
-  const int deepest = lead.deepest;
-  const RScalar leadSeparation = c.manifold.points[deepest].separation;
-  const RVec3 leadCentre = lead.centre;
   const RVec3& normal = c.manifold.normal;
   RVec3 t1, t2;
   OrthonormalBasis(normal, t1, t2);
-  {
-    RImpactRow& r = m_impacts[blockIndex];  // written in place: its tangents' arms stay unset
-    r.a = c.a, r.b = c.b, r.contact = ci, r.point = deepest;
-    const RVec3 rA = leadCentre - A.m_x_W, rB = leadCentre - B.m_x_W;
-    // The normal's arms for the impact phase's approach test; the tangents are worked out
-    // there, from their directions, only for a manifold that impacts.
-    SetDirection(r.normal, normal, rA, rB, sa, sb);
-    r.tangent[0] = t1, r.tangent[1] = t2;
-    r.rA = rA, r.rB = rB;
-    r.gap = leadSeparation;
-    r.restitution = e;
-    r.friction = mu;
-    r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
-    r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
-    r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
-    r.miss = false;
-  }
   const RWarmStart* patchWarm = nullptr;  // the first of its points found last step
   // Last step's points of this pair (m_warm is sorted by pair): found once for the manifold.
   const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);

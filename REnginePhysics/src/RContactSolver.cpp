@@ -52,6 +52,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   m_solved = anyRow;
   if (!anyRow) {
     m_rows.clear(), m_impacts.clear(), m_blocks.clear();
+    m_blockIslands.clear(), m_islandImpacts.clear();
     std::swap(m_warm, m_warmNext);
     return;
   }
@@ -72,6 +73,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   const std::size_t warmBase = m_warmNext.size();
   m_warmNext.resize(warmBase + m_rows.size());
   m_pairStats.contactPoints = m_rows.size();
+  m_islandImpacts.assign(m_blockIslands.size(), 0);
   if (m_islandTallies.size() < m_tasks) m_islandTallies.resize(m_tasks);
   if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
   const std::size_t tasks = ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
@@ -116,8 +118,13 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   const auto [first, last] = m_blockIslands[island];
   for (std::uint32_t k = first; k < last; ++k) tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
   WarmStartIsland(RPhase::kVelocity, first, last);
+  // Most islands (a resting pile: every one) have no impact: their impact rows are not built.
+  m_islandImpacts[island] = MayImpact(first, last);
+  if (m_islandImpacts[island]) {
+    for (std::uint32_t k = first; k < last; ++k) BuildImpactRow(bodies, m_blockContact[k], k);
+  }
   SolveIslandImpacts(bodies, dt, island);
-  ShiftArmsAfterImpacts(dt, island);
+  if (m_islandImpacts[island]) ShiftArmsAfterImpacts(dt, island);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points
   // share two bodies, and solving them one after another favours the first, leaving a
   // small torque that tilts stacked bodies step after step. The block's matrix is rank
@@ -128,8 +135,24 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   ReportIsland(bodies, dt, island, warmBase, tally);
 }
 
+// An impact row's approach speed at the centre of its manifold's leading points is the mean
+// of their rows' speeds (a speed is linear in the point), so it is no faster than the
+// fastest row's; half the threshold leaves room for rounding. Not a number: the impact
+// phase decides.
+bool RWorldStep::MayImpact(std::uint32_t first, std::uint32_t last) const {
+  const RScalar floor = RScalar(-0.5) * m_settings.restitutionThreshold;
+  const std::uint32_t rowsLast = m_blocks[last - 1].first + static_cast<std::uint32_t>(m_blocks[last - 1].count);
+  for (std::uint32_t i = m_blocks[first].first; i < rowsLast; ++i) {
+    const RContactRow& r = m_rows[i];
+    const RSolverBody& sa = m_solverBodies[r.a];
+    const RSolverBody& sb = m_solverBodies[r.b];
+    if (!(Speed(r.n, sa.v, sa.w, sb.v, sb.w) >= floor)) return true;
+  }
+  return false;
+}
+
 // After the island's impacts: which speculative rows keep their targets, and the arms of
-// the rows of bodies that impacted.
+// the rows of bodies that impacted (with no impact row, deferN stays 0 and the arms as built).
 void RWorldStep::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
   const auto [first, last] = m_blockIslands[island];
   // A manifold whose impact the narrow phase, run again along the motion, found not to

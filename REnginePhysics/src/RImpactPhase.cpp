@@ -94,7 +94,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
     s.deferV.setZero();
   }
   const auto [first, last] = m_blockIslands[island];
-  const std::size_t count = last - first;
+  const std::size_t count = m_islandImpacts[island] ? last - first : 0;
   // Moves a body along its present velocity up to time t of the step.
   auto advance = [](RSolverBody& s, RScalar t) {
     if (t <= s.tau) return;

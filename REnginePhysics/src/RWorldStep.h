@@ -398,6 +398,7 @@ class RWorldStep {
   };
   RLeadingPoints LeadingPoints(const RContactManifold& m) const;
   std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt);
+  void BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block);
   static std::size_t FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from);
   // Both return the largest change of a row's relative speed their impulses made, m/s
   // (|delta lambda| k: what SolveIslandBlocks stops on).
@@ -408,6 +409,9 @@ class RWorldStep {
   void SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
                    RIslandScratch& sc, RIslandTally& tally);
   // The island's impact phase (RImpactPhase.cpp), then its rows' arms after the impacts.
+  // Whether some row of island [first, last) of the blocks may approach faster than the
+  // restitution threshold: the impact phase has work, and the island gets impact rows.
+  bool MayImpact(std::uint32_t first, std::uint32_t last) const;
   void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island);
   void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
   template <class Advance>
@@ -436,8 +440,10 @@ class RWorldStep {
   // m_blockIslands holds each island's [first, last) of m_blocks.
   std::vector<std::uint32_t> m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
-  // Each island's index in m_islands (solved directly), or -1.
+  // Each island's index in m_islands (solved directly), or -1; whether it has impact rows
+  // this step (MayImpact; the others' entries of m_impacts are not written).
   std::vector<std::int32_t> m_directOfIsland;
+  std::vector<char> m_islandImpacts;
 
   // One island's direct solve: its rows and the dense scratch (kDirectRows^2 at most),
   // one per task so that islands are solved side by side.
