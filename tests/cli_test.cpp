@@ -447,8 +447,8 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
     const char* scene;
     const char* hash;
   } pins[] = {
-      {"box_pile_1000", "50ca44904ebc9754"},     {"box_stack_10", "7fd563de808ea14a"},
-      {"debris_cloud_1000", "0ac525493062c88e"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"box_pile_1000", "383638784ee2b34d"},     {"box_stack_10", "83f9fcc013a7146d"},
+      {"debris_cloud_1000", "d4103f47e4d4be83"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {

@@ -64,7 +64,8 @@ bool RWorldStep::BlockInverse(RBlock& blk) {
   return false;
 }
 
-// An island's contact phase after its impacts: its block inverses, its passes, its direct
+// An island's contact phase after its impacts: its passes (each block's inverse worked out
+// the first time it has something to solve: SolveNormalBlock), its direct
 // solves (velocities, then positions) and which of its rows are closed at the end of the
 // step; then, when some row is closed at the end, the second half-kick and the end's warm
 // starts, passes and direct solves. One island at a time, start to end (SolveIsland), its
@@ -73,13 +74,12 @@ bool RWorldStep::BlockInverse(RBlock& blk) {
 // body an impulse moves: solved side by side on any number of threads, each gives the same
 // answer bit for bit.
 void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
-                                     RIslandScratch& sc, RIslandTally& tally) {
+                                     RIslandScratch& sc) {
   const RScalar halfDt = RScalar(0.5) * dt;
   const int iterations = std::max(1, m_settings.solverIterations);
   const auto [first, last] = m_blockIslands[island];
   const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
   const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
-  for (std::uint32_t k = first; k < last; ++k) tally.reusedInverses += BlockInverse(m_blocks[k]);
   SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
   const std::int32_t direct = m_directOfIsland[island];
   if (direct >= 0) {

@@ -167,6 +167,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   blk.first = firstRow;
   blk.count = c.manifold.pointCount;
   blk.useBlock = blk.count > 1;
+  blk.inverse = 0;
   blk.pinv.setZero();  // filled below, once every row is warm-started
   RVec3 centroid = RVec3::Zero();
   for (int k = 0; k < c.manifold.pointCount; ++k) centroid += c.manifold.points[k].position;

@@ -131,7 +131,7 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   // deficient (four points of one face constrain three degrees of freedom), so the
   // minimum-norm least-squares inverse is precomputed once per step; when its answer
   // would pull at a point, that manifold falls back to one point at a time.
-  SolveIslandContacts(bodies, dt, island, sc, tally);
+  SolveIslandContacts(bodies, dt, island, sc);
   ReportIsland(bodies, dt, island, warmBase, tally);
 }
 
@@ -224,7 +224,7 @@ void RWorldStep::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
 // One manifold's normal rows: the block's minimum-norm answer when it pushes at every point,
 // else one point at a time. On the velocities (towards the rows' targets, impulses lambdaN)
 // or on the pseudo-velocities of position correction (pseudoTarget, lambdaP).
-RScalar RWorldStep::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase) {
+RScalar RWorldStep::SolveNormalBlock(RBlock& blk, RContactRow* rows, RPhase phase) {
   const bool pseudo = phase == RPhase::kPosition;
   RSolverBody& sa = m_solverBodies[rows[0].a];
   RSolverBody& sb = m_solverBodies[rows[0].b];
@@ -247,6 +247,17 @@ RScalar RWorldStep::SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhas
   if (blk.useBlock && allTargets) {
     Eigen::Matrix<RScalar, 4, 1> rhs = Eigen::Matrix<RScalar, 4, 1>::Zero();
     for (int i = 0; i < blk.count; ++i) rhs[i] = target(rows[i]) - Speed(rows[i].n, va, wa, vb, wb);
+    // Already solved, to the passes' tolerance (kConverged): every pushing row at its
+    // target, every other at or above it. The block's answer would change its rows' speeds
+    // by no more than that; a resting manifold (warm-started to 1e-13 m/s) needs neither
+    // the answer nor the inverse it takes.
+    constexpr RScalar kAtTarget = 1e-12;  // m/s
+    bool solved = true;
+    for (int i = 0; i < blk.count; ++i) {
+      solved = solved && (lambda(rows[i]) > 0 ? std::abs(rhs[i]) <= kAtTarget : rhs[i] <= kAtTarget);
+    }
+    if (solved) return 0;
+    if (blk.inverse == 0) blk.inverse = BlockInverse(blk) ? 2 : 1;
     const Eigen::Matrix<RScalar, 4, 1> delta = blk.pinv * rhs;
     bool valid = true;
     for (int i = 0; i < blk.count; ++i) valid = valid && lambda(rows[i]) + delta[i] >= 0;

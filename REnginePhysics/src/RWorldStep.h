@@ -347,6 +347,9 @@ class RWorldStep {
     std::uint32_t first;
     int count;
     bool useBlock;
+    // Its inverse this step: 0 not needed yet (SolveNormalBlock asks for it when the block has
+    // something to solve), 1 computed, 2 kept from the manifold's memory.
+    std::uint8_t inverse;
     Eigen::Matrix<RScalar, 4, 4> pinv;
     RDirection t[2];           // tangents at the centroid (arms shifted as the rows')
     RVec3 rA, rB;              // the centroid from each centre of mass, world, m
@@ -387,7 +390,7 @@ class RWorldStep {
   // Each task's counts: rows warm-started, block inverses kept; and whether one of its warm
   // starts was not finite (dropped from the memory).
   struct RIslandTally {
-    std::uint64_t warmStarted = 0, reusedInverses = 0;
+    std::uint64_t warmStarted = 0, reusedInverses = 0;  // (see RPairStats::reusedInverses)
     bool dropped = false;
   };
   std::vector<RIslandTally> m_islandTallies;
@@ -402,7 +405,7 @@ class RWorldStep {
   static std::size_t FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from);
   // Both return the largest change of a row's relative speed their impulses made, m/s
   // (|delta lambda| k: what SolveIslandBlocks stops on).
-  RScalar SolveNormalBlock(const RBlock& blk, RContactRow* rows, RPhase phase);
+  RScalar SolveNormalBlock(RBlock& blk, RContactRow* rows, RPhase phase);
   struct RIslandScratch;
   // One island's contact phase, start to end (FindImpulses): its bodies' solver state, rows,
   // warm starts, impacts, passes, direct solves, the end of the step and the report.
@@ -420,10 +423,9 @@ class RWorldStep {
                       RDirection* dir) const;
   RScalar SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
   void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
-  // An island's contact phase after its impacts (RContactPasses.cpp): block inverses, passes,
-  // direct solves, and, when some row is closed at the end of the step, the end's.
-  void SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc,
-                           RIslandTally& tally);
+  // An island's contact phase after its impacts (RContactPasses.cpp): passes, direct solves,
+  // and, when some row is closed at the end of the step, the end's.
+  void SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
   // The island's impulses accumulated on its bodies, reported on its contacts and kept as
   // next step's warm starts, at m_warmNext[warmBase + the contact's warm slot] (RContactReport.cpp).
   void ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
