@@ -218,19 +218,28 @@ RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
   const RSolverBody& sa = m_solverBodies[rows[0].a];
   const RSolverBody& sb = m_solverBodies[rows[0].b];
   RScalar lt1 = blk.lambdaT1[ph], lt2 = blk.lambdaT2[ph], lw = blk.lambdaTwist[ph];
+  const RScalar limit = blk.friction * normal;
+  const RScalar twistLimit = blk.friction * twistArm;
   if (!clampOnly) {
+    const RScalar v1 = Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][0];
+    const RScalar v2 = Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][1];
+    const RScalar spin = blk.kTwist > 0 ? blk.normal.dot(sb.w - sa.w) : RScalar(0);
+    // Already stuck, to the passes' tolerance (as SolveNormalBlock's kAtTarget), with
+    // impulses inside their limits: nothing to change (a resting manifold).
+    constexpr RScalar kAtTarget = 1e-12;  // m/s
+    if (std::abs(v1) <= kAtTarget && std::abs(v2) <= kAtTarget && std::abs(spin) * reach <= kAtTarget &&
+        lt1 * lt1 + lt2 * lt2 <= limit * limit && std::abs(lw) <= twistLimit) {
+      return 0;
+    }
     // Both tangents at once, through the 2 x 2 effective mass: one at a time the answer
     // would depend on which two tangents the basis picked, and that choice jumps when the
     // normal's z component changes sign (a slope moved 1e6 m away slid 1e-5 m further).
-    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][0],
-                                 Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w) - blk.targetT[ph][1], sa, sb);
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(blk.t[0], blk.t[1], v1, v2, sa, sb);
     lt1 += step.x(), lt2 += step.y();
-    if (blk.kTwist > 0) lw -= blk.normal.dot(sb.w - sa.w) / blk.kTwist;
+    if (blk.kTwist > 0) lw -= spin / blk.kTwist;
   }
-  const RScalar limit = blk.friction * normal;
   const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);  // std::hypot: 5% of a pile step
   if (norm > limit) lt1 *= limit / norm, lt2 *= limit / norm;
-  const RScalar twistLimit = blk.friction * twistArm;
   lw = std::clamp(lw, -twistLimit, twistLimit);
   const RScalar d1 = lt1 - blk.lambdaT1[ph], d2 = lt2 - blk.lambdaT2[ph], dw = lw - blk.lambdaTwist[ph];
   blk.lambdaT1[ph] = lt1, blk.lambdaT2[ph] = lt2, blk.lambdaTwist[ph] = lw;
