@@ -80,15 +80,28 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
   const auto [first, last] = m_blockIslands[island];
   const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
   const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
-  SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
-  const std::int32_t direct = m_directOfIsland[island];
-  if (direct >= 0) {
-    PrepareIslandDirect(static_cast<std::size_t>(direct), sc);
-    SolveIslandDirect(RPhase::kVelocity, sc);
-    SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
-  }
+  // A direct solve leaves an island alone that its passes left solved to 1e-9 m/s. A last
+  // pass that changed nothing found every row it solves at its target to 1e-12 m/s (the
+  // blocks' and patches' kAtTarget, or a row's own solve giving no change), so there is
+  // nothing to check (a resting pile: every island, three times a step). The passes leave
+  // out only what the direct solve leaves out too (rows never in contact), but for
+  // position correction, which they skip in a manifold with none of its own: the island
+  // must have none at all (its bodies then have no pseudo-velocity).
+  const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
   const std::uint32_t rowsFirst = m_blocks[first].first;
   const std::uint32_t rowsLast = m_blocks[last - 1].first + static_cast<std::uint32_t>(m_blocks[last - 1].count);
+  const std::int32_t direct = m_directOfIsland[island];
+  if (direct >= 0) {
+    bool positions = false;
+    for (std::uint32_t i = rowsFirst; i < rowsLast && !positions; ++i) {
+      positions = m_rows[i].pseudoTarget > 0 || m_rows[i].lambdaP > 0;
+    }
+    if (!settled || positions) {
+      PrepareIslandDirect(static_cast<std::size_t>(direct), sc);
+      if (!settled) SolveIslandDirect(RPhase::kVelocity, sc);
+      SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
+    }
+  }
   bool closes = false;
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) closes = CloseAtEnd(m_rows[i], dt) || closes;
   // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland).
@@ -114,8 +127,8 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
     s.w += s.invI * EndAngularKick_W(b, halfDt);
   }
   WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
-  SolveIslandBlocks(RPhase::kEnd, iterations, first, last);
-  if (direct >= 0) {
+  const bool settledAtEnd = SolveIslandBlocks(RPhase::kEnd, iterations, first, last);
+  if (direct >= 0 && !settledAtEnd) {
     PrepareIslandDirect(static_cast<std::size_t>(direct), sc);
     SolveIslandDirect(RPhase::kEnd, sc);
   }
@@ -141,10 +154,11 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
 // at all is followed by passes that change nothing (each manifold's solve depends only on
 // its bodies' velocities and its impulses), so a stop at rounding changes the answer by no
 // more than rounding's worth per pass it skips.
-void RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last) {
+bool RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last) {
   constexpr RScalar kConverged = 1e-12;  // m/s
+  RScalar change = 0;
   for (int it = 0; it < iterations; ++it) {
-    RScalar change = 0;
+    change = 0;
     for (std::uint32_t k = first; k < last; ++k) {
       RBlock& blk = m_blocks[(it % 2 == 0) ? k : last - 1 - (k - first)];
       RContactRow* rows = &m_rows[blk.first];
@@ -159,6 +173,7 @@ void RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t f
     }
     if (!(change > kConverged)) break;
   }
+  return change == 0;
 }
 
 // Applies the rows' and patches' accumulated impulses of a phase (last step's, matched when

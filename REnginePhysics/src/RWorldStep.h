@@ -437,7 +437,8 @@ class RWorldStep {
   // contact's slots, islands in the order of their smallest body, contacts in order within.
   void LayOutIslands(const RStepBodies& bodies);
   // An island's passes: blocks [first, last).
-  void SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last);
+  // Returns whether its last pass changed nothing at all (every manifold at its targets).
+  bool SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last);
   // The manifolds lie island by island (LayOutIslands), each island's in the contacts' order;
   // m_blockIslands holds each island's [first, last) of m_blocks.
   std::vector<std::uint32_t> m_blockStart;
