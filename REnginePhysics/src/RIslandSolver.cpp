@@ -82,16 +82,27 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_rowStart.resize(m_contacts.size());
   m_inRows.assign(n, 0);
   std::uint32_t blockCount = 0, warmCount = 0;
-  std::size_t warmFrom = 0;
+  // Each contact alone, as tasks: whether it is resolved, and where last step's warm starts
+  // of its pair begin (searched in the contacts' order: the rows are built island by
+  // island, where a search from the last contact's entries would cross the list each time).
+  ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 256, [&](std::size_t c0, std::size_t c1, std::size_t) {
+    std::size_t warmFrom = 0;
+    for (std::size_t ci = c0; ci < c1; ++ci) {
+      RContact& c = m_contacts[ci];
+      const RRigidBody& A = bodies[c.a];
+      const RRigidBody& B = bodies[c.b];
+      // A manifold without points (the narrow phase hit its iteration cap) gives no rows:
+      // its impact point and centroid would be 0/0; nor do separations that are not
+      // numbers (see ImpactGeometry), which leave no point within the slop of the deepest.
+      c.resolved = A.m_responds && B.m_responds && !(A.Immovable() && B.Immovable()) &&
+                   c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
+      if (!c.resolved) continue;
+      warmFrom = FindWarmStarts(m_warm, PairKey(c.handleA.index, c.handleB.index), warmFrom);
+      m_rowStart[ci].warmFound = static_cast<std::uint32_t>(warmFrom);
+    }
+  });
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
-    RContact& c = m_contacts[ci];
-    const RRigidBody& A = bodies[c.a];
-    const RRigidBody& B = bodies[c.b];
-    // A manifold without points (the narrow phase hit its iteration cap) gives no rows: its
-    // impact point and centroid would be 0/0; nor do separations that are not numbers
-    // (see ImpactGeometry), which leave no point within the slop of the deepest.
-    c.resolved = A.m_responds && B.m_responds && !(A.Immovable() && B.Immovable()) &&
-                 c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
+    const RContact& c = m_contacts[ci];
     if (!c.resolved) continue;
     m_inRows[c.a] = m_inRows[c.b] = 1;
     ++blockCount;
@@ -99,9 +110,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     // contact's rows are solved in.
     m_rowStart[ci].warm = warmCount;
     warmCount += static_cast<std::uint32_t>(c.manifold.pointCount);
-    warmFrom = FindWarmStarts(m_warm, PairKey(c.handleA.index, c.handleB.index), warmFrom);
-    m_rowStart[ci].warmFound = static_cast<std::uint32_t>(warmFrom);
-    if (!A.Immovable() && !B.Immovable()) m_islandSets.Union(c.a, c.b);
+    if (!bodies[c.a].Immovable() && !bodies[c.b].Immovable()) m_islandSets.Union(c.a, c.b);
   }
   // A counting sort of the resolved contacts by their island's representative (its smallest
   // body index), each island's in the contacts' order.

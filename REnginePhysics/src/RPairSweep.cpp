@@ -119,7 +119,8 @@ void RWorldStep::AllPairs(const RStepBodies& bodies, RScalar grow) {
 }
 
 bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
-  m_contacts.clear();
+  // (m_contacts is replaced at the end of the sweep: not cleared here, so that joining
+  // several tasks' contacts resizes it without constructing 4 MB of contacts again.)
   m_pairStats = RPairStats{};
   const std::size_t n = bodies.size();
   const RWorldSettings::RShortcuts& shortcuts = m_settings.shortcuts;
@@ -350,9 +351,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   bool woke = false;
   // The tasks' contacts joined in task order: with one task its list is swapped in; with
   // several each task copies its own to its place (a contact is about 400 bytes).
-  if (pairTasks == 1) {
+  if (pairTasks == 0) {
+    m_contacts.clear();
+  } else if (pairTasks == 1) {
     std::swap(m_contacts, m_sweepTasks[0].contacts);
-  } else if (pairTasks > 1) {
+  } else {
     std::size_t total = 0;
     for (std::size_t t = 0; t < pairTasks; ++t) m_sweepTasks[t].contactsAt = total, total += m_sweepTasks[t].contacts.size();
     m_contacts.resize(total);
@@ -374,15 +377,31 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // This step's manifolds, joined in task order: the (i, j) order for the next step; and
   // each contact's entry among them.
   // (One task's are swapped in, as its contacts are: a 10000-box pile remembers 7 MB.)
-  m_manifolds.clear(), m_contactMemory.clear();
-  if (pairTasks == 1) {
-    std::swap(m_manifolds, m_sweepTasks[0].manifolds);
-    std::swap(m_contactMemory, m_sweepTasks[0].contactMemory);
-  }
-  for (std::size_t t = 0; t < pairTasks && pairTasks > 1; ++t) {
-    const auto base = static_cast<std::uint32_t>(m_manifolds.size());
-    for (std::uint32_t k : m_sweepTasks[t].contactMemory) m_contactMemory.push_back(k == kNoMemory ? k : base + k);
-    m_manifolds.insert(m_manifolds.end(), m_sweepTasks[t].manifolds.begin(), m_sweepTasks[t].manifolds.end());
+  // Several tasks' are copied to their places side by side, as the contacts are.
+  if (pairTasks <= 1) {
+    m_manifolds.clear(), m_contactMemory.clear();
+    if (pairTasks == 1) {
+      std::swap(m_manifolds, m_sweepTasks[0].manifolds);
+      std::swap(m_contactMemory, m_sweepTasks[0].contactMemory);
+    }
+  } else {
+    std::size_t manifolds = 0, contacts = 0;
+    for (std::size_t t = 0; t < pairTasks; ++t) {
+      m_sweepTasks[t].manifoldsAt = manifolds, manifolds += m_sweepTasks[t].manifolds.size();
+      contacts += m_sweepTasks[t].contactMemory.size();
+    }
+    m_manifolds.resize(manifolds), m_contactMemory.resize(contacts);
+    ParallelRanges(m_jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+      for (std::size_t t = t0; t < t1; ++t) {
+        const RSweepTask& st = m_sweepTasks[t];
+        const auto base = static_cast<std::uint32_t>(st.manifoldsAt);
+        std::copy(st.manifolds.begin(), st.manifolds.end(), m_manifolds.begin() + static_cast<std::ptrdiff_t>(st.manifoldsAt));
+        for (std::size_t k = 0; k < st.contactMemory.size(); ++k) {
+          const std::uint32_t m = st.contactMemory[k];
+          m_contactMemory[st.contactsAt + k] = m == kNoMemory ? m : base + m;
+        }
+      }
+    });
   }
   // Pairs never visited: two passive static bodies (counted with the filter's), or two
   // passive bodies of which one at least sleeps. (Counts are those of the last sweep when

@@ -175,7 +175,8 @@ class RWorldStep {
     std::vector<std::uint32_t> query, queryStack;   // the tree's queries
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch (i < j)
     std::vector<RContact> contacts;          // stage 2: contacts, in pair order
-    std::size_t contactsAt = 0;              // where they go in m_contacts
+    std::size_t contactsAt = 0;              // where they go in m_contacts (and m_contactMemory)
+    std::size_t manifoldsAt = 0;             // where its manifolds go in m_manifolds
     std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
     std::vector<RManifoldMemory> manifolds;  // stage 2: this step's manifold memory
     std::vector<std::uint32_t> contactMemory;  // stage 2: per contact, its entry in manifolds
