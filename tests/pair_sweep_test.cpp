@@ -215,19 +215,25 @@ TEST(Shortcuts, ContactReuseKeepsASettledStackWithinTheTouchingBand) {
   };
   std::vector<RRigidBody> a = stack(), b = stack();
   RIntegrator ia(on), ib(off);
-  std::uint64_t reused = 0, reusedInverses = 0;
+  std::uint64_t reused = 0, reusedInverses = 0, computedOn = 0, computedOff = 0;
   for (int i = 0; i < 300; ++i) {
     ia.Update(a, kDt);
     ib.Update(b, kDt);
     reused += ia.PairStats().reusedManifolds;
     reusedInverses += ia.PairStats().reusedInverses;
+    computedOn += ia.PairStats().computedInverses;
+    computedOff += ib.PairStats().computedInverses;
     EXPECT_EQ(ib.PairStats().reusedManifolds, 0u);
     EXPECT_EQ(ib.PairStats().reusedInverses, 0u);
   }
   // At rest every contact keeps its manifold. The solver keeps a block's inverse with it
-  // while the stack settles (at rest the blocks are solved already and need none).
+  // while the stack settles, and works out almost none (at rest the blocks are solved
+  // already and need none, with the shortcut or without): 11 eigen-solves against 1731
+  // without it, 1250 inverses kept, when written; a K comparison that never matched would
+  // work out as many as without.
   EXPECT_EQ(ia.PairStats().reusedManifolds, 10u);
-  EXPECT_GT(reusedInverses, 0u);
+  EXPECT_GT(reusedInverses, 100u);
+  EXPECT_LT(10 * computedOn, computedOff);
   EXPECT_GT(reused, 2000u);
   // A reused point is off by at most the band, 1e-9 of the pair's size (1.7e-9 m for two
   // unit cubes); ten contacts in series: 2e-8 m. The bound is five times that.

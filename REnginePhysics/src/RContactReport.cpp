@@ -57,6 +57,7 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     const RBlock& blk = m_blocks[k];
     const RContact& c = m_contacts[m_blockContact[k]];
     tally.reusedInverses += blk.inverse == 2;
+    tally.computedInverses += blk.inverse == 1;
     RWarmStart* warm = &m_warmNext[warmBase + m_rowStart[m_blockContact[k]].warm];
     for (int i = 0; i < blk.count; ++i) {
       const RContactRow& r = m_rows[blk.first + i];

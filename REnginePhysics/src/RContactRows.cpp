@@ -1,6 +1,7 @@
-// The contact solver's rows (RWorldStep::BuildContactRows): for each resolved contact, its
-// impact row, a normal row per manifold point warm-started from last step's impulses, and
-// its friction patch; see FindImpulses in RContactSolver.cpp.
+// The contact solver's rows (RWorldStep::BuildContactRows): for each resolved contact, a
+// normal row per manifold point warm-started from last step's impulses, and its friction
+// patch; its impact row where its island may impact (BuildImpactRow); see FindImpulses in
+// RContactSolver.cpp.
 #include "RWorldStep.h"
 
 #include "RSolverRows.h"
@@ -168,7 +169,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   blk.count = c.manifold.pointCount;
   blk.useBlock = blk.count > 1;
   blk.inverse = 0;
-  blk.pinv.setZero();  // filled below, once every row is warm-started
+  blk.pinv.setZero();  // filled when the passes first need it (SolveNormalBlock)
   RVec3 centroid = RVec3::Zero();
   for (int k = 0; k < c.manifold.pointCount; ++k) centroid += c.manifold.points[k].position;
   centroid /= c.manifold.pointCount;

@@ -85,6 +85,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   for (std::size_t t = 0; t < tasks; ++t) {
     m_pairStats.warmStarted += m_islandTallies[t].warmStarted;
     m_pairStats.reusedInverses += m_islandTallies[t].reusedInverses;
+    m_pairStats.computedInverses += m_islandTallies[t].computedInverses;
     dropped = dropped || m_islandTallies[t].dropped;
   }
   // A step that overflowed must not seed the next one (ReportIsland marks its rows).
@@ -129,17 +130,19 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   // share two bodies, and solving them one after another favours the first, leaving a
   // small torque that tilts stacked bodies step after step. The block's matrix is rank
   // deficient (four points of one face constrain three degrees of freedom), so the
-  // minimum-norm least-squares inverse is precomputed once per step; when its answer
-  // would pull at a point, that manifold falls back to one point at a time.
+  // minimum-norm least-squares inverse is worked out (or kept from the manifold's memory)
+  // once a step, the first time the block has something to solve; when its answer would
+  // pull at a point, that manifold falls back to one point at a time.
   SolveIslandContacts(bodies, dt, island, sc);
   ReportIsland(bodies, dt, island, warmBase, tally);
 }
 
 // An impact row's approach speed at the centre of its manifold's leading points is the mean
 // of their rows' speeds (a speed is linear in the point), so it is no faster than the
-// fastest row's; half the threshold leaves room for rounding. Not a number: the impact
-// phase decides.
+// fastest row's; half the threshold leaves room for rounding (with no threshold there is
+// no room: every island has its impact rows). Not a number: the impact phase decides.
 bool RWorldStep::MayImpact(std::uint32_t first, std::uint32_t last) const {
+  if (!(m_settings.restitutionThreshold > 0)) return true;
   const RScalar floor = RScalar(-0.5) * m_settings.restitutionThreshold;
   const std::uint32_t rowsLast = m_blocks[last - 1].first + static_cast<std::uint32_t>(m_blocks[last - 1].count);
   for (std::uint32_t i = m_blocks[first].first; i < rowsLast; ++i) {
@@ -241,6 +244,7 @@ RScalar RWorldStep::SolveNormalBlock(RBlock& blk, RContactRow* rows, RPhase phas
     for (int i = 0; i < blk.count; ++i) active = active || target(rows[i]) > 0 || lambda(rows[i]) > 0 || (phase == RPhase::kEnd && target(rows[i]) == 0);
     if (!active) return 0;
   }
+  constexpr RScalar kAtTarget = 1e-12;  // m/s: a row this close to its target is at it
   RScalar change = 0;
   bool allTargets = true;
   for (int i = 0; i < blk.count; ++i) allTargets = allTargets && target(rows[i]) != kNever;
@@ -251,7 +255,6 @@ RScalar RWorldStep::SolveNormalBlock(RBlock& blk, RContactRow* rows, RPhase phas
     // target, every other at or above it. The block's answer would change its rows' speeds
     // by no more than that; a resting manifold (warm-started to 1e-13 m/s) needs neither
     // the answer nor the inverse it takes.
-    constexpr RScalar kAtTarget = 1e-12;  // m/s
     bool solved = true;
     for (int i = 0; i < blk.count; ++i) {
       solved = solved && (lambda(rows[i]) > 0 ? std::abs(rhs[i]) <= kAtTarget : rhs[i] <= kAtTarget);
@@ -267,20 +270,27 @@ RScalar RWorldStep::SolveNormalBlock(RBlock& blk, RContactRow* rows, RPhase phas
         if (delta[i] != 0) Push(rows[i].n, delta[i], sa, sb, va, wa, vb, wb);
         change = std::max(change, std::abs(delta[i]) * rows[i].n.k);
       }
-      return change;
+      // Not at its targets when solved: never reported as no change (SolveIslandBlocks'
+      // settled), even if the answer rounded to nothing.
+      return std::max(change, std::numeric_limits<RScalar>::denorm_min());
     }
   }
+  bool missed = false;
   for (int i = 0; i < blk.count; ++i) {
     RContactRow& r = rows[i];
     if (!(r.n.k > 0)) continue;  // no effective mass: see BuildContactRows
-    const RScalar l = std::max(
-        lambda(r) - (Speed(r.n, va, wa, vb, wb) - target(r)) / r.n.k, RScalar(0));
+    const RScalar miss = target(r) - Speed(r.n, va, wa, vb, wb);
+    // A row off its target by more than kAtTarget whose impulse rounds to no change (a
+    // heavy body's impulse, 1e7 N s and more, has ulps of 1e-9 m/s of the light body's
+    // speed) is not at its target either: see the block above.
+    missed = missed || (lambda(r) > 0 ? std::abs(miss) > kAtTarget : miss > kAtTarget);
+    const RScalar l = std::max(lambda(r) + miss / r.n.k, RScalar(0));
     const RScalar d = l - lambda(r);
     lambda(r) = l;
     if (d != 0) Push(r.n, d, sa, sb, va, wa, vb, wb);
     change = std::max(change, std::abs(d) * r.n.k);
   }
-  return change;
+  return missed ? std::max(change, std::numeric_limits<RScalar>::denorm_min()) : change;
 }
 
 }  // namespace REngine

@@ -165,7 +165,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
   // The velocity each body moves with this step gives its piecewise path; the rest of the
   // change waits for the end of the step. The contact phase works on the velocities after
   // the impacts, the bodies' real ones, so that its impulses, inelastic there, cannot add
-  // energy; the difference is taken out of the motion only (FindImpulses).
+  // energy; the difference is taken out of the motion only (ReportIsland).
   for (std::size_t k = 0; k < bodyCount; ++k) {
     RSolverBody& s = m_solverBodies[islandBodies[k]];
     if (s.tau <= 0 || s.invM == 0) continue;

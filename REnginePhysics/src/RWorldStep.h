@@ -4,11 +4,12 @@
 //   RPairSweep.cpp      DetectPairs, TimeOfImpact
 //   RBroadPhase.cpp     UpdateBroadPhase, RebuildFatPairs, SweepBox, FatBox, TreePairs
 //                       (trees: RBoundsTree.cpp)
-//   RContactSolver.cpp  FindImpulses, SolveIsland, ShiftArmsAfterImpacts, SolveNormalBlock
+//   RContactSolver.cpp  FindImpulses, SolveIsland, MayImpact, ShiftArmsAfterImpacts,
+//                       SolveNormalBlock
 //   RContactPasses.cpp  SolveIslandContacts, BlockInverse, SolveIslandBlocks,
 //                       WarmStartIsland, SolvePatch, CloseAtEnd
 //   RContactReport.cpp  ReportIsland
-//   RContactRows.cpp    BuildContactRows, LeadingPoints
+//   RContactRows.cpp    BuildContactRows, BuildImpactRow, FindWarmStarts, LeadingPoints
 //   RImpactPhase.cpp    SolveIslandImpacts, ImpactGeometry
 //   RIslandSolver.cpp   LayOutIslands, SolveIslandDirect
 //   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
@@ -159,7 +160,7 @@ class RWorldStep {
     RContactManifold manifold_A;     // in A's frame
     RScalar keptMax = 0, droppedMin = 0;  // m
     // The contact solver's block matrix and its minimum-norm inverse, when computed for
-    // this manifold (FindImpulses): kept while the matrix stays within 1e-12 of it.
+    // this manifold (BlockInverse): kept while the matrix stays within 1e-12 of it.
     bool hasInverse = false;
     Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero(), pinv = Eigen::Matrix<RScalar, 4, 4>::Zero();
   };
@@ -391,7 +392,7 @@ class RWorldStep {
   // Each task's counts: rows warm-started, block inverses kept; and whether one of its warm
   // starts was not finite (dropped from the memory).
   struct RIslandTally {
-    std::uint64_t warmStarted = 0, reusedInverses = 0;  // (see RPairStats::reusedInverses)
+    std::uint64_t warmStarted = 0, reusedInverses = 0, computedInverses = 0;  // (see RPairStats)
     bool dropped = false;
   };
   std::vector<RIslandTally> m_islandTallies;
@@ -412,10 +413,10 @@ class RWorldStep {
   // warm starts, impacts, passes, direct solves, the end of the step and the report.
   void SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
                    RIslandScratch& sc, RIslandTally& tally);
-  // The island's impact phase (RImpactPhase.cpp), then its rows' arms after the impacts.
   // Whether some row of island [first, last) of the blocks may approach faster than the
   // restitution threshold: the impact phase has work, and the island gets impact rows.
   bool MayImpact(std::uint32_t first, std::uint32_t last) const;
+  // The island's impact phase (RImpactPhase.cpp), then its rows' arms after the impacts.
   void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island);
   void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
   template <class Advance>

@@ -180,9 +180,10 @@ struct RPairStats {
   std::uint64_t wakeRuns = 0;          // pair loops re-run this step because islands woke
   std::uint64_t narrowPhase = 0;    // CheckCollision calls (manifolds reused included)
   std::uint64_t reusedManifolds = 0;  // of those, manifolds kept from an earlier step (contactReuse)
-  // Block inverses kept with them (contactReuse), of those the solver needed (a resting
-  // manifold's block is solved already, and needs none).
+  // Block inverses the solver needed (a resting manifold's block is solved already, and
+  // needs none): kept with a manifold (contactReuse), or worked out (an eigen-solve).
   std::uint64_t reusedInverses = 0;
+  std::uint64_t computedInverses = 0;
   std::uint64_t contacts = 0;       // pairs reported
   std::uint64_t contactPoints = 0;  // solver rows (points of resolved contacts)
   std::uint64_t warmStarted = 0;    // rows that found last step's impulses
