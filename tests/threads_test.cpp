@@ -239,3 +239,19 @@ TEST(Threads, AThreadCountOutOfRangeIsRefused) {
     EXPECT_EQ(bodies[0].Position_W(), RVec3(0, 0, 0)) << "the body moved";
   }
 }
+
+// A world that is one island of 532 contacts (a block of boxes face to face on a floor): its
+// rows are built as tasks before the islands' (FindImpulses), and still the same on every
+// thread count.
+TEST(Threads, OneLargeIslandStepsAlikeOnEveryThreadCount) {
+  std::vector<RBodyDef> defs;
+  defs.push_back(BoxDef(RVec3(30, 0.5, 30)).At(RVec3(0, -0.5, 0)).Static().Named("floor"));
+  for (int i = 0; i < 7 * 7 * 4; ++i) {
+    const int x = i % 7, z = (i / 7) % 7, y = i / 49;
+    defs.push_back(BoxDef(RVec3::Constant(0.5)).At(RVec3(x - 3.0, 0.5 + y, z - 3.0)).Mass(1)
+                       .Named("c" + std::to_string(i)));
+  }
+  const AlikeRun run = StepOnEveryThreadCount(defs);
+  EXPECT_GT(run.contacts, 500u * 360u) << "the block fell apart: not one large island";
+  EXPECT_GT(run.backwardsTasks, 0u);
+}

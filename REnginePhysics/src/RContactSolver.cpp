@@ -76,6 +76,35 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   m_islandImpacts.assign(m_blockIslands.size(), 0);
   if (m_islandTallies.size() < m_tasks) m_islandTallies.resize(m_tasks);
   if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
+  // An island too large to share the work with others (one pile of everything) has its
+  // bodies' solver state and its rows built first, as tasks over its bodies and contacts
+  // (each alone: the same rows), so that a world of one island still builds them on every
+  // thread; its passes stay in order.
+  m_islandRowsBuilt.assign(m_blockIslands.size(), 0);
+  std::uint64_t prebuiltWarm = 0;
+  if (m_jobs && m_tasks > 1) {
+    for (std::size_t isl = 0; isl < m_blockIslands.size(); ++isl) {
+      const auto [first, last] = m_blockIslands[isl];
+      if (last - first < 256 || 2 * m_tasks * (last - first) < m_blocks.size()) continue;
+      m_islandRowsBuilt[isl] = 1;
+      const std::uint32_t b0 = m_islandBodyStart[isl], b1 = m_islandBodyStart[isl + 1];
+      ParallelRanges(m_jobs, b1 - b0, m_tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t) {
+        for (std::size_t k = b0 + k0; k < b0 + k1; ++k) {
+          const std::uint32_t i = m_islandBodies[k];
+          InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
+        }
+      });
+      const std::size_t used = ParallelRanges(m_jobs, last - first, m_tasks, 32, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+        RIslandTally& tally = m_islandTallies[task];
+        tally = RIslandTally{};
+        for (std::size_t k = first + k0; k < first + k1; ++k) {
+          tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
+        }
+      });
+      for (std::size_t t = 0; t < used; ++t) prebuiltWarm += m_islandTallies[t].warmStarted;
+    }
+  }
+  m_pairStats.warmStarted += prebuiltWarm;
   const std::size_t tasks = ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RIslandTally& tally = m_islandTallies[task];
     tally = RIslandTally{};
@@ -112,12 +141,14 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
 void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
                              RIslandScratch& sc, RIslandTally& tally) {
   const RScalar halfDt = RScalar(0.5) * dt;
-  for (std::uint32_t k = m_islandBodyStart[island]; k < m_islandBodyStart[island + 1]; ++k) {
-    const std::uint32_t i = m_islandBodies[k];
-    InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
-  }
   const auto [first, last] = m_blockIslands[island];
-  for (std::uint32_t k = first; k < last; ++k) tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
+  if (!m_islandRowsBuilt[island]) {  // (else built as tasks: FindImpulses)
+    for (std::uint32_t k = m_islandBodyStart[island]; k < m_islandBodyStart[island + 1]; ++k) {
+      const std::uint32_t i = m_islandBodies[k];
+      InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
+    }
+    for (std::uint32_t k = first; k < last; ++k) tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
+  }
   WarmStartIsland(RPhase::kVelocity, first, last);
   // Most islands (a resting pile: every one) have no impact: their impact rows are not built.
   m_islandImpacts[island] = MayImpact(first, last);

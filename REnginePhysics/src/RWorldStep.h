@@ -449,6 +449,7 @@ class RWorldStep {
   // this step (MayImpact; the others' entries of m_impacts are not written).
   std::vector<std::int32_t> m_directOfIsland;
   std::vector<char> m_islandImpacts;
+  std::vector<char> m_islandRowsBuilt;  // its rows built before the islands' tasks (FindImpulses)
 
   // One island's direct solve: its rows and the dense scratch (kDirectRows^2 at most),
   // one per task so that islands are solved side by side.
