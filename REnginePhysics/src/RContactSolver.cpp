@@ -84,7 +84,8 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   std::uint64_t prebuiltWarm = 0;
   if (m_jobs && m_tasks > 1) {
     for (std::size_t isl = 0; isl < m_blockIslands.size(); ++isl) {
-      const auto [first, last] = m_blockIslands[isl];
+      // (Not a structured binding: the lambdas below capture them, which C++17 forbids.)
+      const std::uint32_t first = m_blockIslands[isl].first, last = m_blockIslands[isl].second;
       if (last - first < 256 || 2 * m_tasks * (last - first) < m_blocks.size()) continue;
       m_islandRowsBuilt[isl] = 1;
       const std::uint32_t b0 = m_islandBodyStart[isl], b1 = m_islandBodyStart[isl + 1];
