@@ -88,16 +88,15 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
   // position correction, which they skip in a manifold with none of its own: the island
   // must have none at all (its bodies then have no pseudo-velocity).
   const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
-  const std::uint32_t rowsFirst = m_blocks[first].first;
-  const std::uint32_t rowsLast = m_blocks[last - 1].first + static_cast<std::uint32_t>(m_blocks[last - 1].count);
-  const std::int32_t direct = m_directOfIsland[island];
-  if (direct >= 0) {
+  const auto [rowsFirst, rowsLast] = IslandRows(island);
+  const bool direct = m_islandDirect[island];
+  if (direct) {
     bool positions = false;
     for (std::uint32_t i = rowsFirst; i < rowsLast && !positions; ++i) {
       positions = m_rows[i].pseudoTarget > 0 || m_rows[i].lambdaP > 0;
     }
     if (!settled || positions) {
-      PrepareIslandDirect(static_cast<std::size_t>(direct), sc);
+      PrepareIslandDirect(island, sc);
       if (!settled) SolveIslandDirect(RPhase::kVelocity, sc);
       SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
     }
@@ -128,8 +127,8 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
   }
   WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
   const bool settledAtEnd = SolveIslandBlocks(RPhase::kEnd, iterations, first, last);
-  if (direct >= 0 && !settledAtEnd) {
-    PrepareIslandDirect(static_cast<std::size_t>(direct), sc);
+  if (direct && !settledAtEnd) {
+    PrepareIslandDirect(island, sc);
     SolveIslandDirect(RPhase::kEnd, sc);
   }
 }

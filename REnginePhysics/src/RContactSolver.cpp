@@ -152,7 +152,7 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   }
   WarmStartIsland(RPhase::kVelocity, first, last);
   // Most islands (a resting pile: every one) have no impact: their impact rows are not built.
-  m_islandImpacts[island] = MayImpact(first, last);
+  m_islandImpacts[island] = MayImpact(island);
   if (m_islandImpacts[island]) {
     for (std::uint32_t k = first; k < last; ++k) BuildImpactRow(bodies, m_blockContact[k], k);
   }
@@ -173,11 +173,11 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
 // of their rows' speeds (a speed is linear in the point), so it is no faster than the
 // fastest row's; half the threshold leaves room for rounding (with no threshold there is
 // no room: every island has its impact rows). Not a number: the impact phase decides.
-bool RWorldStep::MayImpact(std::uint32_t first, std::uint32_t last) const {
+bool RWorldStep::MayImpact(std::size_t island) const {
   if (!(m_settings.restitutionThreshold > 0)) return true;
   const RScalar floor = RScalar(-0.5) * m_settings.restitutionThreshold;
-  const std::uint32_t rowsLast = m_blocks[last - 1].first + static_cast<std::uint32_t>(m_blocks[last - 1].count);
-  for (std::uint32_t i = m_blocks[first].first; i < rowsLast; ++i) {
+  const auto [rowsFirst, rowsLast] = IslandRows(island);
+  for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) {
     const RContactRow& r = m_rows[i];
     const RSolverBody& sa = m_solverBodies[r.a];
     const RSolverBody& sb = m_solverBodies[r.b];
@@ -206,8 +206,7 @@ void RWorldStep::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
   // Bodies that impacted move with their piecewise path's velocity, deferV less than the
   // velocity after the impacts that the contact phase works on; the end of the step needs
   // the difference to predict which contacts are then closed.
-  const std::uint32_t rowsFirst = m_blocks[first].first;
-  const std::uint32_t rowsLast = m_blocks[last - 1].first + static_cast<std::uint32_t>(m_blocks[last - 1].count);
+  const auto [rowsFirst, rowsLast] = IslandRows(island);
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) {
     RContactRow& r = m_rows[i];
     r.deferN = r.n.d.dot(m_solverBodies[r.b].deferV - m_solverBodies[r.a].deferV);

@@ -173,22 +173,17 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   }
   // The islands solved directly: several manifolds (one alone is already solved exactly by
   // its block), at most kDirectRows rows; each island's blocks and their rows are one run.
-  m_islands.clear();
-  m_directOfIsland.clear();
+  m_islandDirect.clear();
   for (const auto& [first, last] : m_blockIslands) {
     const std::size_t rowsFirst = m_rowStart[m_blockContact[first]].row;
     const std::size_t rowsLast = m_rowStart[m_blockContact[last - 1]].row +
                                  static_cast<std::size_t>(m_contacts[m_blockContact[last - 1]].manifold.pointCount);
-    m_directOfIsland.push_back(-1);
-    if (last - first > 1 && rowsLast - rowsFirst <= std::size_t(kDirectRows)) {
-      m_directOfIsland.back() = static_cast<std::int32_t>(m_islands.size());
-      m_islands.emplace_back(rowsFirst, rowsLast);
-    }
+    m_islandDirect.push_back(last - first > 1 && rowsLast - rowsFirst <= std::size_t(kDirectRows));
   }
 }
 
-void RWorldStep::PrepareIslandDirect(std::size_t k, RIslandScratch& sc) {
-  const auto [first, last] = m_islands[k];
+void RWorldStep::PrepareIslandDirect(std::size_t island, RIslandScratch& sc) {
+  const auto [first, last] = IslandRows(island);
   sc.index.resize(last - first);
   for (std::size_t i = 0; i < sc.index.size(); ++i) sc.index[i] = static_cast<std::uint32_t>(first + i);
   sc.kReady = false;

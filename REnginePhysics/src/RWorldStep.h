@@ -413,9 +413,9 @@ class RWorldStep {
   // warm starts, impacts, passes, direct solves, the end of the step and the report.
   void SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
                    RIslandScratch& sc, RIslandTally& tally);
-  // Whether some row of island [first, last) of the blocks may approach faster than the
+  // Whether some row of the island may approach faster than the
   // restitution threshold: the impact phase has work, and the island gets impact rows.
-  bool MayImpact(std::uint32_t first, std::uint32_t last) const;
+  bool MayImpact(std::size_t island) const;
   // The island's impact phase (RImpactPhase.cpp), then its rows' arms after the impacts.
   void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island);
   void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
@@ -445,9 +445,14 @@ class RWorldStep {
   // m_blockIslands holds each island's [first, last) of m_blocks.
   std::vector<std::uint32_t> m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
-  // Each island's index in m_islands (solved directly), or -1; whether it has impact rows
-  // this step (MayImpact; the others' entries of m_impacts are not written).
-  std::vector<std::int32_t> m_directOfIsland;
+  // An island's rows, [first, last) of m_rows (its blocks' rows are one run).
+  std::pair<std::uint32_t, std::uint32_t> IslandRows(std::size_t island) const {
+    const RBlock& lastBlock = m_blocks[m_blockIslands[island].second - 1];
+    return {m_blocks[m_blockIslands[island].first].first, lastBlock.first + static_cast<std::uint32_t>(lastBlock.count)};
+  }
+  // Whether each island is solved directly (LayOutIslands); whether it has impact rows this
+  // step (MayImpact; the others' entries of m_impacts are not written).
+  std::vector<char> m_islandDirect;
   std::vector<char> m_islandImpacts;
   std::vector<char> m_islandRowsBuilt;  // its rows built before the islands' tasks (FindImpulses)
 
@@ -463,14 +468,13 @@ class RWorldStep {
   };
   std::vector<RIslandScratch> m_islandScratch;
   bool SolveIslandDirect(RPhase phase, RIslandScratch& sc);
-  // Points the scratch at direct island k's rows, its matrix to be assembled.
-  void PrepareIslandDirect(std::size_t k, RIslandScratch& sc);
+  // Points the scratch at a direct island's rows, its matrix to be assembled.
+  void PrepareIslandDirect(std::size_t island, RIslandScratch& sc);
   void AssembleIslandMatrix(RIslandScratch& sc);
   // Islands up to this many rows get their normal impulses solved directly (see
   // SolveIslandContacts): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
   RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
-  std::vector<std::pair<std::size_t, std::size_t>> m_islands;  // solved directly: [first, last) of m_rows
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   static constexpr std::uint64_t kDroppedWarm = ~std::uint64_t{0};  // not a pair: dropped
   std::size_t m_warmBodyCount = 0;
