@@ -409,7 +409,7 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
 
 RConvexShape ShapeOf(const RRigidBody& body) {
   RConvexShape s;
-  s.polyhedron = body.Polyhedron_B().get();
+  s.polyhedron = body.m_polyhedron_B;  // Polyhedron_B()'s, without reaching the prepared shape
   s.radius = s.polyhedron ? 0 : body.BoundingRadius();
   s.boundingRadius = body.BoundingRadius();
   return s;

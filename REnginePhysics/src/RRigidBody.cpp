@@ -93,17 +93,18 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
 }
 
 RRigidBody::RRigidBody(const RBodyDef& def)
-    : m_name(def.name),
-      m_id(def.id),
-      m_ignore(def.ignore),
+    : m_responds(def.responds),
       m_category(def.category),
       m_mask(def.mask),
-      m_userData(def.userData),
-      m_responds(def.responds),
       m_restitution(def.restitution),
-      m_friction(def.friction) {
+      m_friction(def.friction),
+      m_name(def.name),
+      m_id(def.id),
+      m_ignore(def.ignore),
+      m_userData(def.userData) {
   std::sort(m_ignore.begin(), m_ignore.end());
   m_ignore.erase(std::unique(m_ignore.begin(), m_ignore.end()), m_ignore.end());
+  m_ignores = !m_ignore.empty();
   Require(std::isfinite(def.restitution) && def.restitution >= 0, "restitution",
           "must be a finite number >= 0");
   Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
@@ -262,13 +263,14 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
 
 bool RRigidBody::ShouldCheckCollision(const RRigidBody& other) const {
   return (m_category & other.m_mask) != 0 && (other.m_category & m_mask) != 0 &&
-         !std::binary_search(m_ignore.begin(), m_ignore.end(), other.m_id) &&
-         !std::binary_search(other.m_ignore.begin(), other.m_ignore.end(), m_id);
+         !(m_ignores && std::binary_search(m_ignore.begin(), m_ignore.end(), other.m_id)) &&
+         !(other.m_ignores && std::binary_search(other.m_ignore.begin(), other.m_ignore.end(), m_id));
 }
 
 void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
   const auto it = std::lower_bound(m_ignore.begin(), m_ignore.end(), otherId);
   if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
+  m_ignores = true;
   // A sleeping pair is not looked at: it would never learn to ignore. A static body cannot
   // sleep: the sleepers about it wake, as if it had moved.
   Wake();
