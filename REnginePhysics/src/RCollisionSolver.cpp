@@ -1,6 +1,7 @@
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RRigidBody.h>
 
+#include "RCapsule.h"
 #include "RGjkEpa.h"
 #include "RPolyhedronExact.h"
 
@@ -59,22 +60,6 @@ void PointInsidePolyhedron(const RConvexPolyhedron& p, const RVec3& c, RVec3& ou
   }
 }
 
-// Whether GJK's answer for separated cores is certain: its upper and lower bounds meet to a
-// part in 1e9 of the distance (above rounding: 1e-14 of the pair's size). Relative, not
-// the band: a pair 3 bands apart whose bounds differ by a band has its normal only to 45
-// degrees (seen on a clang build, where GJK stopped one vertex earlier than on gcc's).
-// GJK's "overlap" (a tetrahedron enclosing the origin, or |v| vanishing) is believed only
-// where no support plane has separated the shapes by more than the band: a tetrahedron flat
-// to rounding (from a needle of a hull) can pass its sign tests with the shapes 6.7 mm
-// apart (found by fuzz_narrowphase).
-bool CertainOverlap(const RGjkResult& g, RScalar band) { return g.overlap && g.lowerBound <= band; }
-
-bool Certified(const RGjkResult& g, RScalar band) {
-  return g.converged && !g.overlap &&
-         g.distance - g.lowerBound <=
-             RCollisionSolver::kTouchingTolerance * g.distance + RScalar(1e-5) * band;
-}
-
 // Polyhedron A against sphere B (radius rb, centre t in A's frame).
 RDistanceResult PolyhedronSphere(const RConvexShape& poly, const RConvexShape& sphere,
                                  const RRelativePose& X, RPairSupport& sup) {
@@ -126,7 +111,7 @@ RRelativePose Inverse(const RRelativePose& X) {
 bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
                                  const RRelativePose& X_AB) {
   const RScalar band = Band(a, b);
-  if (!a.polyhedron && !b.polyhedron) {
+  if (!a.polyhedron && !b.polyhedron && a.halfHeight == 0 && b.halfHeight == 0) {
     return X_AB.t_AB.norm() - a.radius - b.radius <= band;
   }
   if (a.polyhedron && b.polyhedron) {
@@ -153,14 +138,16 @@ RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexS
 // few GJK iterations instead of the full answer (and, for some, its enumeration).
 RDistanceResult RCollisionSolver::DistanceWithin(const RConvexShape& a, const RConvexShape& b,
                                                  const RRelativePose& X_AB, RScalar cutoff) {
-  if (!a.polyhedron && !b.polyhedron) return SphereSphere(a, b, X_AB.t_AB);
+  if (!a.polyhedron && !b.polyhedron) {
+    return a.halfHeight == 0 && b.halfHeight == 0 ? SphereSphere(a, b, X_AB.t_AB) : RoundPair(a, b, X_AB);
+  }
   if (!a.polyhedron) {
     const RRelativePose X_BA = Inverse(X_AB);
     RPairSupport sup(b, a, X_BA);
-    return Mirror(PolyhedronSphere(b, a, X_BA, sup), X_AB);
+    return Mirror(a.halfHeight == 0 ? PolyhedronSphere(b, a, X_BA, sup) : PolyhedronCapsule(b, a, X_BA, sup, cutoff), X_AB);
   }
   RPairSupport sup(a, b, X_AB);
-  if (!b.polyhedron) return PolyhedronSphere(a, b, X_AB, sup);
+  if (!b.polyhedron) return b.halfHeight == 0 ? PolyhedronSphere(a, b, X_AB, sup) : PolyhedronCapsule(a, b, X_AB, sup, cutoff);
 
   RDistanceResult r;
   const RScalar band = Band(a, b);
@@ -317,6 +304,11 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
     m.points[0].featureId = id;
   };
   if (!a.polyhedron || !b.polyhedron) {
+    // A capsule along a face or another capsule touches along a line (RCapsule.cpp).
+    if ((a.halfHeight > 0 || b.halfHeight > 0) &&
+        CapsuleManifold(a, b, X_AB, margin, m, droppedMin)) {
+      return m;
+    }
     single(0);
     return m;
   }
@@ -410,7 +402,8 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
 RConvexShape ShapeOf(const RRigidBody& body) {
   RConvexShape s;
   s.polyhedron = body.m_polyhedron_B;  // Polyhedron_B()'s, without reaching the prepared shape
-  s.radius = s.polyhedron ? 0 : body.BoundingRadius();
+  s.radius = body.m_coreRadius;
+  s.halfHeight = body.m_coreHalfHeight;
   s.boundingRadius = body.BoundingRadius();
   return s;
 }

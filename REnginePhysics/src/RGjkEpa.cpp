@@ -158,14 +158,19 @@ void Witnesses(const Simplex& s, RVec3& a, RVec3& b) {
 }  // namespace
 
 RVec3 RPairSupport::SupportA(const RVec3& d) {
-  if (!a.polyhedron) return RVec3::Zero();
+  if (!a.polyhedron) return a.halfHeight == 0 ? RVec3::Zero() : RVec3(0, d.y() >= 0 ? a.halfHeight : -a.halfHeight, 0);
   const auto& v = a.polyhedron->Vertices();
   m_lastA = a.polyhedron->Support(v.data(), d, m_lastA);
   return v[m_lastA];
 }
 
 RVec3 RPairSupport::SupportB(const RVec3& d_A) {
-  if (!b.polyhedron) return X.t_AB;
+  if (!b.polyhedron) {
+    if (b.halfHeight == 0) return X.t_AB;
+    // The capsule's core end that is farthest along d: B's y axis is R_AB's second column.
+    const RScalar h = X.R_AB.col(1).dot(d_A) >= 0 ? b.halfHeight : -b.halfHeight;
+    return X.R_AB.col(1) * h + X.t_AB;
+  }
   const RVec3 d_B = X.R_AB.transpose() * d_A;
   const auto& v = b.polyhedron->Vertices();
   m_lastB = b.polyhedron->Support(v.data(), d_B, m_lastB);

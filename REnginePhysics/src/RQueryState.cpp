@@ -10,7 +10,7 @@ namespace REngine {
 RLocalBox LocalBoxOf(const RConvexShape& shape) {
   RLocalBox box;
   if (!shape.polyhedron) {
-    box.half_B = RVec3::Constant(shape.radius);
+    box.half_B = RVec3(shape.radius, shape.halfHeight + shape.radius, shape.radius);
     return box;
   }
   RVec3 lo = RVec3::Constant(std::numeric_limits<RScalar>::infinity()), hi = -lo;

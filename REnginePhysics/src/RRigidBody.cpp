@@ -64,6 +64,15 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
               "is too thin: its smallest half extent is below 1e-4 of its largest");
       break;
     }
+    case RShapeType::kCapsule:
+      Require(PositiveFinite(shape.radius) && shape.radius <= kMaxSize, "shape.radius",
+              "must be finite, > 0 and at most 1e12 m");
+      Require(PositiveFinite(shape.halfHeight) && shape.halfHeight <= kMaxSize, "shape.half_height",
+              "must be finite, > 0 and at most 1e12 m");
+      // As a box: a capsule 1e-4 as thick as it is long is as thin as the narrow phase takes.
+      Require(shape.radius >= kMinThickness * shape.halfHeight, "shape.radius",
+              "is too thin: below 1e-4 of half_height");
+      break;
     case RShapeType::kHull:
       break;
   }
@@ -88,7 +97,9 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
           RConvexPolyhedron::Box(shape.halfExtents));
     }
   }
-  p.boundingRadius = p.polyhedron_B ? p.polyhedron_B->MaxRadius() : shape.radius;
+  p.boundingRadius = p.polyhedron_B ? p.polyhedron_B->MaxRadius()
+                     : shape.type == RShapeType::kCapsule ? shape.halfHeight + shape.radius
+                                                          : shape.radius;
   return prepared;
 }
 
@@ -163,7 +174,11 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     RVec3 lo = RVec3::Constant(std::numeric_limits<RScalar>::infinity()), hi = -lo;
     for (const RVec3& v : m_polyhedron_B->Vertices()) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
     m_boxCenter_B = RScalar(0.5) * (lo + hi), m_boxHalf_B = RScalar(0.5) * (hi - lo);
+  } else if (shape.shape.type == RShapeType::kCapsule) {
+    m_coreHalfHeight = shape.shape.halfHeight, m_coreRadius = shape.shape.radius;
+    m_boxHalf_B = RVec3(m_coreRadius, m_coreHalfHeight + m_coreRadius, m_coreRadius);
   } else {
+    m_coreRadius = m_boundingRadius;
     m_boxHalf_B = RVec3::Constant(m_boundingRadius);
   }
   if (kind == RBodyKind::kDynamic) {
@@ -192,7 +207,7 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     // envelope); a hull at the thinnest RConvexPolyhedron::Hull accepts stays below it.
     const char* shapeField = shape.shape.type == RShapeType::kHull ? "shape.points"
                              : shape.shape.type == RShapeType::kBox ? "shape.half_extents"
-                                                                   : "shape.radius";
+                                                                   : "shape.radius";  // (a capsule: its radius is what makes it thin)
     Require(m_I_B.maxCoeff() <= kMaxInertiaRatio * m_I_B.minCoeff(), shapeField,
             "is too thin: its largest principal moment exceeds 1e9 times its smallest");
     m_rotation.SetInertia(m_I_B);
@@ -241,6 +256,12 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
   ++m_worldFormComputations;
   wf.sphereCenter_W = m_x_W;
   wf.sphereRadius = m_boundingRadius;
+  if (!m_polyhedron_B && m_coreHalfHeight > 0) {  // a capsule: its core's ends, grown by its radius
+    const RVec3 axis_W = m_q_WB * RVec3(0, m_coreHalfHeight, 0);
+    wf.aabbMin_W = m_x_W.cwiseMin(m_x_W + axis_W).cwiseMin(m_x_W - axis_W).array() - m_coreRadius;
+    wf.aabbMax_W = m_x_W.cwiseMax(m_x_W + axis_W).cwiseMax(m_x_W - axis_W).array() + m_coreRadius;
+    return;
+  }
   if (!m_polyhedron_B) {
     wf.aabbMin_W = m_x_W.array() - m_boundingRadius;
     wf.aabbMax_W = m_x_W.array() + m_boundingRadius;

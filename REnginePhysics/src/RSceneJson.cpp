@@ -276,12 +276,13 @@ RBodyLocks ReadLocks(const json& j, const std::string& path) {
 
 
 RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& limits) {
-  const Object shape(j, path, {"type", "half_extents", "radius", "points"});
+  const Object shape(j, path, {"type", "half_extents", "radius", "points", "half_height"});
   RShape s;
   s.type = ReadChoice<RShapeType>(shape.Required("type"), shape.PathOf("type"),
                                   {{"box", RShapeType::kBox},
                                    {"sphere", RShapeType::kSphere},
-                                   {"hull", RShapeType::kHull}});
+                                   {"hull", RShapeType::kHull},
+                                   {"capsule", RShapeType::kCapsule}});
   switch (s.type) {
     case RShapeType::kBox:
       shape.AllowOnly({"type", "half_extents"});
@@ -291,6 +292,11 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
     case RShapeType::kSphere:
       shape.AllowOnly({"type", "radius"});
       s.radius = ReadPositive(shape.Required("radius"), shape.PathOf("radius"));
+      break;
+    case RShapeType::kCapsule:
+      shape.AllowOnly({"type", "radius", "half_height"});
+      s.radius = ReadPositive(shape.Required("radius"), shape.PathOf("radius"));
+      s.halfHeight = ReadPositive(shape.Required("half_height"), shape.PathOf("half_height"));
       break;
     case RShapeType::kHull: {
       shape.AllowOnly({"type", "points"});

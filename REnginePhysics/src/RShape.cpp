@@ -26,6 +26,20 @@ RMassProperties ComputeMassProperties(const RShape& shape) {
                             (mp.volume / 12);
       return mp;
     }
+    case RShapeType::kCapsule: {
+      // A cylinder of length L = 2h and two half balls. About the axis (y): m_c r^2/2 and
+      // 2/5 m_s r^2. Across it: the cylinder's m_c (L^2/12 + r^2/4); each half ball's own
+      // 2/5 (m_s/2) r^2 about its flat face's centre, moved by the parallel-axis theorem
+      // to its centroid (3r/8 from the face) and then to h + 3r/8 from the centre:
+      // m_s (2r^2/5 + L^2/4 + 3 L r/8) for the two.
+      const RScalar r = shape.radius, L = 2 * shape.halfHeight;
+      const RScalar mc = kPi * r * r * L, ms = RScalar(4) / 3 * kPi * r * r * r;
+      mp.volume = mc + ms;
+      const RScalar axial = mc * r * r / 2 + ms * RScalar(2) / 5 * r * r;
+      const RScalar across = mc * (L * L / 12 + r * r / 4) + ms * (RScalar(2) / 5 * r * r + L * L / 4 + RScalar(3) / 8 * L * r);
+      mp.principalMoments = RVec3(across, axial, across);
+      return mp;
+    }
     case RShapeType::kHull:
       break;
   }

@@ -22,12 +22,14 @@ namespace REngine {
 
 class RRigidBody;
 
-// A convex shape as the narrow phase sees it, in its own body frame B: a polyhedron (with
-// optional rounding radius) or a sphere (a point with a radius). Cheap to build per query.
+// A convex shape as the narrow phase sees it, in its own body frame B: a polyhedron, or a
+// core swept by a sphere: a point (a sphere) or the segment from (0, -halfHeight, 0) to
+// (0, halfHeight, 0) (a capsule). Cheap to build per query.
 struct RConvexShape {
-  const RConvexPolyhedron* polyhedron = nullptr;  // null: a sphere about the origin of B
-  RScalar radius = 0;                             // sphere radius, m (0 for a polyhedron)
+  const RConvexPolyhedron* polyhedron = nullptr;  // null: a sphere or capsule about B's origin
+  RScalar radius = 0;                             // sphere or capsule radius, m (0 for a polyhedron)
   RScalar boundingRadius = 0;                     // about B's origin, m
+  RScalar halfHeight = 0;                         // capsule core's half length along B's y, m
 };
 
 // Pose of shape B's frame in shape A's frame: p_A = R_AB p_B + t_AB. Both in metres.

@@ -365,6 +365,10 @@ class alignas(64) RRigidBody {
   RVec3 m_w_W = RVec3::Zero();  // world, rad/s; the state when m_worldSpin
   RVec3 m_linearMask = RVec3::Ones(), m_angularMask = RVec3::Ones();
   RVec3 m_boxCenter_B = RVec3::Zero(), m_boxHalf_B = RVec3::Zero();
+  // A shape without a polyhedron, as the narrow phase sees it (RConvexShape): a core
+  // segment from (0, -h, 0) to (0, h, 0) in B (h = 0: a point, a sphere), swept by a
+  // sphere of the radius, m. 0 for a polyhedron.
+  RScalar m_coreHalfHeight = 0, m_coreRadius = 0;
   mutable RWorldForm m_worldForm;
 
   // Last, what the step reads only at a contact or never: material, mass properties, the

@@ -9,12 +9,16 @@
 
 namespace REngine {
 
-enum class RShapeType : std::uint8_t { kSphere, kBox, kHull };
+// (Values are stored in saved states: new types are appended.)
+enum class RShapeType : std::uint8_t { kSphere, kBox, kHull, kCapsule };
 
 // A shape in its own frame S (the frame the scene gives sizes and points in), metres.
 struct RShape {
   RShapeType type = RShapeType::kSphere;
-  RScalar radius = 0.5;                           // kSphere, m
+  RScalar radius = 0.5;                           // kSphere, kCapsule, m
+  // kCapsule: the segment from (0, -halfHeight, 0) to (0, halfHeight, 0) in S, swept by a
+  // sphere of `radius`, m.
+  RScalar halfHeight = 0.5;
   RVec3 halfExtents = RVec3::Constant(0.5);       // kBox, m, along S's axes
   std::vector<RVec3> points;                      // kHull: the hull of these points, S frame, m
 };
@@ -28,7 +32,7 @@ struct RMassProperties {
   RQuat q_SB = RQuat::Identity();           // principal (body) frame B to S: columns are axes
 };
 
-// Exact mass properties. Sphere and box in closed form, with the body frame equal to the
+// Exact mass properties. Sphere, box and capsule in closed form, with the body frame equal to the
 // shape frame (so the scene's orientation passes through untouched); a hull from its
 // polyhedron (below). Throws RHullError for hull points that do not span a solid.
 RMassProperties ComputeMassProperties(const RShape& shape);

@@ -1,0 +1,321 @@
+// The narrow phase of capsules: queries on their cores (RCapsule.h).
+#include "RCapsule.h"
+
+#include "RPolyhedronExact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace REngine {
+
+namespace {
+
+// As RCollisionSolver.cpp's: a face contact within ~1.1 degrees of a face normal, and
+// capsule axes within that of each other lie along each other.
+constexpr RScalar kAlignedCos = RScalar(0.9998);
+
+RScalar Band(const RConvexShape& a, const RConvexShape& b) {
+  return RCollisionSolver::kTouchingTolerance * (a.boundingRadius + b.boundingRadius);
+}
+
+RCollisionStatus StatusOf(RScalar separation, RScalar band) {
+  if (separation > band) return RCollisionStatus::kSeparated;
+  if (separation < -band) return RCollisionStatus::kPenetrating;
+  return RCollisionStatus::kTouching;
+}
+
+// A unit vector across d (any, when d is zero).
+RVec3 Across(const RVec3& d) {
+  const RVec3 c = std::abs(d.x()) < std::abs(d.y()) ? RVec3(0, -d.z(), d.y()) : RVec3(-d.z(), 0, d.x());
+  const RScalar n = c.norm();
+  return n > 0 ? RVec3(c / n) : RVec3::UnitZ();
+}
+
+// Closest points of segments [p1, q1] and [p2, q2]: parameters s, t in [0, 1] (Ericson,
+// Real-Time Collision Detection, 5.1.9; a zero-length segment is a point, exactly).
+void ClosestOnSegments(const RVec3& p1, const RVec3& q1, const RVec3& p2, const RVec3& q2,
+                       RScalar& s, RScalar& t) {
+  const RVec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const RScalar a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  if (a == 0 && e == 0) {
+    s = t = 0;
+    return;
+  }
+  if (a == 0) {
+    s = 0, t = std::clamp(f / e, RScalar(0), RScalar(1));
+    return;
+  }
+  const RScalar c = d1.dot(r);
+  if (e == 0) {
+    t = 0, s = std::clamp(-c / a, RScalar(0), RScalar(1));
+    return;
+  }
+  const RScalar b = d1.dot(d2), denom = a * e - b * b;
+  // Parallel (denom 0 or rounding of it): any s whose partner lies on the other segment is
+  // closest; the clamps below find one.
+  s = denom > 0 ? std::clamp((b * f - c * e) / denom, RScalar(0), RScalar(1)) : 0;
+  t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0, s = std::clamp(-c / a, RScalar(0), RScalar(1));
+  } else if (t > 1) {
+    t = 1, s = std::clamp((b - c) / a, RScalar(0), RScalar(1));
+  }
+}
+
+// B's core ends in A's frame.
+void CoreOfB(const RConvexShape& b, const RRelativePose& X, RVec3& p0, RVec3& p1) {
+  const RVec3 half = X.R_AB.col(1) * b.halfHeight;
+  p0 = X.t_AB - half, p1 = X.t_AB + half;
+}
+
+RRelativePose Inverse(const RRelativePose& X) {
+  RRelativePose inv;
+  inv.R_AB = X.R_AB.transpose();
+  inv.t_AB = -(inv.R_AB * X.t_AB);
+  return inv;
+}
+
+}  // namespace
+
+RDistanceResult RoundPair(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X) {
+  const RVec3 a0(0, -a.halfHeight, 0), a1(0, a.halfHeight, 0);
+  RVec3 b0, b1;
+  CoreOfB(b, X, b0, b1);
+  RScalar s, t;
+  ClosestOnSegments(a0, a1, b0, b1, s, t);
+  const RVec3 ca = a0 + s * (a1 - a0), cb = b0 + t * (b1 - b0);
+  const RVec3 d = cb - ca;
+  const RScalar dist = d.norm();
+  RDistanceResult r;
+  if (dist > 0) {
+    r.normal = d / dist;
+  } else {
+    // The cores cross: any direction across both moves them apart by r_a + r_b. The one
+    // across both axes (or across a's, when they are parallel), turned towards B's centre.
+    const RVec3 across = RVec3::UnitY().cross(X.R_AB.col(1));
+    r.normal = across.squaredNorm() > 1e-24 ? RVec3(across.normalized()) : Across(RVec3::UnitY());
+    if (r.normal.dot(X.t_AB) < 0) r.normal = -r.normal;
+  }
+  r.separation = dist - a.radius - b.radius;
+  r.witnessA = ca + a.radius * r.normal;
+  r.witnessB = cb - b.radius * r.normal;
+  r.status = StatusOf(r.separation, Band(a, b));
+  return r;
+}
+
+void ExactSegmentPolyhedron(const RConvexPolyhedron& P, const RVec3& p0, const RVec3& p1,
+                            RScalar& signedDistance, RVec3& normal, RVec3& onP, RVec3& onSegment) {
+  // The separating axis test over the faces of the Minkowski difference of P and the
+  // segment: P's face normals, and the cross products of the segment with P's edges. Where
+  // none separates, the least overlap is the depth, exactly (the depth is the least support
+  // of the difference over its face normals, and these are all of them).
+  const RVec3 seg = p1 - p0;
+  RScalar least = std::numeric_limits<RScalar>::infinity();
+  RVec3 axis = RVec3::UnitX();
+  bool apart = false;
+  for (const RFace& f : P.Faces()) {
+    const RScalar o = f.plane.offset - std::min(f.plane.normal.dot(p0), f.plane.normal.dot(p1));
+    if (o < 0) {
+      apart = true;
+      break;
+    }
+    if (o < least) least = o, axis = f.plane.normal;
+  }
+  const std::vector<RVec3>& v = P.Vertices();
+  for (std::size_t k = 0; !apart && k < P.Edges().size(); ++k) {
+    const REdge& e = P.Edges()[k];
+    const RVec3 edge = v[e.v1] - v[e.v0];
+    RVec3 n = edge.cross(seg);
+    // Parallel to the segment: no face of the difference (its faces' normals are P's).
+    if (!(n.squaredNorm() > 1e-20 * edge.squaredNorm() * seg.squaredNorm())) continue;
+    n.normalize();
+    RScalar lo = std::numeric_limits<RScalar>::infinity(), hi = -lo;
+    for (const RVec3& x : v) lo = std::min(lo, n.dot(x)), hi = std::max(hi, n.dot(x));
+    const RScalar s0 = n.dot(p0), s1 = n.dot(p1);
+    const RScalar up = hi - std::min(s0, s1), down = std::max(s0, s1) - lo;  // along +n, -n
+    if (up < 0 || down < 0) {
+      apart = true;
+      break;
+    }
+    if (up < least) least = up, axis = n;
+    if (down < least) least = down, axis = -n;
+  }
+  if (!apart) {
+    signedDistance = -least;
+    normal = axis;
+    // The segment's deepest point along the normal (its middle when it lies across it).
+    const RScalar s0 = axis.dot(p0), s1 = axis.dot(p1);
+    onSegment = s0 < s1 ? p0 : s1 < s0 ? p1 : RVec3(RScalar(0.5) * (p0 + p1));
+    onP = onSegment + least * axis;
+    return;
+  }
+  // Apart: the closest pair is an end of the segment against P, or the segment against an
+  // edge of P (where the segment is closest to a face's inside it lies along the face, and
+  // an end is as close).
+  RScalar best = std::numeric_limits<RScalar>::infinity();
+  for (const RVec3& end : {p0, p1}) {
+    RScalar sd;
+    RVec3 closest, outward;
+    ExactPointPolyhedron(P, end, sd, closest, outward);
+    if (sd < best) best = sd, normal = outward, onP = closest, onSegment = end;
+  }
+  for (const REdge& e : P.Edges()) {
+    RScalar s, t;
+    ClosestOnSegments(p0, p1, v[e.v0], v[e.v1], s, t);
+    const RVec3 cs = p0 + s * seg, cp = v[e.v0] + t * (v[e.v1] - v[e.v0]);
+    const RScalar d = (cs - cp).norm();
+    if (d < best && d > 0) best = d, normal = (cs - cp) / d, onP = cp, onSegment = cs;
+  }
+  signedDistance = best;
+}
+
+RDistanceResult PolyhedronCapsule(const RConvexShape& poly, const RConvexShape& capsule,
+                                  const RRelativePose& X, RPairSupport& sup, RScalar cutoff) {
+  RDistanceResult r;
+  const RScalar band = Band(poly, capsule);
+  const RGjkResult g = Gjk(sup, false, cutoff + capsule.radius);
+  r.gjkIterations = g.iterations;
+  if (g.beyond) {
+    r.separation = g.lowerBound - capsule.radius;
+    const RScalar n = g.closest.norm();
+    r.normal = n > 0 ? RVec3(-g.closest / n) : RVec3::UnitX();
+    r.status = RCollisionStatus::kSeparated;
+    return r;
+  }
+  if (Certified(g, band) && g.distance > band) {
+    // The cores apart, by a certain distance: the capsule's surface is r nearer.
+    r.normal = -g.closest / g.distance;
+    r.separation = g.distance - capsule.radius;
+    r.witnessA = g.witnessA;
+    r.witnessB = g.witnessB - capsule.radius * r.normal;
+  } else {
+    RVec3 p0, p1, onSegment;
+    CoreOfB(capsule, X, p0, p1);
+    RScalar sd;
+    ExactSegmentPolyhedron(*poly.polyhedron, p0, p1, sd, r.normal, r.witnessA, onSegment);
+    r.separation = sd - capsule.radius;
+    r.witnessB = onSegment - capsule.radius * r.normal;
+  }
+  r.status = StatusOf(r.separation, band);
+  return r;
+}
+
+namespace {
+
+// Polyhedron A, capsule B: B's core clipped to the side planes of A's face along the normal.
+bool FaceAndCapsule(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X,
+                    const RVec3& n, RScalar margin, RContactManifold& m, RScalar* droppedMin) {
+  const RConvexPolyhedron& P = *a.polyhedron;
+  std::uint32_t face = 0;
+  RScalar alignment = -2;
+  for (std::uint32_t f = 0; f < P.Faces().size(); ++f) {
+    const RScalar x = P.Faces()[f].plane.normal.dot(n);
+    if (x > alignment) alignment = x, face = f;
+  }
+  if (alignment < kAlignedCos) return false;
+  const RFace& F = P.Faces()[face];
+  const RVec3& fn = F.plane.normal;
+  RVec3 p[2];
+  CoreOfB(b, X, p[0], p[1]);
+  std::uint32_t ids[2] = {0, 1};
+  // Clip the segment by each side plane of the face (pushed out by 1e-4 of the face's size,
+  // as the polyhedra's clipping is, so that an end on an edge keeps its feature).
+  const std::vector<RVec3>& v = P.Vertices();
+  const std::vector<std::uint32_t>& loop = P.LoopVertices();
+  RScalar faceSize = 0;
+  for (std::uint32_t e = 0; e < F.vertexCount; ++e) {
+    faceSize = std::max(faceSize, (v[loop[F.firstVertex + e]] - v[loop[F.firstVertex]]).norm());
+  }
+  const RScalar tolerance = RScalar(1e-4) * faceSize;
+  for (std::uint32_t e = 0; e < F.vertexCount; ++e) {
+    const RVec3& v0 = v[loop[F.firstVertex + e]];
+    const RVec3& v1 = v[loop[F.firstVertex + (e + 1) % F.vertexCount]];
+    const RVec3 outward = (v1 - v0).cross(fn).normalized();
+    const RScalar d0 = outward.dot(p[0] - v0) - tolerance, d1 = outward.dot(p[1] - v0) - tolerance;
+    if (d0 > 0 && d1 > 0) return false;  // beside the face: an edge or corner touches
+    if (d0 > 0) p[0] = p[0] + d0 / (d0 - d1) * (p[1] - p[0]), ids[0] = 2 + 2 * e;
+    if (d1 > 0) p[1] = p[1] + d1 / (d1 - d0) * (p[0] - p[1]), ids[1] = 3 + 2 * e;
+  }
+  const std::uint32_t faceBits = 0x20000000u | ((face & 0x7fu) << 16);
+  int count = 0;
+  for (int k = 0; k < 2; ++k) {
+    const RScalar s = F.plane.SignedDistance(p[k]) - b.radius;
+    if (s > margin) {
+      if (droppedMin) *droppedMin = std::min(*droppedMin, s);
+      continue;
+    }
+    RContactPoint& c = m.points[count++];
+    c.position = p[k] - (b.radius + RScalar(0.5) * s) * fn;
+    c.separation = s;
+    c.featureId = faceBits | ids[k];
+  }
+  // The two ends one point (a capsule standing on its end is touched by one): one point.
+  if (count == 2 && (m.points[0].position - m.points[1].position).squaredNorm() <= tolerance * tolerance) count = 1;
+  if (count == 0) return false;
+  m.pointCount = count;
+  m.normal = fn;
+  return true;
+}
+
+// Two capsules along each other: the ends of the stretch of A's core that B's faces.
+bool CapsuleAlongCapsule(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X,
+                         const RVec3& n, RScalar margin, RContactManifold& m, RScalar* droppedMin) {
+  const RVec3 axisB = X.R_AB.col(1);
+  if (std::abs(axisB.y()) < kAlignedCos) return false;
+  RVec3 b0, b1;
+  CoreOfB(b, X, b0, b1);
+  const RScalar lo = std::max(-a.halfHeight, std::min(b0.y(), b1.y()));
+  const RScalar hi = std::min(a.halfHeight, std::max(b0.y(), b1.y()));
+  const RScalar size = a.boundingRadius + b.boundingRadius;
+  if (!(hi - lo > RScalar(1e-4) * size)) return false;  // end to end: one point
+  int count = 0;
+  const RScalar ys[2] = {lo, hi};
+  for (int k = 0; k < 2; ++k) {
+    const RVec3 ca(0, ys[k], 0);
+    RScalar s, t;
+    ClosestOnSegments(ca, ca, b0, b1, s, t);
+    const RVec3 cb = b0 + t * (b1 - b0);
+    const RScalar sep = (cb - ca).dot(n) - a.radius - b.radius;
+    if (sep > margin) {
+      if (droppedMin) *droppedMin = std::min(*droppedMin, sep);
+      continue;
+    }
+    RContactPoint& c = m.points[count++];
+    c.position = ca + (a.radius + RScalar(0.5) * sep) * n;
+    c.separation = sep;
+    c.featureId = 0x10000000u | static_cast<std::uint32_t>(k);
+  }
+  if (count == 0) return false;
+  m.pointCount = count;
+  m.normal = n;
+  return true;
+}
+
+}  // namespace
+
+bool CapsuleManifold(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X,
+                     RScalar margin, RContactManifold& m, RScalar* droppedMin) {
+  const RVec3 n = m.query.normal;
+  if (a.polyhedron && b.halfHeight > 0) return FaceAndCapsule(a, b, X, n, margin, m, droppedMin);
+  if (b.polyhedron && a.halfHeight > 0) {
+    // In B's frame with the roles swapped, then back: positions by X, the normal flipped.
+    const RRelativePose X_BA = Inverse(X);
+    RContactManifold swapped;
+    if (!FaceAndCapsule(b, a, X_BA, -(X.R_AB.transpose() * n), margin, swapped, droppedMin)) return false;
+    m.pointCount = swapped.pointCount;
+    for (int k = 0; k < swapped.pointCount; ++k) {
+      m.points[k] = swapped.points[k];
+      m.points[k].position = X.R_AB * swapped.points[k].position + X.t_AB;
+      m.points[k].featureId |= 0x40000000u;  // the face is B's
+    }
+    m.normal = -(X.R_AB * swapped.normal);
+    return true;
+  }
+  if (!a.polyhedron && !b.polyhedron && a.halfHeight > 0 && b.halfHeight > 0) {
+    return CapsuleAlongCapsule(a, b, X, n, margin, m, droppedMin);
+  }
+  return false;
+}
+
+}  // namespace REngine
