@@ -1,6 +1,7 @@
 // A ray against one convex shape in its own frame (RayCastShape, RQueries.h).
 #include <REnginePhysics/RQueries.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace REngine {
@@ -62,12 +63,56 @@ bool RayPolyhedron(const RConvexPolyhedron& poly, const RVec3& o, const RVec3& d
   return true;
 }
 
+// A capsule (core from (0, -h, 0) to (0, h, 0), radius r) is the union of a finite cylinder
+// and two balls, and the first point a ray meets on a union is the first it meets on any
+// part: the cylinder's side where it lies within the core's height (its flat ends lie inside
+// the balls, met no later), or a ball. Starting within r of the core is starting inside.
+bool RayCapsule(RScalar r, RScalar h, const RVec3& o, const RVec3& d, RScalar maxDistance, RShapeRayHit& hit) {
+  const RScalar y = std::clamp(o.y(), -h, h);
+  if ((o - RVec3(0, y, 0)).norm() <= r) {
+    hit.distance = 0;
+    hit.normal = -d;
+    return true;
+  }
+  bool found = false;
+  // The side: |o_xz + t d_xz| = r, its near root as c / (far root) as for the sphere, the
+  // discriminant from the perpendicular to the axis (see RaySphere).
+  const RScalar a = d.x() * d.x() + d.z() * d.z();
+  const RScalar b = o.x() * d.x() + o.z() * d.z();
+  const RScalar len = std::hypot(o.x(), o.z());
+  if (a > 0 && b < 0 && len > r) {
+    const RScalar px = o.x() - b / a * d.x(), pz = o.z() - b / a * d.z();
+    const RScalar p = std::hypot(px, pz);
+    const RScalar h2 = (r - p) * (r + p);  // the half chord squared, over a
+    if (h2 >= 0) {
+      const RScalar t = (len - r) * (len + r) / (std::sqrt(a * h2) - b);
+      const RScalar yt = o.y() + t * d.y();
+      if (t <= maxDistance && std::abs(yt) <= h) {
+        hit.distance = t;
+        const RScalar nx = o.x() + t * d.x(), nz = o.z() + t * d.z(), nn = std::hypot(nx, nz);
+        hit.normal = nn > 0 ? RVec3(nx / nn, 0, nz / nn) : RVec3(-d);
+        found = true;
+      }
+    }
+  }
+  for (const RScalar end : {-h, h}) {
+    RShapeRayHit ball;
+    const RVec3 c(0, end, 0);
+    if (RaySphere(r, o - c, d, found ? hit.distance : maxDistance, ball) && (!found || ball.distance < hit.distance)) {
+      hit = ball;
+      found = true;
+    }
+  }
+  return found;
+}
+
 }  // namespace
 
 bool RayCastShape(const RConvexShape& shape, const RVec3& origin, const RVec3& direction,
                   RScalar maxDistance, RShapeRayHit& hit) {
-  return shape.polyhedron ? RayPolyhedron(*shape.polyhedron, origin, direction, maxDistance, hit)
-                          : RaySphere(shape.radius, origin, direction, maxDistance, hit);
+  if (shape.polyhedron) return RayPolyhedron(*shape.polyhedron, origin, direction, maxDistance, hit);
+  if (shape.halfHeight > 0) return RayCapsule(shape.radius, shape.halfHeight, origin, direction, maxDistance, hit);
+  return RaySphere(shape.radius, origin, direction, maxDistance, hit);
 }
 
 }  // namespace REngine
