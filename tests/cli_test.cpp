@@ -503,3 +503,30 @@ TEST_F(Cli, ActionsAddAndRemoveBodiesRowByRow) {
   EXPECT_NE(bad.err.find("actions[0].remove: no body is named \"ghost\" at step 2"), std::string::npos)
       << bad.err;
 }
+
+// A capsule's --describe: its mass from the density and its volume, pi r^2 (2h) + 4/3 pi r^3,
+// and its moments, about its axis m_c r^2/2 + 2/5 m_s r^2 (the smallest, for this one) and
+// across it m_c (h^2/3 + r^2/4) + m_s (2/5 r^2 + h^2 + 3/4 h r), the axis turned into the
+// world by the scene's orientation.
+TEST_F(Cli, DescribeGivesACapsulesClosedFormMassProperties) {
+  const std::string scene = SceneOf({
+      {"missile", R"("shape": {"type": "capsule", "radius": 0.25, "half_height": 1.5}, "density": 3,
+                     "position": [4, 5, 6], "orientation": [0.7071067811865476, 0.7071067811865476, 0, 0])"},
+  });
+  const Result r = Run(Quote(Write("capsule.json", scene)) + " --describe");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json list = nlohmann::json::parse(r.out);
+  ASSERT_EQ(list.size(), 1u);
+  const double pi = 3.14159265358979323846, rho = 3, rr = 0.25, h = 1.5;
+  const double mc = rho * pi * rr * rr * 2 * h, ms = rho * 4.0 / 3 * pi * rr * rr * rr;
+  EXPECT_NEAR(list[0]["mass"].get<double>(), mc + ms, 1e-13);
+  const double axial = mc * rr * rr / 2 + ms * 2.0 / 5 * rr * rr;
+  const double across = mc * (h * h / 3 + rr * rr / 4) + ms * (2.0 / 5 * rr * rr + h * h + 0.75 * h * rr);
+  EXPECT_NEAR(list[0]["principal_moments"][0].get<double>(), axial, 1e-13);
+  EXPECT_NEAR(list[0]["principal_moments"][1].get<double>(), across, 1e-13);
+  EXPECT_NEAR(list[0]["principal_moments"][2].get<double>(), across, 1e-13);
+  // The axis (the shape's y) turned 90 degrees about x: the world's z.
+  const nlohmann::json& axis = list[0]["principal_axes"][0];
+  EXPECT_NEAR(std::abs(axis[2].get<double>()), 1, 1e-15);
+  EXPECT_NEAR(list[0]["com"][0].get<double>(), 4, 1e-15);
+}
