@@ -383,3 +383,25 @@ TEST(CapsulePhysics, FastMissileDoesNotTunnelThroughAThinPlate) {
   EXPECT_NEAR(nose, face, integrator.Settings().penetrationSlop + 1e-9 * 1e6);
   EXPECT_NEAR(bodies[1].Velocity_W().x(), 0, 1e-9);
 }
+
+// The reference for the capsule's rolling: a ball rolls down the same incline at
+// a = 5/7 g sin(theta) (I = 2/5 m r^2), within 1%.
+TEST(CapsulePhysics, BallRollsDownTheSameInclineAtFiveSeventhsOfGSinTheta) {
+  const RScalar theta = 20 * kPi / 180, g = 9.81, r = 0.5;
+  std::vector<RRigidBody> bodies{Ground(-theta, 1.0)};
+  RBodyDef c;
+  c.shape.type = RShapeType::kSphere, c.shape.radius = r;
+  c.mass = 1, c.friction = 1.0, c.restitution = 0;
+  const RQuat incline(Eigen::AngleAxisd(-theta, RVec3::UnitZ()));
+  c.position_W = incline * RVec3(0, r, 0);
+  bodies.emplace_back(c);
+  RIntegrator integrator;
+  integrator.Settings().gravity_W = RVec3(0, -g, 0);
+  integrator.Settings().shortcuts.sleeping = false;
+  const RVec3 down = incline * RVec3(1, 0, 0), x0 = bodies[1].Position_W();
+  for (int k = 0; k < 90; ++k) integrator.Update(bodies, 1.0 / 60);
+  const RScalar want = 0.5 * (5.0 / 7 * g * std::sin(theta)) * 1.5 * 1.5;
+  const RScalar s = (bodies[1].Position_W() - x0).dot(down);
+  std::printf("ball rolling: s = %.6f m, closed form %.6f m\n", s, want);
+  EXPECT_NEAR(s, want, 0.01 * want);
+}
