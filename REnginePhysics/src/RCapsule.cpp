@@ -32,49 +32,12 @@ RVec3 Across(const RVec3& d) {
   return n > 0 ? RVec3(c / n) : RVec3::UnitZ();
 }
 
-// Closest points of segments [p1, q1] and [p2, q2]: parameters s, t in [0, 1] (Ericson,
-// Real-Time Collision Detection, 5.1.9; a zero-length segment is a point, exactly).
-void ClosestOnSegments(const RVec3& p1, const RVec3& q1, const RVec3& p2, const RVec3& q2,
-                       RScalar& s, RScalar& t) {
-  const RVec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-  const RScalar a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  if (a == 0 && e == 0) {
-    s = t = 0;
-    return;
-  }
-  if (a == 0) {
-    s = 0, t = std::clamp(f / e, RScalar(0), RScalar(1));
-    return;
-  }
-  const RScalar c = d1.dot(r);
-  if (e == 0) {
-    t = 0, s = std::clamp(-c / a, RScalar(0), RScalar(1));
-    return;
-  }
-  const RScalar b = d1.dot(d2), denom = a * e - b * b;
-  // Parallel (denom 0 or rounding of it): any s whose partner lies on the other segment is
-  // closest; the clamps below find one.
-  s = denom > 0 ? std::clamp((b * f - c * e) / denom, RScalar(0), RScalar(1)) : 0;
-  t = (b * s + f) / e;
-  if (t < 0) {
-    t = 0, s = std::clamp(-c / a, RScalar(0), RScalar(1));
-  } else if (t > 1) {
-    t = 1, s = std::clamp((b - c) / a, RScalar(0), RScalar(1));
-  }
-}
-
 // B's core ends in A's frame.
 void CoreOfB(const RConvexShape& b, const RRelativePose& X, RVec3& p0, RVec3& p1) {
   const RVec3 half = X.R_AB.col(1) * b.halfHeight;
   p0 = X.t_AB - half, p1 = X.t_AB + half;
 }
 
-RRelativePose Inverse(const RRelativePose& X) {
-  RRelativePose inv;
-  inv.R_AB = X.R_AB.transpose();
-  inv.t_AB = -(inv.R_AB * X.t_AB);
-  return inv;
-}
 
 }  // namespace
 
@@ -82,9 +45,8 @@ RDistanceResult RoundPair(const RConvexShape& a, const RConvexShape& b, const RR
   const RVec3 a0(0, -a.halfHeight, 0), a1(0, a.halfHeight, 0);
   RVec3 b0, b1;
   CoreOfB(b, X, b0, b1);
-  RScalar s, t;
-  ClosestOnSegments(a0, a1, b0, b1, s, t);
-  const RVec3 ca = a0 + s * (a1 - a0), cb = b0 + t * (b1 - b0);
+  RVec3 ca, cb;
+  ClosestOnSegments(a0, a1, b0, b1, ca, cb);
   const RVec3 d = cb - ca;
   const RScalar dist = d.norm();
   RDistanceResult r;
@@ -161,9 +123,8 @@ void ExactSegmentPolyhedron(const RConvexPolyhedron& P, const RVec3& p0, const R
     if (sd < best) best = sd, normal = outward, onP = closest, onSegment = end;
   }
   for (const REdge& e : P.Edges()) {
-    RScalar s, t;
-    ClosestOnSegments(p0, p1, v[e.v0], v[e.v1], s, t);
-    const RVec3 cs = p0 + s * seg, cp = v[e.v0] + t * (v[e.v1] - v[e.v0]);
+    RVec3 cs, cp;
+    ClosestOnSegments(p0, p1, v[e.v0], v[e.v1], cs, cp);
     const RScalar d = (cs - cp).norm();
     if (d < best && d > 0) best = d, normal = (cs - cp) / d, onP = cp, onSegment = cs;
   }
@@ -273,9 +234,8 @@ bool CapsuleAlongCapsule(const RConvexShape& a, const RConvexShape& b, const RRe
   const RScalar ys[2] = {lo, hi};
   for (int k = 0; k < 2; ++k) {
     const RVec3 ca(0, ys[k], 0);
-    RScalar s, t;
-    ClosestOnSegments(ca, ca, b0, b1, s, t);
-    const RVec3 cb = b0 + t * (b1 - b0);
+    RVec3 onA, cb;
+    ClosestOnSegments(ca, ca, b0, b1, onA, cb);
     const RScalar sep = (cb - ca).dot(n) - a.radius - b.radius;
     if (sep > margin) {
       if (droppedMin) *droppedMin = std::min(*droppedMin, sep);

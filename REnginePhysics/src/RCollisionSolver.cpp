@@ -99,12 +99,6 @@ RDistanceResult Mirror(RDistanceResult r, const RRelativePose& X_AB) {
   return m;
 }
 
-RRelativePose Inverse(const RRelativePose& X) {
-  RRelativePose inv;
-  inv.R_AB = X.R_AB.transpose();
-  inv.t_AB = -(inv.R_AB * X.t_AB);
-  return inv;
-}
 
 }  // namespace
 

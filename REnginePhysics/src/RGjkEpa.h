@@ -25,6 +25,14 @@ struct RPairSupport {
   std::uint32_t m_lastA = 0, m_lastB = 0;
 };
 
+// The pose of A in B's frame, from B's in A's.
+inline RRelativePose Inverse(const RRelativePose& X) {
+  RRelativePose inv;
+  inv.R_AB = X.R_AB.transpose();
+  inv.t_AB = -(inv.R_AB * X.t_AB);
+  return inv;
+}
+
 struct RSimplexPoint {
   RVec3 w, a, b;  // w = a - b: a point of the Minkowski difference and its two origins
 };

@@ -7,10 +7,6 @@
 
 namespace REngine {
 
-namespace {
-
-constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
-
 // Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision
 // Detection, 5.1.9): minimise |p(s) - q(t)| over s, t in [0, 1]. Edges of a valid polyhedron
 // have non-zero length; a zero-length one is handled as a point all the same.
@@ -44,6 +40,11 @@ bool ClosestOnSegments(const RVec3& p0, const RVec3& p1, const RVec3& q0, const 
   onQ = q0 + t * d2;
   return s > 0 && s < 1 && t > 0 && t < 1;
 }
+
+namespace {
+
+constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
+
 
 // Whether p's projection along the face's normal falls inside the face's polygon (loop
 // counter-clockwise about the outward normal n).

@@ -23,6 +23,12 @@ namespace REngine {
 RDistanceResult ExactPolyhedra(const RConvexPolyhedron& a, const RConvexPolyhedron& b,
                                const RRelativePose& X_AB);
 
+// Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision Detection,
+// 5.1.9), a zero-length one taken as a point. Returns whether both are interior to their
+// segments.
+bool ClosestOnSegments(const RVec3& p0, const RVec3& p1, const RVec3& q0, const RVec3& q1,
+                       RVec3& onP, RVec3& onQ);
+
 // Signed distance from point c to the solid polyhedron p (both in p's frame), exact to
 // rounding: negative inside. `closest` is the nearest point of the surface, `outward` the
 // unit direction from the solid to c (the face normal of least depth when inside).
