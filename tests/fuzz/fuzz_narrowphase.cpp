@@ -1,4 +1,4 @@
-// The narrow phase on two shapes (box, sphere or a small hull) at fuzzed poses: random,
+// The narrow phase on two shapes (box, sphere, capsule or a small hull) at fuzzed poses: random,
 // touching, identical, deep, and 1e7 m from the origin. The answer is checked, not only the
 // absence of a crash: a finite separation, a unit normal, a status that matches the
 // separation, Intersect agreeing with Distance outside the touching band, a manifold of
@@ -26,7 +26,14 @@ namespace {
 // Raw mode reads sizes and poses as exact doubles (reproducers from elsewhere, bit for bit).
 RShape ShapeFrom(FuzzInput& in, bool raw) {
   RShape s;
-  switch (in.Byte() % 3) {
+  const std::uint8_t kind = in.Byte();
+  if (kind == 255) {  // (the other values keep the corpus's meaning)
+    s.type = RShapeType::kCapsule;
+    s.radius = raw ? in.RawDouble() : in.Decades(-2, 3);
+    s.halfHeight = raw ? in.RawDouble() : in.Decades(-2, 3);
+    return s;
+  }
+  switch (kind % 3) {
     case 0:
       s.type = RShapeType::kBox;
       if (raw) {
@@ -129,6 +136,30 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     RENGINE_FUZZ_CHECK(std::abs(r.separation - ref) <= 1e-12 * scale + band, "spheres %.17g vs %.17g",
                        r.separation, ref);
   }
+  // A capsule against a sphere or a capsule: the distance of the cores (a point and a
+  // segment: the clamped projection; two segments: the least over a fine walk along one and
+  // the clamped projection onto the other, refined) less the radii.
+  const bool roundA = da.shape.type == RShapeType::kSphere || da.shape.type == RShapeType::kCapsule;
+  const bool roundB = db.shape.type == RShapeType::kSphere || db.shape.type == RShapeType::kCapsule;
+  if (roundA && roundB && (da.shape.type == RShapeType::kCapsule || db.shape.type == RShapeType::kCapsule)) {
+    const double ha = da.shape.type == RShapeType::kCapsule ? da.shape.halfHeight : 0;
+    const double hb = db.shape.type == RShapeType::kCapsule ? db.shape.halfHeight : 0;
+    const RVec3 a0(0, -ha, 0), a1(0, ha, 0);
+    const RVec3 b0 = X.R_AB * RVec3(0, -hb, 0) + X.t_AB, b1 = X.R_AB * RVec3(0, hb, 0) + X.t_AB;
+    auto toB = [&](const RVec3& p) {
+      const RVec3 d = b1 - b0;
+      const double t = d.squaredNorm() > 0 ? std::clamp((p - b0).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+      return (b0 + t * d - p).norm();
+    };
+    double lo = 0, hi = 1;  // the distance to B's core is convex along A's
+    for (int k = 0; k < 200; ++k) {
+      const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (toB(a0 + m1 * (a1 - a0)) < toB(a0 + m2 * (a1 - a0))) hi = m2; else lo = m1;
+    }
+    const double ref = toB(a0 + 0.5 * (lo + hi) * (a1 - a0)) - da.shape.radius - db.shape.radius;
+    RENGINE_FUZZ_CHECK(std::abs(r.separation - ref) <= 1e-9 * scale + band, "capsules %.17g vs %.17g",
+                       r.separation, ref);
+  }
   if (boxes) {
     RVec3 axis;
     const double ref = BoxSat(da.shape.halfExtents, db.shape.halfExtents, X.R_AB, X.t_AB, axis);
@@ -155,6 +186,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     RENGINE_FUZZ_CHECK(n_W.dot(m.query.normal) >= 0.9998 - 1e-3 - 1e-12,
                        "manifold normal %.6f from the query's", n_W.dot(m.query.normal));
     auto extent = [&](const RRigidBody& body, const RVec3& d) {  // max over the body of d.x
+      if (body.Shape().type == RShapeType::kCapsule) {  // its core's farther end, and the radius
+        const RVec3 axis = body.Orientation_WB() * RVec3(0, body.Shape().halfHeight, 0);
+        return d.dot(body.Position_W()) + std::abs(d.dot(axis)) + body.Shape().radius;
+      }
       if (!body.Polyhedron_B()) return d.dot(body.Position_W()) + body.BoundingRadius();
       double most = -1e300;
       const RMat3 R = body.Orientation_WB().toRotationMatrix();
