@@ -69,6 +69,19 @@ RMassProperties CapsuleByQuadrature(RScalar r, RScalar h) {
   return mp;
 }
 
+// Signed distance of a point from a shape in its own frame, by its definition: a sphere's
+// and a capsule's from their core less the radius; a polyhedron's largest face-plane
+// distance, which is 0 exactly on its surface (inside and on the surface it is the depth;
+// outside it is only a lower bound, and is used only where it must be 0).
+RScalar SurfaceOffset(const RConvexShape& s, const RVec3& p) {
+  if (s.polyhedron) {
+    RScalar most = -std::numeric_limits<RScalar>::infinity();
+    for (const RFace& f : s.polyhedron->Faces()) most = std::max(most, f.plane.SignedDistance(p));
+    return most;
+  }
+  return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
+}
+
 RConvexShape Capsule(RScalar r, RScalar h) {
   RConvexShape s;
   s.radius = r, s.halfHeight = h, s.boundingRadius = r + h;
@@ -134,10 +147,11 @@ TEST(CapsuleMass, BadSizesAreRefusedNamingTheField) {
 }
 
 // Random pairs from a fixed seed: a capsule against a box, a sphere, a capsule and a hull,
-// posed near each other. Apart: the distance against FCL's (its GJK stops at a tolerance of
-// 1e-9 of the pair's size: our answer is exact to rounding). Overlapping: the verdict
-// against FCL's collide, away from a band about touching; the depth of two capsules against
-// its closed form. The hit rate must lie in a band, so easy cases alone cannot pass.
+// posed near each other. Every answer's witnesses on their surfaces, and a penetrating pair
+// moved apart by its depth along its normal touching. Apart: the distance against FCL's
+// (asked for to 1e-12; ours is exact to rounding). Overlapping or apart: the verdict against
+// FCL's collide, away from a band about touching; the depth of two capsules against its
+// closed form. The hit rate must lie in a band, so easy cases alone cannot pass.
 TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
   std::mt19937_64 rng(20261126);
   std::uniform_real_distribution<RScalar> u(0, 1);
@@ -153,16 +167,17 @@ TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
     const RConvexPolyhedron box = RConvexPolyhedron::Box(half);
     const RScalar rb = 0.1 + u(rng), hb = 0.05 + u(rng);
     RConvexShape other;
-    std::shared_ptr<fcl::CollisionGeometryd> fclOther;
+    std::shared_ptr<fcl::CollisionGeometryd> fclOwned;
+    const fcl::CollisionGeometryd* fclOther = &hull.FclConvex();
     if (kind == 0) {
       other.polyhedron = &box, other.boundingRadius = box.MaxRadius();
-      fclOther = std::make_shared<fcl::Boxd>(2 * half.x(), 2 * half.y(), 2 * half.z());
+      fclOther = (fclOwned = std::make_shared<fcl::Boxd>(2 * half.x(), 2 * half.y(), 2 * half.z())).get();
     } else if (kind == 1) {
       other.radius = rb, other.boundingRadius = rb;
-      fclOther = std::make_shared<fcl::Sphered>(rb);
+      fclOther = (fclOwned = std::make_shared<fcl::Sphered>(rb)).get();
     } else if (kind == 2) {
       other = Capsule(rb, hb);
-      fclOther = std::make_shared<fcl::Capsuled>(rb, 2 * hb);
+      fclOther = (fclOwned = std::make_shared<fcl::Capsuled>(rb, 2 * hb)).get();
     } else {
       other.polyhedron = &hull.Polyhedron(), other.boundingRadius = hull.Radius();
     }
@@ -179,11 +194,20 @@ TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
     X.t_AB = qA.conjugate() * (xB - xA);
     const RDistanceResult got = RCollisionSolver::Distance(sa, sb, X);
     const RScalar size = caps.boundingRadius + other.boundingRadius;
-    // The answer's own consistency: the witnesses are the separation apart along the normal.
-    ASSERT_NEAR((got.witnessB - got.witnessA).dot(got.normal), got.separation, 1e-9 * size) << n;
+    // The witnesses lie on their surfaces (B's in B's frame), the separation apart along the
+    // normal; a penetrating pair moved apart by its depth along its normal touches.
     ASSERT_NEAR(got.normal.norm(), 1, 1e-12) << n;
+    EXPECT_NEAR(SurfaceOffset(sa, got.witnessA), 0, 1e-9 * size) << "pair " << n << " kind " << kind;
+    EXPECT_NEAR(SurfaceOffset(sb, X.R_AB.transpose() * (got.witnessB - X.t_AB)), 0, 1e-9 * size)
+        << "pair " << n << " kind " << kind;
+    EXPECT_NEAR((got.witnessB - got.witnessA).dot(got.normal), got.separation, 1e-9 * size) << n;
+    if (got.separation < 0) {
+      RRelativePose moved = X;
+      moved.t_AB -= got.separation * got.normal;
+      EXPECT_NEAR(RCollisionSolver::Distance(sa, sb, moved).separation, 0, 1e-8 * size)
+          << "pair " << n << " kind " << kind << " depth " << -got.separation;
+    }
     got.separation > 0 ? ++apart : ++overlaps;
-    if (kind == 3) continue;  // (the hull's answers are checked by the witnesses above and below)
     fcl::Capsuled fclCaps(r, 2 * h);
     const fcl::Transform3d tfCaps = FclPose(capsuleIsA ? xA : xB, capsuleIsA ? qA : qB, true);
     const fcl::Transform3d tfOther = FclPose(capsuleIsA ? xB : xA, capsuleIsA ? qB : qA, kind == 2);
@@ -192,7 +216,7 @@ TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
       request.gjk_solver_type = fcl::GST_INDEP;
       request.distance_tolerance = 1e-12;
       fcl::DistanceResultd result;
-      fcl::distance(&fclCaps, tfCaps, fclOther.get(), tfOther, request, result);
+      fcl::distance(&fclCaps, tfCaps, fclOther, tfOther, request, result);
       worstDistance = std::max(worstDistance, std::abs(result.min_distance - got.separation) / size);
       EXPECT_NEAR(got.separation, result.min_distance, 1e-6 * size) << "pair " << n << " kind " << kind;
       ++checked;
@@ -200,7 +224,7 @@ TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
     if (std::abs(got.separation) > 1e-6 * size) {
       fcl::CollisionRequestd request;
       fcl::CollisionResultd result;
-      fcl::collide(&fclCaps, tfCaps, fclOther.get(), tfOther, request, result);
+      fcl::collide(&fclCaps, tfCaps, fclOther, tfOther, request, result);
       EXPECT_EQ(result.isCollision(), got.separation < 0) << "pair " << n << " kind " << kind << " sep " << got.separation;
     }
     if (kind == 2 && got.separation < 0) {
@@ -404,4 +428,105 @@ TEST(CapsulePhysics, BallRollsDownTheSameInclineAtFiveSeventhsOfGSinTheta) {
   const RScalar s = (bodies[1].Position_W() - x0).dot(down);
   std::printf("ball rolling: s = %.6f m, closed form %.6f m\n", s, want);
   EXPECT_NEAR(s, want, 0.01 * want);
+}
+
+// A thin capsule deep across a box's top edge: the deepest axis is the edge crossed with the
+// core, across the core, so both ends are equally deep along it; the witnesses must still be
+// where the shapes meet, at the edge, not at an end metres away (a wrong lever arm spins
+// the body). The depth against the box's SAT over its faces and the edge axis.
+TEST(CapsuleNarrowPhase, DeepAcrossAnEdgeTheWitnessesAreAtTheEdge) {
+  const RConvexPolyhedron box = RConvexPolyhedron::Box(RVec3(1, 1, 1));
+  RConvexShape a;
+  a.polyhedron = &box, a.boundingRadius = box.MaxRadius();
+  const RVec3 p0(0.5, 0.99, 0), p1(3, 0.5, 0);
+  const RConvexShape c = Capsule(0.05, 0.5 * (p1 - p0).norm());
+  RRelativePose X;
+  X.t_AB = 0.5 * (p0 + p1);
+  X.R_AB = RQuat::FromTwoVectors(RVec3::UnitY(), (p1 - p0).normalized()).toRotationMatrix();
+  for (const bool swapped : {false, true}) {
+    RDistanceResult d;
+    RVec3 onBox, onCapsule;
+    if (!swapped) {
+      d = RCollisionSolver::Distance(a, c, X);
+      onBox = d.witnessA, onCapsule = d.witnessB;
+    } else {
+      RRelativePose Xi;
+      Xi.R_AB = X.R_AB.transpose(), Xi.t_AB = -(Xi.R_AB * X.t_AB);
+      d = RCollisionSolver::Distance(c, a, Xi);
+      onCapsule = X.R_AB * d.witnessA + X.t_AB, onBox = X.R_AB * d.witnessB + X.t_AB;
+    }
+    // The core crosses the edge x = 1, y = 1 at y = 0.99 - 0.49 (0.5 / 2.5) = 0.892: the
+    // least overlap is across the edge, along the normal of the core's line (0.49, 2.5)/|.|.
+    const RVec3 n = RVec3(0.49, 2.5, 0).normalized();
+    const RScalar depth = n.dot(RVec3(1, 1, 0) - RVec3(1, 0.892, 0)) + 0.05;
+    EXPECT_NEAR(d.separation, -depth, 1e-12) << swapped;
+    EXPECT_LT((onBox - RVec3(1, 1, 0)).norm(), 0.1) << swapped << " " << onBox.transpose();
+    EXPECT_LT((onCapsule - RVec3(1, 0.892, 0)).norm(), 0.1) << swapped << " " << onCapsule.transpose();
+  }
+}
+
+// Line contacts in both roles: a capsule lying on a box (the box as B, the capsule as A)
+// and one capsule lying on another along it: two points each, under the two ends of the
+// shorter core, with the normal from A to B.
+TEST(CapsuleNarrowPhase, LyingAlongAFaceOrACapsuleGivesTwoPoints) {
+  const RConvexPolyhedron box = RConvexPolyhedron::Box(RVec3(3, 0.5, 3));
+  RConvexShape floor;
+  floor.polyhedron = &box, floor.boundingRadius = box.MaxRadius();
+  const RConvexShape c = Capsule(0.5, 1);
+  // The capsule (A) lies along x, its core 0.499 above the box's top (B below it).
+  RRelativePose X;
+  X.R_AB = RMat3::Identity();
+  X.t_AB = RVec3(0, -0.5 - 0.4999, 0);
+  const RMat3 turn = Eigen::AngleAxisd(kPi / 2, RVec3::UnitZ()).toRotationMatrix();  // core along x in the world
+  RRelativePose Xc;  // box in the capsule's frame: the capsule turned, the box not
+  Xc.R_AB = turn.transpose();
+  Xc.t_AB = turn.transpose() * X.t_AB;
+  const RContactManifold m = RCollisionSolver::Manifold(c, floor, Xc, 0.01);
+  ASSERT_EQ(m.pointCount, 2);
+  EXPECT_TRUE((turn * m.normal).isApprox(RVec3(0, -1, 0), 1e-12)) << (turn * m.normal).transpose();
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_NEAR(m.points[k].separation, -0.0001, 1e-12);
+    EXPECT_NEAR(std::abs((turn * m.points[k].position).x()), 1, 1e-12);
+  }
+  EXPECT_NE(m.points[0].featureId, m.points[1].featureId);
+
+  // A capsule beside a longer one, both along y, 0.99 apart between cores (radii 0.5 and 0.5).
+  const RConvexShape longer = Capsule(0.5, 3);
+  RRelativePose Xl;
+  Xl.R_AB = RMat3::Identity();
+  Xl.t_AB = RVec3(0.99, 0.5, 0);  // B's core beside A's, shifted along it
+  const RContactManifold m2 = RCollisionSolver::Manifold(c, longer, Xl, 0.01);
+  ASSERT_EQ(m2.pointCount, 2);
+  EXPECT_TRUE(m2.normal.isApprox(RVec3(1, 0, 0), 1e-12));
+  EXPECT_NEAR(m2.points[0].separation, -0.01, 1e-12);
+  EXPECT_NEAR(m2.points[1].separation, -0.01, 1e-12);
+  // The stretch of A's core that B's faces: all of A's, y in [-1, 1].
+  EXPECT_NEAR(std::min(m2.points[0].position.y(), m2.points[1].position.y()), -1, 1e-12);
+  EXPECT_NEAR(std::max(m2.points[0].position.y(), m2.points[1].position.y()), 1, 1e-12);
+}
+
+// Cores that cross (or a sphere's centre on a capsule's core) are a rounding error apart in
+// no direction: the depth r_a + r_b is across both cores (their common perpendicular), or
+// across the core for a centre on it, never along it.
+TEST(CapsuleNarrowPhase, CrossingCoresPushApartAcrossBoth) {
+  const RConvexShape a = Capsule(0.25, 1), b = Capsule(0.2, 1);
+  RRelativePose X;
+  X.R_AB = Eigen::AngleAxisd(kPi / 2, RVec3::UnitX()).toRotationMatrix();  // B's core along z
+  X.t_AB = RVec3(0, 0.3, 0.37);                                          // crossing A's at y = 0.3
+  RDistanceResult d = RCollisionSolver::Distance(a, b, X);
+  EXPECT_NEAR(d.separation, -0.45, 1e-15);
+  EXPECT_NEAR(std::abs(d.normal.x()), 1, 1e-12) << d.normal.transpose();
+  X.R_AB = Eigen::AngleAxisd(40 * kPi / 180, RVec3::UnitX()).toRotationMatrix();  // tilted, still crossing
+  X.t_AB = RVec3(0, 0.3, 0) + X.R_AB.col(1) * 0.37;
+  d = RCollisionSolver::Distance(a, b, X);
+  EXPECT_NEAR(d.separation, -0.45, 1e-15);
+  EXPECT_NEAR(std::abs(d.normal.x()), 1, 1e-12) << d.normal.transpose();
+  RConvexShape ball;
+  ball.radius = 0.1, ball.boundingRadius = 0.1;
+  for (const RScalar y : {0.1, 0.2, 0.3}) {
+    X.R_AB = RMat3::Identity(), X.t_AB = RVec3(0, y, 0);
+    d = RCollisionSolver::Distance(a, ball, X);
+    EXPECT_NEAR(d.separation, -0.35, 1e-15);
+    EXPECT_NEAR(d.normal.y(), 0, 1e-12) << y << ": " << d.normal.transpose();
+  }
 }

@@ -127,6 +127,22 @@ TEST(Scene, DefaultsAreTheDocumentedOnes) {
   EXPECT_DOUBLE_EQ(CreateBodies(s)[0].Mass(), 48.0);
 }
 
+// Equal shapes share one prepared shape, and shapes that differ in any field do not: two
+// capsules of one radius and two lengths keep their own lengths and masses.
+TEST(Scene, CapsulesOfOneRadiusAndTwoLengthsStayApart) {
+  const RScene s = ParseScene(R"({"bodies": [
+      {"name": "short", "shape": {"type": "capsule", "radius": 0.5, "half_height": 0.5}},
+      {"name": "long", "shape": {"type": "capsule", "radius": 0.5, "half_height": 3}, "position": [5, 0, 0]},
+      {"name": "again", "shape": {"type": "capsule", "radius": 0.5, "half_height": 3}, "position": [9, 0, 0]}]})",
+                              "capsules.json");
+  const std::vector<RRigidBody> bodies = CreateBodies(s);
+  EXPECT_EQ(bodies[0].Shape().halfHeight, 0.5);
+  EXPECT_EQ(bodies[1].Shape().halfHeight, 3.0);
+  EXPECT_NEAR(bodies[1].Mass(), 3.14159265358979 * 0.25 * 6 + 4.0 / 3 * 3.14159265358979 * 0.125, 1e-12);
+  EXPECT_NE(bodies[0].PreparedShape(), bodies[1].PreparedShape());
+  EXPECT_EQ(bodies[1].PreparedShape(), bodies[2].PreparedShape());
+}
+
 TEST(Scene, TheFormatDocumentsExampleLoads) {
   const std::string text = R"({
     "format": "rengine-scene/1",

@@ -50,13 +50,24 @@ RDistanceResult RoundPair(const RConvexShape& a, const RConvexShape& b, const RR
   const RVec3 d = cb - ca;
   const RScalar dist = d.norm();
   RDistanceResult r;
-  if (dist > 0) {
+  // Cores that cross (or a centre on a core) are a rounding error apart, in no direction:
+  // then the depth r_a + r_b is along any direction across both cores. Two crossing
+  // segments: their common perpendicular. A point on a segment, or parallel segments: across
+  // the segment, towards B's centre where that has a part across it.
+  const RScalar size = a.boundingRadius + b.boundingRadius;
+  if (dist > RScalar(1e-12) * size) {
     r.normal = d / dist;
   } else {
-    // The cores cross: any direction across both moves them apart by r_a + r_b. The one
-    // across both axes (or across a's, when they are parallel), turned towards B's centre.
-    const RVec3 across = RVec3::UnitY().cross(X.R_AB.col(1));
-    r.normal = across.squaredNorm() > 1e-24 ? RVec3(across.normalized()) : Across(RVec3::UnitY());
+    const RVec3 axisA = RVec3::UnitY(), axisB = X.R_AB.col(1);
+    const bool segA = a.halfHeight > 0, segB = b.halfHeight > 0;
+    const RVec3 both = axisA.cross(axisB);
+    if (segA && segB && both.squaredNorm() > 1e-12) {
+      r.normal = both.normalized();
+    } else {
+      const RVec3 axis = segA ? axisA : axisB;
+      const RVec3 aside = X.t_AB - X.t_AB.dot(axis) * axis;
+      r.normal = aside.norm() > RScalar(1e-12) * size ? RVec3(aside.normalized()) : Across(axis);
+    }
     if (r.normal.dot(X.t_AB) < 0) r.normal = -r.normal;
   }
   r.separation = dist - a.radius - b.radius;
@@ -76,13 +87,15 @@ void ExactSegmentPolyhedron(const RConvexPolyhedron& P, const RVec3& p0, const R
   RScalar least = std::numeric_limits<RScalar>::infinity();
   RVec3 axis = RVec3::UnitX();
   bool apart = false;
+  const RFace* leastFace = nullptr;  // the axis's face, or
+  const REdge* leastEdge = nullptr;  // its edge
   for (const RFace& f : P.Faces()) {
     const RScalar o = f.plane.offset - std::min(f.plane.normal.dot(p0), f.plane.normal.dot(p1));
     if (o < 0) {
       apart = true;
       break;
     }
-    if (o < least) least = o, axis = f.plane.normal;
+    if (o < least) least = o, axis = f.plane.normal, leastFace = &f;
   }
   const std::vector<RVec3>& v = P.Vertices();
   for (std::size_t k = 0; !apart && k < P.Edges().size(); ++k) {
@@ -100,15 +113,43 @@ void ExactSegmentPolyhedron(const RConvexPolyhedron& P, const RVec3& p0, const R
       apart = true;
       break;
     }
-    if (up < least) least = up, axis = n;
-    if (down < least) least = down, axis = -n;
+    // A face of the difference only where this edge is P's support along the axis: the
+    // parallel edges elsewhere give the same overlap (P's support is P's, not the edge's),
+    // and the witnesses must be at the edge that touches.
+    const RScalar at = n.dot(v[e.v0]), slack = RScalar(1e-12) * (std::abs(hi) + std::abs(lo));
+    if (up < least && at >= hi - slack) least = up, axis = n, leastEdge = &e, leastFace = nullptr;
+    if (down < least && at <= lo + slack) least = down, axis = -n, leastEdge = &e, leastFace = nullptr;
   }
   if (!apart) {
     signedDistance = -least;
     normal = axis;
-    // The segment's deepest point along the normal (its middle when it lies across it).
-    const RScalar s0 = axis.dot(p0), s1 = axis.dot(p1);
-    onSegment = s0 < s1 ? p0 : s1 < s0 ? p1 : RVec3(RScalar(0.5) * (p0 + p1));
+    // The witnesses where the shapes touch along the axis. An edge's axis: the segment's
+    // point nearest that edge (the axis is across the segment, so its two ends are equally
+    // deep, and either could be metres from the contact). A face's: the segment's deepest
+    // point within the face's side planes (the middle of that part when it lies along the
+    // face), or its deepest end where no part of it is.
+    if (leastEdge) {
+      RVec3 onEdge;
+      ClosestOnSegments(p0, p1, v[leastEdge->v0], v[leastEdge->v1], onSegment, onEdge);
+    } else {
+      RVec3 q0 = p0, q1 = p1;
+      bool inside = true;
+      if (leastFace) {
+        const std::vector<std::uint32_t>& loop = P.LoopVertices();
+        for (std::uint32_t k = 0; k < leastFace->vertexCount && inside; ++k) {
+          const RVec3& v0 = v[loop[leastFace->firstVertex + k]];
+          const RVec3& v1 = v[loop[leastFace->firstVertex + (k + 1) % leastFace->vertexCount]];
+          const RVec3 outward = (v1 - v0).cross(axis);
+          const RScalar d0 = outward.dot(q0 - v0), d1 = outward.dot(q1 - v0);
+          if (d0 > 0 && d1 > 0) inside = false;
+          else if (d0 > 0) q0 = q0 + d0 / (d0 - d1) * (q1 - q0);
+          else if (d1 > 0) q1 = q1 + d1 / (d1 - d0) * (q0 - q1);
+        }
+      }
+      if (!inside) q0 = p0, q1 = p1;
+      const RScalar s0 = axis.dot(q0), s1 = axis.dot(q1);
+      onSegment = s0 < s1 ? q0 : s1 < s0 ? q1 : RVec3(RScalar(0.5) * (q0 + q1));
+    }
     onP = onSegment + least * axis;
     return;
   }
@@ -211,8 +252,15 @@ bool FaceAndCapsule(const RConvexShape& a, const RConvexShape& b, const RRelativ
     c.separation = s;
     c.featureId = faceBits | ids[k];
   }
-  // The two ends one point (a capsule standing on its end is touched by one): one point.
-  if (count == 2 && (m.points[0].position - m.points[1].position).squaredNorm() <= tolerance * tolerance) count = 1;
+  // The two ends over one spot of the face (a capsule standing on its end, within the
+  // margin): the deeper one.
+  if (count == 2) {
+    const RVec3 apart = m.points[0].position - m.points[1].position;
+    if ((apart - apart.dot(fn) * fn).squaredNorm() <= tolerance * tolerance) {
+      if (m.points[1].separation < m.points[0].separation) m.points[0] = m.points[1];
+      count = 1;
+    }
+  }
   if (count == 0) return false;
   m.pointCount = count;
   m.normal = fn;

@@ -161,7 +161,7 @@ void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
 class ShapeCache {
  public:
   std::shared_ptr<const RPreparedShape> Get(const RShape& s) {
-    Key key{s.type, s.radius, {s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}, {}};
+    Key key{s.type, s.radius, s.halfHeight, {s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}, {}};
     for (const RVec3& p : s.points) key.points.push_back({p.x(), p.y(), p.z()});
     auto it = m_cache.find(key);
     if (it == m_cache.end()) it = m_cache.emplace(std::move(key), PrepareShape(s)).first;
@@ -172,10 +172,11 @@ class ShapeCache {
   struct Key {
     RShapeType type;
     RScalar radius;
+    RScalar halfHeight;  // every field of RShape: a field left out merges different shapes
     std::array<RScalar, 3> half;
     std::vector<std::array<RScalar, 3>> points;
     bool operator<(const Key& o) const {
-      return std::tie(type, radius, half, points) < std::tie(o.type, o.radius, o.half, o.points);
+      return std::tie(type, radius, halfHeight, half, points) < std::tie(o.type, o.radius, o.halfHeight, o.half, o.points);
     }
   };
   std::map<Key, std::shared_ptr<const RPreparedShape>> m_cache;

@@ -165,12 +165,15 @@ inline btCollisionShape* MakeShape(BulletWorld& w, const RRigidBody& b,
     const std::array<RScalar, 4> key =
         s.type == RShapeType::kBox
             ? std::array<RScalar, 4>{0, s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}
-            : std::array<RScalar, 4>{1, s.radius, 0, 0};
+        : s.type == RShapeType::kCapsule ? std::array<RScalar, 4>{2, s.radius, s.halfHeight, 0}
+                                         : std::array<RScalar, 4>{1, s.radius, 0, 0};
     if (!offset) {
       if (auto it = shared.find(key); it != shared.end()) return it->second;
     }
     if (s.type == RShapeType::kBox) {
       shape = std::make_unique<btBoxShape>(Bt(s.halfExtents));
+    } else if (s.type == RShapeType::kCapsule) {  // Bullet's is along y too, height between centres
+      shape = std::make_unique<btCapsuleShape>(btScalar(s.radius), btScalar(2 * s.halfHeight));
     } else {
       shape = std::make_unique<btSphereShape>(Bt(s.radius));
     }

@@ -64,7 +64,7 @@ struct RPreparedShape {
   RMassProperties unitMass;     // at 1 kg/m^3, S frame
   RVec3 p_BS = RVec3::Zero();   // origin of S in the body frame B, m
   RQuat q_BS = RQuat::Identity();  // rotation S -> B
-  std::shared_ptr<const RConvexPolyhedron> polyhedron_B;  // body frame; null for a sphere
+  std::shared_ptr<const RConvexPolyhedron> polyhedron_B;  // body frame; null for a sphere or capsule
   RScalar boundingRadius = 0;   // largest distance of the surface from the centre of mass, m
 };
 
@@ -217,12 +217,13 @@ class alignas(64) RRigidBody {
   const RVec3& ShapeOffset_B() const { return m_p_BS; }
   const RQuat& ShapeRotation_BS() const { return m_q_BS; }
 
-  // The collision polyhedron in the body frame B (null for a sphere). Shared, immutable.
+  // The collision polyhedron in the body frame B (null for a sphere or a capsule: see
+  // Shape()). Shared, immutable.
   const std::shared_ptr<const RConvexPolyhedron>& Polyhedron_B() const {
     return m_prepared->polyhedron_B;
   }
-  // Sphere radius (m) for a sphere; for a polyhedron its largest vertex distance from the
-  // centre of mass, i.e. the bounding sphere's radius.
+  // The bounding sphere's radius about the centre of mass, m: a sphere's radius, a capsule's
+  // half height plus radius, a polyhedron's largest vertex distance.
   RScalar BoundingRadius() const { return m_boundingRadius; }
 
   // The world form at `stamp` (RIntegrator::CacheStamp()): recomputed only if the cached one
@@ -327,7 +328,7 @@ class alignas(64) RRigidBody {
   std::uint64_t m_slotWorld = 0;
   RScalar m_restTime = 0;
   RScalar m_boundingRadius = 0;
-  const RConvexPolyhedron* m_polyhedron_B = nullptr;  // m_prepared's, null for a sphere
+  const RConvexPolyhedron* m_polyhedron_B = nullptr;  // m_prepared's, null for a sphere or capsule
 
   // Lines 1 and 2: the state and what the step's velocities are made of.
   RVec3 m_x_W = RVec3::Zero();
