@@ -43,7 +43,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const int count = 1 + in.Byte() % 8;
   for (int i = 0; i < count; ++i) {
     RBodyDef d;
-    switch (in.Byte() % 3) {
+    const std::uint8_t kind = in.Byte();
+    switch (kind == 255 ? 3 : kind % 3) {  // (a capsule on 255: the other values keep the corpus's meaning)
+      case 3:
+        d.shape.type = RShapeType::kCapsule;
+        d.shape.radius = in.Decades(-2, 1), d.shape.halfHeight = in.Decades(-2, 1);
+        break;
       case 0:
         d.shape.type = RShapeType::kBox;
         d.shape.halfExtents = RVec3::Constant(in.Decades(-2, 1));
