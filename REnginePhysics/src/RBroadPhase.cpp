@@ -94,7 +94,10 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   m_sweepBoxes.resize(n);
   ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
-    for (std::size_t i = i0; i < i1; ++i) m_sweepBoxes[i] = SweepBox(bodies[i], i);
+    for (std::size_t i = i0; i < i1; ++i) {
+      if (i + 2 < i1) PrefetchBody(bodies[i + 2], 7 * 64);  // orientation to the body-frame box
+      m_sweepBoxes[i] = SweepBox(bodies[i], i);
+    }
   });
   // The bodies that left their fat boxes (or whose box stopped or started being a number).
   m_moved.clear();

@@ -17,6 +17,9 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
   m_putBack.assign(bodies.size(), 0);
   ParallelRanges(m_jobs, bodies.size(), m_tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
+      // The whole body two ahead (the motion reads its state, accumulators and the
+      // rotation's cache): PrefetchBody.
+      if (i + 2 < i1) PrefetchBody(bodies[i + 2], sizeof(RRigidBody));
       RRigidBody& b = bodies[i];
       // A sleeping body has no velocity, and nothing touched it: it stays where it is. A
       // kinematic body moves with its own velocities, whatever pushed it.

@@ -145,6 +145,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
   ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
+      if (i + 2 < i1) PrefetchBody(bodies[i + 2], 7 * 64);  // flags, state, accumulators, masks
       RRigidBody& b = bodies[i];
       const RScalar r = b.BoundingRadius();
       m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();

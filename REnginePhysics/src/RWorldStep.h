@@ -40,6 +40,16 @@ namespace REngine {
 // The bodies one step works on: contiguous storage and each body's stable identity. From
 // an RBodies, its enabled range and handles; from a plain vector, identity by position
 // (a body's handle is its index, generation 0).
+// A pass over the bodies in storage order waits for each body's first lines: bodies are 19
+// cache lines apart, and the hardware's stream prefetch stops at every page (a body in
+// three or four). A pass asks for the lines it reads (the first `bytes` of the body) a
+// couple of bodies ahead: the motion of a 30000-body cloud 16.8 -> 11.2 ms a step
+// (medians of 5 interleaved runs). Only speed depends on it.
+inline void PrefetchBody(const RRigidBody& b, std::size_t bytes) {
+  const char* p = reinterpret_cast<const char*>(&b);
+  for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
+}
+
 struct RStepBodies {
   RRigidBody* data = nullptr;
   std::size_t count = 0;
