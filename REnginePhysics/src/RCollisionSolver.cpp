@@ -99,7 +99,6 @@ RDistanceResult Mirror(RDistanceResult r, const RRelativePose& X_AB) {
   return m;
 }
 
-
 }  // namespace
 
 bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
