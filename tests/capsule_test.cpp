@@ -294,36 +294,43 @@ TEST(CapsulePhysics, LyingCapsuleRestsOnTwoPointsAtItsRadius) {
 
 // On its side down a 20 degree incline with enough friction to roll: a = g sin(theta) /
 // (1 + I / (m r^2)), I the moment about its axis (closed form above), within 1%.
-TEST(CapsulePhysics, RollsDownAnInclineAtTheRollingAcceleration) {
-  const RScalar theta = 20 * kPi / 180, g = 9.81, r = 0.5, h = 1;
-  std::vector<RRigidBody> bodies{Ground(-theta, 1.0)};
-  RBodyDef c;
-  c.shape.type = RShapeType::kCapsule, c.shape.radius = r, c.shape.halfHeight = h;
-  c.mass = 1;
-  c.friction = 1.0, c.restitution = 0;
-  // Axis along z (across the slope), resting on the incline's surface.
-  const RQuat incline(Eigen::AngleAxisd(-theta, RVec3::UnitZ()));
-  c.q_WS = RQuat(Eigen::AngleAxisd(kPi / 2, RVec3::UnitX()));
-  c.position_W = incline * RVec3(0, r, 0);
+// A round body (its axis, if any, across the slope) let go on a 20 degree incline with
+// enough friction to roll, for 1.5 s at 60 Hz; returns it after the run and the distance
+// it went down the slope.
+constexpr RScalar kInclineTheta = 20 * kPi / 180, kInclineG = 9.81, kInclineT = 1.5;
+RScalar RollDownIncline(RBodyDef c, RScalar r, RRigidBody& out) {
+  std::vector<RRigidBody> bodies{Ground(-kInclineTheta, 1.0)};
+  c.mass = 1, c.friction = 1.0, c.restitution = 0;
+  const RQuat incline(Eigen::AngleAxisd(-kInclineTheta, RVec3::UnitZ()));
+  c.position_W = incline * RVec3(0, r, 0);  // resting on the incline's surface
   bodies.emplace_back(c);
   RIntegrator integrator;
-  integrator.Settings().gravity_W = RVec3(0, -g, 0);
+  integrator.Settings().gravity_W = RVec3(0, -kInclineG, 0);
   integrator.Settings().shortcuts.sleeping = false;
-  const RVec3 down = incline * RVec3(1, 0, 0);
-  const RVec3 x0 = bodies[1].Position_W();
-  const RScalar T = 1.5;
-  const int steps = static_cast<int>(std::lround(T * 60));
-  for (int k = 0; k < steps; ++k) integrator.Update(bodies, 1.0 / 60);
-  const RScalar I = bodies[1].Inertia_B().y();
+  const RVec3 down = incline * RVec3(1, 0, 0), x0 = bodies[1].Position_W();
+  for (int k = 0; k < static_cast<int>(std::lround(kInclineT * 60)); ++k) integrator.Update(bodies, 1.0 / 60);
+  out = bodies[1];
+  return (bodies[1].Position_W() - x0).dot(down);
+}
+
+// On its side down a 20 degree incline with enough friction to roll: a = g sin(theta) /
+// (1 + I / (m r^2)), I the moment about its axis (closed form above), within 1%.
+TEST(CapsulePhysics, RollsDownAnInclineAtTheRollingAcceleration) {
+  const RScalar theta = kInclineTheta, g = kInclineG, T = kInclineT, r = 0.5;
+  RBodyDef c;
+  c.shape.type = RShapeType::kCapsule, c.shape.radius = r, c.shape.halfHeight = 1;
+  c.q_WS = RQuat(Eigen::AngleAxisd(kPi / 2, RVec3::UnitX()));  // axis along z, across the slope
+  RRigidBody body(c);
+  const RScalar s = RollDownIncline(c, r, body);
+  const RScalar I = body.Inertia_B().y();
   const RScalar a = g * std::sin(theta) / (1 + I / (1 * r * r));
-  const RScalar s = (bodies[1].Position_W() - x0).dot(down);
   std::printf("capsule rolling: s = %.6f m, closed form %.6f m\n", s, 0.5 * a * T * T);
   EXPECT_NEAR(s, 0.5 * a * T * T, 0.01 * 0.5 * a * T * T);
   // Rolling, not sliding: the contact point is at rest, v = w r, but for the end of the
   // step's kicks (gravity's last half kick along the slope and the friction's answer to it
   // come at the end and the start of steps): within one step's kick, g sin(theta) dt, where
   // sliding for the 1.5 s would leave v - w r at a T (I / (m r^2)) / (1 + ...) = 1.4 m/s.
-  EXPECT_NEAR(bodies[1].Velocity_W().norm(), bodies[1].AngularVelocity_B().norm() * r, g * std::sin(theta) / 60);
+  EXPECT_NEAR(body.Velocity_W().norm(), body.AngularVelocity_B().norm() * r, g * std::sin(theta) / 60);
 }
 
 // Rays against a capsule (r 0.5, core half length 1 along y): closed forms for the side, a
@@ -411,21 +418,12 @@ TEST(CapsulePhysics, FastMissileDoesNotTunnelThroughAThinPlate) {
 // The reference for the capsule's rolling: a ball rolls down the same incline at
 // a = 5/7 g sin(theta) (I = 2/5 m r^2), within 1%.
 TEST(CapsulePhysics, BallRollsDownTheSameInclineAtFiveSeventhsOfGSinTheta) {
-  const RScalar theta = 20 * kPi / 180, g = 9.81, r = 0.5;
-  std::vector<RRigidBody> bodies{Ground(-theta, 1.0)};
+  const RScalar r = 0.5;
   RBodyDef c;
   c.shape.type = RShapeType::kSphere, c.shape.radius = r;
-  c.mass = 1, c.friction = 1.0, c.restitution = 0;
-  const RQuat incline(Eigen::AngleAxisd(-theta, RVec3::UnitZ()));
-  c.position_W = incline * RVec3(0, r, 0);
-  bodies.emplace_back(c);
-  RIntegrator integrator;
-  integrator.Settings().gravity_W = RVec3(0, -g, 0);
-  integrator.Settings().shortcuts.sleeping = false;
-  const RVec3 down = incline * RVec3(1, 0, 0), x0 = bodies[1].Position_W();
-  for (int k = 0; k < 90; ++k) integrator.Update(bodies, 1.0 / 60);
-  const RScalar want = 0.5 * (5.0 / 7 * g * std::sin(theta)) * 1.5 * 1.5;
-  const RScalar s = (bodies[1].Position_W() - x0).dot(down);
+  RRigidBody body(c);
+  const RScalar s = RollDownIncline(c, r, body);
+  const RScalar want = 0.5 * (5.0 / 7 * kInclineG * std::sin(kInclineTheta)) * kInclineT * kInclineT;
   std::printf("ball rolling: s = %.6f m, closed form %.6f m\n", s, want);
   EXPECT_NEAR(s, want, 0.01 * want);
 }

@@ -11,20 +11,6 @@ namespace REngine {
 
 namespace {
 
-// As RCollisionSolver.cpp's: a face contact within ~1.1 degrees of a face normal, and
-// capsule axes within that of each other lie along each other.
-constexpr RScalar kAlignedCos = RScalar(0.9998);
-
-RScalar Band(const RConvexShape& a, const RConvexShape& b) {
-  return RCollisionSolver::kTouchingTolerance * (a.boundingRadius + b.boundingRadius);
-}
-
-RCollisionStatus StatusOf(RScalar separation, RScalar band) {
-  if (separation > band) return RCollisionStatus::kSeparated;
-  if (separation < -band) return RCollisionStatus::kPenetrating;
-  return RCollisionStatus::kTouching;
-}
-
 // A unit vector across d (any, when d is zero).
 RVec3 Across(const RVec3& d) {
   const RVec3 c = std::abs(d.x()) < std::abs(d.y()) ? RVec3(0, -d.z(), d.y()) : RVec3(-d.z(), 0, d.x());
@@ -215,7 +201,7 @@ bool FaceAndCapsule(const RConvexShape& a, const RConvexShape& b, const RRelativ
     const RScalar x = P.Faces()[f].plane.normal.dot(n);
     if (x > alignment) alignment = x, face = f;
   }
-  if (alignment < kAlignedCos) return false;
+  if (alignment < kFaceContactCos) return false;
   const RFace& F = P.Faces()[face];
   const RVec3& fn = F.plane.normal;
   RVec3 p[2];
@@ -271,7 +257,7 @@ bool FaceAndCapsule(const RConvexShape& a, const RConvexShape& b, const RRelativ
 bool CapsuleAlongCapsule(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X,
                          const RVec3& n, RScalar margin, RContactManifold& m, RScalar* droppedMin) {
   const RVec3 axisB = X.R_AB.col(1);
-  if (std::abs(axisB.y()) < kAlignedCos) return false;
+  if (std::abs(axisB.y()) < kFaceContactCos) return false;
   RVec3 b0, b1;
   CoreOfB(b, X, b0, b1);
   const RScalar lo = std::max(-a.halfHeight, std::min(b0.y(), b1.y()));

@@ -13,24 +13,11 @@ namespace REngine {
 
 namespace {
 
-// A face contact when the normal is within ~1.1 degrees of a face normal of either shape;
-// otherwise two edges (or an edge and a vertex) touch and one point describes the contact.
-constexpr RScalar kFaceContactCos = RScalar(0.9998);
 // The reference face is A's unless B's is clearly better aligned: the bias keeps the
 // choice, hence the feature ids, from flickering between equally good faces.
 constexpr RScalar kReferenceBias = RScalar(1e-3);
 // Clipping tolerance, relative to the reference face's size.
 constexpr RScalar kClipTolerance = RScalar(1e-4);
-
-RCollisionStatus StatusOf(RScalar separation, RScalar band) {
-  if (separation > band) return RCollisionStatus::kSeparated;
-  if (separation < -band) return RCollisionStatus::kPenetrating;
-  return RCollisionStatus::kTouching;
-}
-
-RScalar Band(const RConvexShape& a, const RConvexShape& b) {
-  return RCollisionSolver::kTouchingTolerance * (a.boundingRadius + b.boundingRadius);
-}
 
 RVec3 SafeDirection(const RVec3& v, const RVec3& fallback) {
   const RScalar n = v.norm();

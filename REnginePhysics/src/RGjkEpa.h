@@ -25,6 +25,21 @@ struct RPairSupport {
   std::uint32_t m_lastA = 0, m_lastB = 0;
 };
 
+// A face contact when the normal is within ~1.1 degrees of a face normal of either shape
+// (and two capsules lie along each other within that); otherwise two edges (or an edge and
+// a vertex) touch and one point describes the contact.
+constexpr RScalar kFaceContactCos = RScalar(0.9998);
+
+// The touching band of a pair, m, and the status of a separation against it.
+inline RScalar Band(const RConvexShape& a, const RConvexShape& b) {
+  return RCollisionSolver::kTouchingTolerance * (a.boundingRadius + b.boundingRadius);
+}
+inline RCollisionStatus StatusOf(RScalar separation, RScalar band) {
+  if (separation > band) return RCollisionStatus::kSeparated;
+  if (separation < -band) return RCollisionStatus::kPenetrating;
+  return RCollisionStatus::kTouching;
+}
+
 // The pose of A in B's frame, from B's in A's.
 inline RRelativePose Inverse(const RRelativePose& X) {
   RRelativePose inv;
