@@ -2,6 +2,8 @@
 #include <REnginePhysics/RRigidBody.h>
 
 #include "RCapsule.h"
+#include "RCylinder.h"
+#include "RManifold.h"
 #include "RGjkEpa.h"
 #include "RPolyhedronExact.h"
 
@@ -12,17 +14,6 @@
 namespace REngine {
 
 namespace {
-
-// The reference face is A's unless B's is clearly better aligned: the bias keeps the
-// choice, hence the feature ids, from flickering between equally good faces.
-constexpr RScalar kReferenceBias = RScalar(1e-3);
-// Clipping tolerance, relative to the reference face's size.
-constexpr RScalar kClipTolerance = RScalar(1e-4);
-
-RVec3 SafeDirection(const RVec3& v, const RVec3& fallback) {
-  const RScalar n = v.norm();
-  return n > 0 ? RVec3(v / n) : fallback;
-}
 
 // Sphere (radius ra, at the origin of A) against sphere (radius rb, at t).
 RDistanceResult SphereSphere(const RConvexShape& a, const RConvexShape& b, const RVec3& t) {
@@ -118,6 +109,7 @@ RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexS
 // few GJK iterations instead of the full answer (and, for some, its enumeration).
 RDistanceResult RCollisionSolver::DistanceWithin(const RConvexShape& a, const RConvexShape& b,
                                                  const RRelativePose& X_AB, RScalar cutoff) {
+  if (a.cylinderRadius > 0 || b.cylinderRadius > 0) return CylinderPair(a, b, X_AB, cutoff);
   if (!a.polyhedron && !b.polyhedron) {
     return a.halfHeight == 0 && b.halfHeight == 0 ? SphereSphere(a, b, X_AB.t_AB) : RoundPair(a, b, X_AB);
   }
@@ -173,13 +165,6 @@ RDistanceResult RCollisionSolver::DistanceWithin(const RConvexShape& a, const RC
 
 namespace {
 
-// A polygon being clipped: points in A's frame with the feature each came from.
-struct ClipPoint {
-  RVec3 p;
-  std::uint32_t feature;
-};
-constexpr int kMaxClip = 64;
-
 struct FaceRef {
   const RConvexPolyhedron* poly;
   const RMat3* R;  // to A's frame (null: identity)
@@ -196,7 +181,8 @@ struct FaceRef {
   std::uint32_t Count() const { return poly->Faces()[face].vertexCount; }
 };
 
-// The face of `p` whose normal (mapped by R) is most aligned with d; returns the alignment.
+}  // namespace
+
 std::uint32_t MostAlignedFace(const RConvexPolyhedron& p, const RMat3* R, const RVec3& d,
                               RScalar& alignment) {
   const RVec3 dLocal = R ? RVec3(R->transpose() * d) : d;
@@ -209,8 +195,6 @@ std::uint32_t MostAlignedFace(const RConvexPolyhedron& p, const RMat3* R, const 
   return best;
 }
 
-// Keeps at most 4 of n points: the deepest, the farthest from it, then the two that add
-// the most area (so the manifold spans the contact patch).
 int ReduceToFour(RContactPoint* pts, int n, const RVec3& normal) {
   if (n <= 4) return n;
   int keep[4];
@@ -259,8 +243,6 @@ int ReduceToFour(RContactPoint* pts, int n, const RVec3& normal) {
   return m;
 }
 
-}  // namespace
-
 RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvexShape& b,
                                             const RRelativePose& X_AB, RScalar margin) {
   return ManifoldWithin(a, b, X_AB, margin, std::numeric_limits<RScalar>::infinity());
@@ -283,6 +265,10 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
     m.points[0].separation = q.separation;
     m.points[0].featureId = id;
   };
+  if (a.cylinderRadius > 0 || b.cylinderRadius > 0) {
+    CylinderManifold(a, b, X_AB, margin, m, droppedMin);
+    return m;
+  }
   if (!a.polyhedron || !b.polyhedron) {
     // A capsule along a face or another capsule touches along a line (RCapsule.cpp).
     if ((a.halfHeight > 0 || b.halfHeight > 0) &&
@@ -330,27 +316,8 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
     faceSize = std::max(faceSize, (ref.Vertex(e) - ref.Vertex(0)).norm());
   }
   const RScalar clipTolerance = kClipTolerance * faceSize;
-  for (std::uint32_t e = 0; e < refCount && nIn > 0; ++e) {
-    const RVec3 v0 = ref.Vertex(e), v1 = ref.Vertex((e + 1) % refCount);
-    const RVec3 outward = (v1 - v0).cross(refN).normalized();  // CCW about refN: points out
-    int nOut = 0;
-    for (int i = 0; i < nIn; ++i) {
-      const ClipPoint& p = in[i];
-      const ClipPoint& q2 = in[(i + 1) % nIn];
-      const RScalar dp = outward.dot(p.p - v0) - clipTolerance;
-      const RScalar dq = outward.dot(q2.p - v0) - clipTolerance;
-      if (dp <= 0 && nOut < kMaxClip) out[nOut++] = p;
-      if ((dp < 0) != (dq < 0) && dp != dq && nOut < kMaxClip) {
-        const RScalar t = dp / (dp - dq);
-        // A new point's feature: the segment's two ends' features and the clipping edge,
-        // mixed into 15 bits; stable while the same features are involved.
-        const std::uint32_t mix = (p.feature * 0x9e3779b1u) ^ (q2.feature * 0x85ebca6bu) ^ e;
-        out[nOut++] = {p.p + t * (q2.p - p.p), (mix >> 17) & 0x7fffu};
-      }
-    }
-    std::swap(in, out);
-    nIn = nOut;
-  }
+  nIn = ClipBySides([&](std::uint32_t e) { return ref.Vertex(e); }, refCount, refN, clipTolerance,
+                     in, nIn, out, &in);
 
   const RScalar refOffset = refN.dot(ref.Vertex(0));
   RContactPoint pts[kMaxClip];
@@ -384,6 +351,7 @@ RConvexShape ShapeOf(const RRigidBody& body) {
   s.polyhedron = body.m_polyhedron_B;  // Polyhedron_B()'s, without reaching the prepared shape
   s.radius = body.m_coreRadius;
   s.halfHeight = body.m_coreHalfHeight;
+  s.cylinderRadius = body.m_cylinderRadius;
   s.boundingRadius = body.BoundingRadius();
   return s;
 }

@@ -158,6 +158,7 @@ void Witnesses(const Simplex& s, RVec3& a, RVec3& b) {
 }  // namespace
 
 RVec3 RPairSupport::SupportA(const RVec3& d) {
+  if (a.cylinderRadius > 0) return CylinderSupport(a.cylinderRadius, a.halfHeight, d);
   if (!a.polyhedron) return a.halfHeight == 0 ? RVec3::Zero() : RVec3(0, d.y() >= 0 ? a.halfHeight : -a.halfHeight, 0);
   const auto& v = a.polyhedron->Vertices();
   m_lastA = a.polyhedron->Support(v.data(), d, m_lastA);
@@ -165,6 +166,9 @@ RVec3 RPairSupport::SupportA(const RVec3& d) {
 }
 
 RVec3 RPairSupport::SupportB(const RVec3& d_A) {
+  if (b.cylinderRadius > 0) {
+    return X.R_AB * CylinderSupport(b.cylinderRadius, b.halfHeight, X.R_AB.transpose() * d_A) + X.t_AB;
+  }
   if (!b.polyhedron) {
     if (b.halfHeight == 0) return X.t_AB;
     // The capsule's core end that is farthest along d: B's y axis is R_AB's second column.
@@ -307,11 +311,6 @@ namespace {
 
 constexpr int kMaxEpaVertices = RCollisionSolver::kMaxEpaIterations + 8;
 constexpr int kMaxEpaFaces = 2 * kMaxEpaVertices + 8;
-// EPA stops when the support in the nearest face's normal is within this fraction of the
-// face's distance (plus a floor relative to the pair's size, for depths near zero): the
-// depth is then the minimum to that relative accuracy. For polyhedra it ends earlier, when
-// the nearest face is a face of D and no support point lies beyond it.
-constexpr RScalar kEpaRelativeGap = 1e-10;
 constexpr RScalar kEpaAbsoluteGap = 1e-14;
 
 struct EpaFace {
@@ -389,7 +388,7 @@ bool CompleteTetrahedron(RPairSupport& sup, RSimplexPoint* p, int& n, RScalar to
 
 }  // namespace
 
-REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
+REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk, RScalar relativeGap) {
   REpaResult r;
   const RScalar size = sup.a.boundingRadius + sup.b.boundingRadius;
   Epa e;
@@ -411,6 +410,10 @@ REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
     e.AddFace(0, 2, 1), e.AddFace(0, 1, 3), e.AddFace(0, 3, 2), e.AddFace(1, 2, 3);
   }
 
+  // A face sees a new point beyond its plane by more than this (0 for polyhedra, whose
+  // supports are vertices of D; on a curved surface the faces near the answer are small and
+  // their planes carry rounding, so a point grazing them is seen by chance).
+  const RScalar visible = relativeGap > kEpaRelativeGap ? RScalar(1e-13) * size : RScalar(0);
   int horizon[kMaxEpaFaces * 3][2];
   // The faces array holds only the live polytope: each iteration's visibility pass also
   // compacts it and finds the nearest surviving face, so nothing scans dead faces.
@@ -427,7 +430,8 @@ REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
     const RVec3 a = sup.SupportA(face.n), b = sup.SupportB(-face.n);
     const RVec3 w = a - b;
     const RScalar dist = face.n.dot(w);
-    const bool done = dist - face.d <= kEpaRelativeGap * std::abs(face.d) + kEpaAbsoluteGap * size;
+    if (dist < r.upperDepth) r.upperDepth = dist, r.upperNormal = face.n, r.upperA = a, r.upperB = b;
+    const bool done = dist - face.d <= relativeGap * std::abs(face.d) + kEpaAbsoluteGap * size;
     if (done || e.nv >= kMaxEpaVertices) {
       r.converged = done;
       break;
@@ -440,7 +444,7 @@ REpaResult EpaPenetration(RPairSupport& sup, const RGjkResult& gjk) {
     RScalar best = kInf;
     for (int f = 0; f < e.nf; ++f) {
       const EpaFace& g = e.faces[f];
-      if (g.n.dot(w - e.verts[g.v[0]].w) <= 0) {
+      if (g.n.dot(w - e.verts[g.v[0]].w) <= visible) {
         if (g.d < best) best = g.d, nearest = out;
         e.faces[out++] = g;
         continue;

@@ -3,6 +3,7 @@
 
 #include <REnginePhysics/RCollision.h>
 
+#include <cmath>
 #include <limits>
 
 namespace REngine {
@@ -38,6 +39,22 @@ inline RCollisionStatus StatusOf(RScalar separation, RScalar band) {
   if (separation > band) return RCollisionStatus::kSeparated;
   if (separation < -band) return RCollisionStatus::kPenetrating;
   return RCollisionStatus::kTouching;
+}
+
+// v's direction, or the fallback when v is zero.
+inline RVec3 SafeDirection(const RVec3& v, const RVec3& fallback) {
+  const RScalar n = v.norm();
+  return n > 0 ? RVec3(v / n) : fallback;
+}
+
+// The support point of a cylinder (radius r about y, ends at y = +-h) in direction d, both in
+// its frame: the rim point farthest along d's part across the axis, on the end d points to
+// (the end's centre when d is along the axis: any point of the end is a support point).
+inline RVec3 CylinderSupport(RScalar r, RScalar h, const RVec3& d) {
+  const RScalar y = d.y() >= 0 ? h : -h;
+  const RScalar across = std::sqrt(d.x() * d.x() + d.z() * d.z());
+  if (!(across > 0)) return RVec3(0, y, 0);
+  return RVec3(r * (d.x() / across), y, r * (d.z() / across));
 }
 
 // The pose of A in B's frame, from B's in A's.
@@ -109,9 +126,22 @@ struct REpaResult {
   RVec3 witnessA = RVec3::Zero();  // deepest points of A inside B and of B inside A
   RVec3 witnessB = RVec3::Zero();
   int iterations = 0;
+  // The least overlap found along any normal EPA tried (the support of D there): moving B
+  // by it along upperNormal separates the shapes, so it bounds the depth from above; with
+  // its support points. Kept whether or not EPA converged (infinite when it never started).
+  RScalar upperDepth = std::numeric_limits<RScalar>::infinity();
+  RVec3 upperNormal = RVec3::UnitX();
+  RVec3 upperA = RVec3::Zero(), upperB = RVec3::Zero();
 };
 
-// EPA from GJK's final simplex (which encloses the origin).
-REpaResult EpaPenetration(RPairSupport& support, const RGjkResult& gjk);
+// EPA stops when the support in the nearest face's normal is within this fraction of the
+// face's distance (plus a floor relative to the pair's size, for depths near zero): the
+// depth is then the minimum to that relative accuracy. For polyhedra it ends earlier, when
+// the nearest face is a face of D and no support point lies beyond it.
+constexpr RScalar kEpaRelativeGap = 1e-10;
+
+// EPA from GJK's final simplex (which encloses the origin), to relativeGap.
+REpaResult EpaPenetration(RPairSupport& support, const RGjkResult& gjk,
+                          RScalar relativeGap = kEpaRelativeGap);
 
 }  // namespace REngine

@@ -63,8 +63,10 @@ Posed Pose(const RPreparedShape& prepared, const RVec3& position_W, const RQuat&
   Posed p;
   p.shape.polyhedron = prepared.polyhedron_B.get();
   const bool capsule = prepared.shape.type == RShapeType::kCapsule;
-  p.shape.radius = p.shape.polyhedron ? 0 : capsule ? prepared.shape.radius : prepared.boundingRadius;
-  p.shape.halfHeight = capsule ? prepared.shape.halfHeight : 0;
+  const bool cylinder = prepared.shape.type == RShapeType::kCylinder;
+  p.shape.radius = p.shape.polyhedron || cylinder ? 0 : capsule ? prepared.shape.radius : prepared.boundingRadius;
+  p.shape.halfHeight = capsule || cylinder ? prepared.shape.halfHeight : 0;
+  p.shape.cylinderRadius = cylinder ? prepared.shape.radius : 0;
   p.shape.boundingRadius = prepared.boundingRadius;
   p.R_WB = q_WB.toRotationMatrix();
   p.x_W = position_W - q_WB * prepared.p_BS;

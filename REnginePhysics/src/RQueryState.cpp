@@ -10,7 +10,8 @@ namespace REngine {
 RLocalBox LocalBoxOf(const RConvexShape& shape) {
   RLocalBox box;
   if (!shape.polyhedron) {
-    box.half_B = RVec3(shape.radius, shape.halfHeight + shape.radius, shape.radius);
+    const RScalar across = shape.radius + shape.cylinderRadius;  // one of them is 0
+    box.half_B = RVec3(across, shape.halfHeight + shape.radius, across);
     return box;
   }
   RVec3 lo = RVec3::Constant(std::numeric_limits<RScalar>::infinity()), hi = -lo;

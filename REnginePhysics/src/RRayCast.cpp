@@ -106,11 +106,58 @@ bool RayCapsule(RScalar r, RScalar h, const RVec3& o, const RVec3& d, RScalar ma
   return found;
 }
 
+// A cylinder (radius r about y, ends at y = +-h) is the intersection of a slab and an
+// infinite round cylinder: as for a polyhedron, the ray is inside both for t in
+// [enter, exit], and the constraint that raised enter last gives the normal. The side's
+// roots as in RayCapsule, each from the form that does not cancel.
+bool RayCylinder(RScalar r, RScalar h, const RVec3& o, const RVec3& d, RScalar maxDistance, RShapeRayHit& hit) {
+  RScalar enter = 0, exit = maxDistance;
+  RVec3 normal = -d;  // starting inside
+  if (d.y() == 0) {
+    if (std::abs(o.y()) > h) return false;
+  } else {
+    const RScalar t0 = (-h - o.y()) / d.y(), t1 = (h - o.y()) / d.y();
+    if (std::min(t0, t1) > enter) enter = std::min(t0, t1), normal = RVec3(0, d.y() > 0 ? -1 : 1, 0);
+    exit = std::min(exit, std::max(t0, t1));
+  }
+  const RScalar a = d.x() * d.x() + d.z() * d.z();
+  const RScalar len = std::hypot(o.x(), o.z());
+  if (a == 0) {
+    if (len > r) return false;
+  } else {
+    const RScalar b = o.x() * d.x() + o.z() * d.z();
+    const RScalar px = o.x() - b / a * d.x(), pz = o.z() - b / a * d.z();
+    const RScalar p = std::hypot(px, pz);
+    const RScalar h2 = (r - p) * (r + p);
+    if (h2 < 0) return false;
+    const RScalar s = std::sqrt(a * h2), c = (len - r) * (len + r);
+    RScalar tNear, tFar;
+    if (b <= 0) {
+      tFar = (s - b) / a;
+      tNear = s - b > 0 ? c / (s - b) : tFar;
+    } else {
+      tNear = -(s + b) / a;
+      tFar = -c / (s + b);
+    }
+    if (tNear > enter) {
+      enter = tNear;
+      const RScalar nx = o.x() + enter * d.x(), nz = o.z() + enter * d.z(), nn = std::hypot(nx, nz);
+      normal = nn > 0 ? RVec3(nx / nn, 0, nz / nn) : RVec3(-d);
+    }
+    exit = std::min(exit, tFar);
+  }
+  if (enter > exit) return false;
+  hit.distance = enter;
+  hit.normal = normal;
+  return true;
+}
+
 }  // namespace
 
 bool RayCastShape(const RConvexShape& shape, const RVec3& origin, const RVec3& direction,
                   RScalar maxDistance, RShapeRayHit& hit) {
   if (shape.polyhedron) return RayPolyhedron(*shape.polyhedron, origin, direction, maxDistance, hit);
+  if (shape.cylinderRadius > 0) return RayCylinder(shape.cylinderRadius, shape.halfHeight, origin, direction, maxDistance, hit);
   if (shape.halfHeight > 0) return RayCapsule(shape.radius, shape.halfHeight, origin, direction, maxDistance, hit);
   return RaySphere(shape.radius, origin, direction, maxDistance, hit);
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -65,13 +66,17 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
       break;
     }
     case RShapeType::kCapsule:
+    case RShapeType::kCylinder:
       Require(PositiveFinite(shape.radius) && shape.radius <= kMaxSize, "shape.radius",
               "must be finite, > 0 and at most 1e12 m");
       Require(PositiveFinite(shape.halfHeight) && shape.halfHeight <= kMaxSize, "shape.half_height",
               "must be finite, > 0 and at most 1e12 m");
-      // As a box: a capsule 1e-4 as thick as it is long is as thin as the narrow phase takes.
+      // As a box: a capsule or cylinder 1e-4 as thick as it is long is as thin as the narrow
+      // phase takes, and so is a cylinder 1e-4 as tall as it is wide.
       Require(shape.radius >= kMinThickness * shape.halfHeight, "shape.radius",
               "is too thin: below 1e-4 of half_height");
+      Require(shape.type == RShapeType::kCapsule || shape.halfHeight >= kMinThickness * shape.radius,
+              "shape.half_height", "is too thin: below 1e-4 of radius");
       break;
     case RShapeType::kHull:
       break;
@@ -98,8 +103,9 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
     }
   }
   p.boundingRadius = p.polyhedron_B ? p.polyhedron_B->MaxRadius()
-                     : shape.type == RShapeType::kCapsule ? shape.halfHeight + shape.radius
-                                                          : shape.radius;
+                     : shape.type == RShapeType::kCapsule  ? shape.halfHeight + shape.radius
+                     : shape.type == RShapeType::kCylinder ? std::hypot(shape.halfHeight, shape.radius)
+                                                           : shape.radius;
   return prepared;
 }
 
@@ -177,6 +183,9 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   } else if (shape.shape.type == RShapeType::kCapsule) {
     m_coreHalfHeight = shape.shape.halfHeight, m_coreRadius = shape.shape.radius;
     m_boxHalf_B = RVec3(m_coreRadius, m_coreHalfHeight + m_coreRadius, m_coreRadius);
+  } else if (shape.shape.type == RShapeType::kCylinder) {
+    m_coreHalfHeight = shape.shape.halfHeight, m_cylinderRadius = shape.shape.radius;
+    m_boxHalf_B = RVec3(m_cylinderRadius, m_coreHalfHeight, m_cylinderRadius);
   } else {
     m_coreRadius = m_boundingRadius;
     m_boxHalf_B = RVec3::Constant(m_boundingRadius);
@@ -256,6 +265,16 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
   ++m_worldFormComputations;
   wf.sphereCenter_W = m_x_W;
   wf.sphereRadius = m_boundingRadius;
+  if (m_cylinderRadius > 0) {
+    // A cylinder: along world axis k, its axis a reaches h |a_k| and its end discs
+    // r sqrt(1 - a_k^2).
+    const RVec3 a_W = m_q_WB * RVec3::UnitY();
+    const RVec3 e = (m_coreHalfHeight * a_W.cwiseAbs()).array() +
+                    m_cylinderRadius * (RVec3::Ones() - a_W.cwiseAbs2()).cwiseMax(RVec3::Zero()).cwiseSqrt().array();
+    wf.aabbMin_W = m_x_W - e;
+    wf.aabbMax_W = m_x_W + e;
+    return;
+  }
   if (!m_polyhedron_B && m_coreHalfHeight > 0) {  // a capsule: its core's ends, grown by its radius
     const RVec3 axis_W = m_q_WB * RVec3(0, m_coreHalfHeight, 0);
     wf.aabbMin_W = m_x_W.cwiseMin(m_x_W + axis_W).cwiseMin(m_x_W - axis_W).array() - m_coreRadius;

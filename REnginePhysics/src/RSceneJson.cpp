@@ -282,7 +282,8 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
                                   {{"box", RShapeType::kBox},
                                    {"sphere", RShapeType::kSphere},
                                    {"hull", RShapeType::kHull},
-                                   {"capsule", RShapeType::kCapsule}});
+                                   {"capsule", RShapeType::kCapsule},
+                                   {"cylinder", RShapeType::kCylinder}});
   switch (s.type) {
     case RShapeType::kBox:
       shape.AllowOnly({"type", "half_extents"});
@@ -294,6 +295,7 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
       s.radius = ReadPositive(shape.Required("radius"), shape.PathOf("radius"));
       break;
     case RShapeType::kCapsule:
+    case RShapeType::kCylinder:
       shape.AllowOnly({"type", "radius", "half_height"});
       s.radius = ReadPositive(shape.Required("radius"), shape.PathOf("radius"));
       s.halfHeight = ReadPositive(shape.Required("half_height"), shape.PathOf("half_height"));

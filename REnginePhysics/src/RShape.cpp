@@ -40,6 +40,15 @@ RMassProperties ComputeMassProperties(const RShape& shape) {
       mp.principalMoments = RVec3(across, axial, across);
       return mp;
     }
+    case RShapeType::kCylinder: {
+      // About the axis (y) m r^2 / 2; across it m (3 r^2 + L^2) / 12 with L = 2h.
+      const RScalar r = shape.radius, L = 2 * shape.halfHeight;
+      mp.volume = kPi * r * r * L;
+      const RScalar axial = mp.volume * r * r / 2;
+      const RScalar across = mp.volume * (3 * r * r + L * L) / 12;
+      mp.principalMoments = RVec3(across, axial, across);
+      return mp;
+    }
     case RShapeType::kHull:
       break;
   }

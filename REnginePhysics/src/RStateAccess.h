@@ -34,7 +34,8 @@ inline std::uint64_t ShapeKey(const RShape& shape) {
   switch (shape.type) {
     case RShapeType::kSphere: w.F64(shape.radius); break;
     case RShapeType::kBox: w.Vec3(shape.halfExtents); break;
-    case RShapeType::kCapsule: w.F64(shape.radius), w.F64(shape.halfHeight); break;
+    case RShapeType::kCapsule:
+    case RShapeType::kCylinder: w.F64(shape.radius), w.F64(shape.halfHeight); break;
     case RShapeType::kHull:
       w.U64(shape.points.size());
       for (const RVec3& p : shape.points) w.Vec3(p);

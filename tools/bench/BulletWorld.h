@@ -165,8 +165,9 @@ inline btCollisionShape* MakeShape(BulletWorld& w, const RRigidBody& b,
     const std::array<RScalar, 4> key =
         s.type == RShapeType::kBox
             ? std::array<RScalar, 4>{0, s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}
-        : s.type == RShapeType::kCapsule ? std::array<RScalar, 4>{2, s.radius, s.halfHeight, 0}
-                                         : std::array<RScalar, 4>{1, s.radius, 0, 0};
+        : s.type == RShapeType::kCapsule  ? std::array<RScalar, 4>{2, s.radius, s.halfHeight, 0}
+        : s.type == RShapeType::kCylinder ? std::array<RScalar, 4>{3, s.radius, s.halfHeight, 0}
+                                          : std::array<RScalar, 4>{1, s.radius, 0, 0};
     if (!offset) {
       if (auto it = shared.find(key); it != shared.end()) return it->second;
     }
@@ -174,6 +175,8 @@ inline btCollisionShape* MakeShape(BulletWorld& w, const RRigidBody& b,
       shape = std::make_unique<btBoxShape>(Bt(s.halfExtents));
     } else if (s.type == RShapeType::kCapsule) {  // Bullet's is along y too, height between centres
       shape = std::make_unique<btCapsuleShape>(btScalar(s.radius), btScalar(2 * s.halfHeight));
+    } else if (s.type == RShapeType::kCylinder) {  // Bullet's btCylinderShape is along y, half extents (r, h, r)
+      shape = std::make_unique<btCylinderShape>(btVector3(btScalar(s.radius), btScalar(s.halfHeight), btScalar(s.radius)));
     } else {
       shape = std::make_unique<btSphereShape>(Bt(s.radius));
     }

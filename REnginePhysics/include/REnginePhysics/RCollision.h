@@ -22,14 +22,16 @@ namespace REngine {
 
 class RRigidBody;
 
-// A convex shape as the narrow phase sees it, in its own body frame B: a polyhedron, or a
-// core swept by a sphere: a point (a sphere) or the segment from (0, -halfHeight, 0) to
-// (0, halfHeight, 0) (a capsule). Cheap to build per query.
+// A convex shape as the narrow phase sees it, in its own body frame B: a polyhedron, a
+// cylinder, or a core swept by a sphere: a point (a sphere) or the segment from
+// (0, -halfHeight, 0) to (0, halfHeight, 0) (a capsule). Cheap to build per query.
 struct RConvexShape {
-  const RConvexPolyhedron* polyhedron = nullptr;  // null: a sphere or capsule about B's origin
-  RScalar radius = 0;                             // sphere or capsule radius, m (0 for a polyhedron)
+  const RConvexPolyhedron* polyhedron = nullptr;  // null: a sphere, capsule or cylinder about B's origin
+  RScalar radius = 0;                             // sphere or capsule radius, m (0 otherwise)
   RScalar boundingRadius = 0;                     // about B's origin, m
-  RScalar halfHeight = 0;                         // capsule core's half length along B's y, m
+  RScalar halfHeight = 0;                         // capsule core's or cylinder's half length along B's y, m
+  // > 0: a cylinder of this radius about B's y axis, its flat ends at y = +-halfHeight, m.
+  RScalar cylinderRadius = 0;
 };
 
 // Pose of shape B's frame in shape A's frame: p_A = R_AB p_B + t_AB. Both in metres.

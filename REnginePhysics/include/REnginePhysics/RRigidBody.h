@@ -328,7 +328,7 @@ class alignas(64) RRigidBody {
   std::uint64_t m_slotWorld = 0;
   RScalar m_restTime = 0;
   RScalar m_boundingRadius = 0;
-  const RConvexPolyhedron* m_polyhedron_B = nullptr;  // m_prepared's, null for a sphere or capsule
+  const RConvexPolyhedron* m_polyhedron_B = nullptr;  // m_prepared's, null for a sphere, capsule or cylinder
 
   // Lines 1 and 2: the state and what the step's velocities are made of.
   RVec3 m_x_W = RVec3::Zero();
@@ -368,8 +368,9 @@ class alignas(64) RRigidBody {
   RVec3 m_boxCenter_B = RVec3::Zero(), m_boxHalf_B = RVec3::Zero();
   // A shape without a polyhedron, as the narrow phase sees it (RConvexShape): a core
   // segment from (0, -h, 0) to (0, h, 0) in B (h = 0: a point, a sphere), swept by a
-  // sphere of the radius, m. 0 for a polyhedron.
-  RScalar m_coreHalfHeight = 0, m_coreRadius = 0;
+  // sphere of the radius, m; or a cylinder of m_cylinderRadius about that segment (its
+  // core radius 0). All 0 for a polyhedron.
+  RScalar m_coreHalfHeight = 0, m_coreRadius = 0, m_cylinderRadius = 0;
   mutable RWorldForm m_worldForm;
 
   // Last, what the step reads only at a contact or never: material, mass properties, the

@@ -10,14 +10,15 @@
 namespace REngine {
 
 // (Values are stored in saved states: new types are appended.)
-enum class RShapeType : std::uint8_t { kSphere, kBox, kHull, kCapsule };
+enum class RShapeType : std::uint8_t { kSphere, kBox, kHull, kCapsule, kCylinder };
 
 // A shape in its own frame S (the frame the scene gives sizes and points in), metres.
 struct RShape {
   RShapeType type = RShapeType::kSphere;
-  RScalar radius = 0.5;                           // kSphere, kCapsule, m
+  RScalar radius = 0.5;                           // kSphere, kCapsule, kCylinder, m
   // kCapsule: the segment from (0, -halfHeight, 0) to (0, halfHeight, 0) in S, swept by a
-  // sphere of `radius`, m.
+  // sphere of `radius`, m. kCylinder: the solid of `radius` about S's y axis, its flat ends
+  // at y = +-halfHeight, m.
   RScalar halfHeight = 0.5;
   RVec3 halfExtents = RVec3::Constant(0.5);       // kBox, m, along S's axes
   std::vector<RVec3> points;                      // kHull: the hull of these points, S frame, m
@@ -32,7 +33,7 @@ struct RMassProperties {
   RQuat q_SB = RQuat::Identity();           // principal (body) frame B to S: columns are axes
 };
 
-// Exact mass properties. Sphere, box and capsule in closed form, with the body frame equal to the
+// Exact mass properties. Sphere, box, capsule and cylinder in closed form, with the body frame equal to the
 // shape frame (so the scene's orientation passes through untouched); a hull from its
 // polyhedron (below). Throws RHullError for hull points that do not span a solid.
 RMassProperties ComputeMassProperties(const RShape& shape);
