@@ -304,6 +304,9 @@ TEST_F(Cli, BadScenesExitTwoNamingTheFileAndTheField) {
                                    "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]})"}}),
        "bodies[0].shape.points"},
       {SceneOf({{"a", kSphere}}, R"("dt": 1e999)"), "dt"},
+      // A cylinder as flat as a coin of 1e-5 of its radius: refused when the body is made.
+      {SceneOf({{"a", R"("shape": {"type": "cylinder", "radius": 1, "half_height": 1e-5})"}}),
+       "bodies[0].shape.half_height"},
       {"{\"bodies\": [\n  {\"name\": \"a\",}\n]}", "invalid JSON at line 2, column 16"},
   };
   for (const Case& c : cases) {
@@ -502,6 +505,30 @@ TEST_F(Cli, ActionsAddAndRemoveBodiesRowByRow) {
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("actions[0].remove: no body is named \"ghost\" at step 2"), std::string::npos)
       << bad.err;
+}
+
+// A cylinder's --describe: mass rho pi r^2 (2h), moments m r^2 / 2 about its axis and
+// m (3 r^2 + (2h)^2) / 12 across it, the axis turned into the world by the orientation.
+TEST_F(Cli, DescribeGivesACylindersClosedFormMassProperties) {
+  const std::string scene = SceneOf({
+      {"drum", R"("shape": {"type": "cylinder", "radius": 0.8, "half_height": 0.3}, "density": 2,
+                  "position": [1, 2, 3], "orientation": [0.7071067811865476, 0, 0, 0.7071067811865476])"},
+  });
+  const Result r = Run(Quote(Write("cylinder.json", scene)) + " --describe");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json list = nlohmann::json::parse(r.out);
+  ASSERT_EQ(list.size(), 1u);
+  const double pi = 3.14159265358979323846, m = 2 * pi * 0.64 * 0.6;
+  EXPECT_NEAR(list[0]["mass"].get<double>(), m, 1e-13);
+  const double axial = m * 0.64 / 2, across = m * (3 * 0.64 + 0.36) / 12;
+  // Sorted ascending: across (0.19 m) below axial (0.32 m) for this flat drum.
+  EXPECT_NEAR(list[0]["principal_moments"][0].get<double>(), across, 1e-13);
+  EXPECT_NEAR(list[0]["principal_moments"][1].get<double>(), across, 1e-13);
+  EXPECT_NEAR(list[0]["principal_moments"][2].get<double>(), axial, 1e-13);
+  // The axis (the shape's y) turned 90 degrees about z: the world's x.
+  const nlohmann::json& axis = list[0]["principal_axes"][2];
+  EXPECT_NEAR(std::abs(axis[0].get<double>()), 1, 1e-15);
+  EXPECT_NEAR(list[0]["com"][2].get<double>(), 3, 1e-15);
 }
 
 // A capsule's --describe: its mass from the density and its volume, pi r^2 (2h) + 4/3 pi r^3,

@@ -143,6 +143,20 @@ TEST(Scene, CapsulesOfOneRadiusAndTwoLengthsStayApart) {
   EXPECT_EQ(bodies[1].PreparedShape(), bodies[2].PreparedShape());
 }
 
+// A cylinder and a capsule of the same radius and half height are different shapes.
+TEST(Scene, ACylinderAndACapsuleOfOneSizeStayApart) {
+  const RScene s = ParseScene(R"({"bodies": [
+      {"name": "can", "shape": {"type": "cylinder", "radius": 0.5, "half_height": 3}},
+      {"name": "pill", "shape": {"type": "capsule", "radius": 0.5, "half_height": 3}, "position": [5, 0, 0]},
+      {"name": "can2", "shape": {"type": "cylinder", "radius": 0.5, "half_height": 3}, "position": [9, 0, 0]}]})",
+                              "cylinders.json");
+  const std::vector<RRigidBody> bodies = CreateBodies(s);
+  EXPECT_EQ(bodies[0].Shape().type, RShapeType::kCylinder);
+  EXPECT_NEAR(bodies[0].Mass(), 3.14159265358979 * 0.25 * 6, 1e-12);
+  EXPECT_NE(bodies[0].PreparedShape(), bodies[1].PreparedShape());
+  EXPECT_EQ(bodies[0].PreparedShape(), bodies[2].PreparedShape());
+}
+
 TEST(Scene, TheFormatDocumentsExampleLoads) {
   const std::string text = R"({
     "format": "rengine-scene/1",
@@ -406,6 +420,13 @@ const std::vector<BadScene> kBadScenes = {
      "bodies[0].shape.half_extents"},
     {"capsule field on a sphere", OneBody(Shape(R"({"type": "sphere", "radius": 1, "half_height": 1})")),
      "bodies[0].shape.half_height"},
+    {"cylinder without radius", OneBody(Shape(R"({"type": "cylinder", "half_height": 1})")),
+     "bodies[0].shape.radius"},
+    {"cylinder of zero half height", OneBody(Shape(R"({"type": "cylinder", "radius": 1, "half_height": 0})")),
+     "bodies[0].shape.half_height"},
+    {"points field on a cylinder",
+     OneBody(Shape(R"({"type": "cylinder", "radius": 1, "half_height": 1, "points": []})")),
+     "bodies[0].shape.points"},
     {"category negative", OneBody(Sphere(R"("category": -1)")), "bodies[0].category"},
     {"category beyond 32 bits", OneBody(Sphere(R"("category": 4294967296)")),
      "bodies[0].category"},

@@ -27,6 +27,12 @@ namespace {
 RShape ShapeFrom(FuzzInput& in, bool raw) {
   RShape s;
   const std::uint8_t kind = in.Byte();
+  if (kind == 254) {  // a cylinder (the values below 254 keep the corpus's meaning)
+    s.type = RShapeType::kCylinder;
+    s.radius = raw ? in.RawDouble() : in.Decades(-2, 3);
+    s.halfHeight = raw ? in.RawDouble() : in.Decades(-2, 3);
+    return s;
+  }
   if (kind == 255) {  // (the other values keep the corpus's meaning)
     s.type = RShapeType::kCapsule;
     s.radius = raw ? in.RawDouble() : in.Decades(-2, 3);
@@ -189,6 +195,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (body.Shape().type == RShapeType::kCapsule) {  // its core's farther end, and the radius
         const RVec3 axis = body.Orientation_WB() * RVec3(0, body.Shape().halfHeight, 0);
         return d.dot(body.Position_W()) + std::abs(d.dot(axis)) + body.Shape().radius;
+      }
+      if (body.Shape().type == RShapeType::kCylinder) {  // its axis's reach and its rim's
+        const RVec3 axis = body.Orientation_WB() * RVec3::UnitY();
+        const double along = d.dot(axis);
+        return d.dot(body.Position_W()) + body.Shape().halfHeight * std::abs(along) +
+               body.Shape().radius * std::sqrt(std::max(0.0, d.squaredNorm() - along * along));
       }
       if (!body.Polyhedron_B()) return d.dot(body.Position_W()) + body.BoundingRadius();
       double most = -1e300;

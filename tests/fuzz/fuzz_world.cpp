@@ -44,9 +44,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (int i = 0; i < count; ++i) {
     RBodyDef d;
     const std::uint8_t kind = in.Byte();
-    switch (kind == 255 ? 3 : kind % 3) {  // (a capsule on 255: the other values keep the corpus's meaning)
+    // (a capsule on 255 and a cylinder on 254: the other values keep the corpus's meaning)
+    switch (kind == 255 ? 3 : kind == 254 ? 4 : kind % 3) {
       case 3:
         d.shape.type = RShapeType::kCapsule;
+        d.shape.radius = in.Decades(-2, 1), d.shape.halfHeight = in.Decades(-2, 1);
+        break;
+      case 4:
+        d.shape.type = RShapeType::kCylinder;
         d.shape.radius = in.Decades(-2, 1), d.shape.halfHeight = in.Decades(-2, 1);
         break;
       case 0:

@@ -83,6 +83,11 @@ for mode in range(5):
           u16(0.7) + u16(0.2) + u16(0.1) + u16(0.3) + u16(0.5) * 4 + u16(0.55) * 3)
 write("fuzz_narrowphase", "sphere_hull", bytes([0, 1]) + u16(0.5) + bytes([2]) + u16(0.5) + bytes([4]) +
       b"".join(u16(v) for v in (0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1, 0.5, 0.2, 0.9, 0.3, 0.3, 0.3, 0.7, 0.7, 0.7)))
+# A cylinder (shape byte 254) against a box in every mode, and against a cylinder.
+tail = u16(0.7) + u16(0.2) + u16(0.1) + u16(0.3) + u16(0.5) * 4 + u16(0.55) * 3
+for mode in range(5):
+    write("fuzz_narrowphase", f"cylinder_box_mode{mode}", bytes([mode, 254]) + u16(0.6) * 2 + bytes([0]) + u16(0.4) * 3 + tail)
+write("fuzz_narrowphase", "cylinder_cylinder", bytes([1, 254]) + u16(0.5) * 2 + bytes([254]) + u16(0.45) * 2 + tail)
 issue = bytes([0x80 | 0, 0]) + raw(13.117647055900639, 0.57617071270942688, 0.50029640259522512)
 issue += bytes([0]) + raw(195.29190067006274, 1999.2532169117646, 1808.8235294117646)
 issue += raw(float.fromhex("0x1.1f80e1b73b9fp-1"), float.fromhex("-0x1.308cc2e6e5b98p-1"),
@@ -97,6 +102,7 @@ def body(kind, static=0):
     return bytes([kind]) + u16(0.5) * 3 + bytes([static]) + u16(0.4) + u16(0.5) * 3 + bytes([1]) + \
         u16(0.6) * 4 + u16(0.5) * 6 + u16(0.5) + u16(0.3) + bytes([1])
 write("fuzz_world", "stack", bytes([1, 10, 0]) + u16(0.5) + bytes([3]) + body(0, 0) + body(0, 1) + body(1) + bytes([4, 1]))
+write("fuzz_world", "cylinders", bytes([1, 10, 0]) + u16(0.5) + bytes([3]) + body(0, 1) + body(254) + body(254) + bytes([4, 1]))
 write("fuzz_world", "infinite_force", bytes([1, 10, 1]) + u16(0.5) + bytes([2]) + body(0) + body(2) +
       bytes([2, 0, 0, 0, 0]) + raw(float("inf")) + bytes([1]) + raw(1) + bytes([1]) + raw(0) + bytes([1]))
 write("fuzz_world", "nan_pose", bytes([0, 4, 0]) + u16(0.5) + bytes([1]) + body(0) +
