@@ -528,3 +528,108 @@ TEST(CylinderRays, MeetTheSurfaceWhereItsSignedDistanceVanishes) {
   }
   EXPECT_GT(hits, 1000);
 }
+
+// Found by review (the inputs are its reproducers'): GJK's flat tetrahedron taken for an
+// enclosure while a support plane had already set the shapes apart gave a box and a
+// cylinder 4 mm apart a separation of 0, and a capsule and a cylinder different depths
+// with A and B swapped.
+TEST(CylinderNarrowPhase, AFlatTetrahedronDoesNotPassForAnOverlap) {
+  const RConvexPolyhedron box = RConvexPolyhedron::Box(RVec3(0.7, 0.3, 0.5));
+  RConvexShape a;
+  a.polyhedron = &box, a.boundingRadius = box.MaxRadius();
+  RRelativePose X;
+  X.R_AB << -0.12858120141846707, 0.62915749615291316, 0.76656879644059406, 0.33016015686026134, 0.75604769163503049,
+      -0.56514260040749853, -0.93512627247008284, 0.18042375954385551, -0.30493625813974612;
+  X.t_AB = RVec3(1.0703994043788831, 0.48376362802643125, -0.1093644582171539);
+  const RConvexShape c = Cylinder(0.90052342756342052, 0.25807575284682943);
+  const RDistanceResult d = RCollisionSolver::Distance(a, c, X);
+  // The exact distance: the least over the box's surface of the cylinder's signed distance
+  // is what FCL gives; here its figure, 0.00395404928 m (to FCL's 1e-12).
+  fcl::DistanceRequestd request(true);
+  request.gjk_solver_type = fcl::GST_INDEP;
+  request.distance_tolerance = 1e-12;
+  fcl::DistanceResultd result;
+  const fcl::Boxd fclBox(1.4, 0.6, 1.0);
+  const fcl::Cylinderd fclCyl(0.90052342756342052, 2 * 0.25807575284682943);
+  RQuat q(X.R_AB);
+  fcl::distance(&fclBox, FclPose(RVec3::Zero(), RQuat::Identity(), false), &fclCyl, FclPose(X.t_AB, q, true), request,
+                result);
+  EXPECT_NEAR(d.separation, result.min_distance, 1e-9);
+  EXPECT_GT(d.separation, 0.0039);
+
+  RRelativePose Y;
+  Y.R_AB << 0.045323371894233078, 0.29425466337186407, -0.95465176113808536, -0.96789592697537574, -0.22357050738232465,
+      -0.11486384449985859, -0.24723120050797576, 0.92920956802689059, 0.27467492092046619;
+  Y.t_AB = RVec3(-0.13893704837359677, 0.064326341000537968, 0.14088826029617196);
+  const RConvexShape caps = Capsule(0.31432124739973188, 0.67711789165941705), cyl = Cylinder(0.16840902398264929, 0.77522201372715438);
+  RRelativePose Yinv;
+  Yinv.R_AB = Y.R_AB.transpose(), Yinv.t_AB = -(Y.R_AB.transpose() * Y.t_AB);
+  const RScalar ab = RCollisionSolver::Distance(caps, cyl, Y).separation, ba = RCollisionSolver::Distance(cyl, caps, Yinv).separation;
+  EXPECT_NEAR(ab, ba, 1e-9);
+  EXPECT_NEAR(ab, -0.307742271, 1e-9);
+}
+
+// Found by review: a coin's end tilted beyond the face-contact angle was given its side's
+// one spot; a coin dropped flat sank into the floor and rocked there. Tilted by 3 degrees with
+// its lowest rim point 1 cm deep, the manifold holds that point at its depth and others on
+// the rim around it; dropped, the coin rests at its half height and sleeps.
+TEST(CylinderPhysics, ATiltedCoinKeepsItsRimAndRestsOnItsFace) {
+  const RConvexPolyhedron slab = Slab();
+  const RConvexShape coin = Cylinder(0.5, 0.02);
+  for (const RScalar deg : {1.0, 1.2, 3.0, 10.0}) {
+    const RScalar tilt = deg * kPi / 180;
+    const RQuat q(Eigen::AngleAxisd(tilt, RVec3::UnitX()));
+    const RVec3 t(0, 0.5 + 0.02 * std::cos(tilt) + 0.5 * std::sin(tilt) - 0.01, 0);
+    const RContactManifold m = OnSlab(slab, coin, q, t);
+    ASSERT_GE(m.pointCount, deg < 5 ? 2 : 1) << deg;  // (at 10 degrees the rest lie beyond the 1 mm margin)
+    RScalar deepest = 1;
+    for (int i = 0; i < m.pointCount; ++i) deepest = std::min(deepest, m.points[i].separation);
+    EXPECT_NEAR(deepest, -0.01, 1e-12) << deg;
+  }
+  for (const RScalar deg : {0.5, 5.0}) {
+    std::vector<RRigidBody> bodies{Ground(0, 0.5)};
+    RBodyDef c = CylinderDef(0.5, 0.02);
+    c.q_WS = RQuat(Eigen::AngleAxisd(deg * kPi / 180, RVec3(1, 0, 1).normalized()));
+    c.position_W = RVec3(0, 1, 0);
+    bodies.emplace_back(c);
+    RIntegrator integrator;
+    integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
+    for (int k = 0; k < 300; ++k) integrator.Update(bodies, 1.0 / 60);
+    EXPECT_NEAR(bodies[1].Position_W().y(), 0.02, integrator.Settings().penetrationSlop) << deg;
+    EXPECT_LT((bodies[1].Orientation_WB() * RVec3::UnitY() - RVec3::UnitY()).norm(), 1e-3) << deg;
+    EXPECT_TRUE(bodies[1].IsSleeping()) << deg;
+  }
+}
+
+// Found by review: two cylinders side by side, one leaning 0.5 degrees, had separations
+// measured from a plane through one end of A's line, so an overlapping pair had no
+// penetrating point. And a capsule lying across a cylinder's end with its low end between
+// the end's octagon and its rim lost its deepest point to the octagon.
+TEST(CylinderNarrowPhase, LinesAndEndsKeepTheirDeepestPoint) {
+  const RConvexShape c = Cylinder(0.5, 1);
+  for (const RScalar deg : {0.5, 1.0, -1.0}) {
+    RRelativePose X;
+    X.R_AB = Eigen::AngleAxisd(deg * kPi / 180, RVec3::UnitZ()).toRotationMatrix();
+    X.t_AB = RVec3(1 - 1e-4, 0, 0);
+    // Move B so the pair overlaps by 1e-4 exactly along the query's normal.
+    X.t_AB -= (RCollisionSolver::Distance(c, c, X).separation + 1e-4) * RVec3::UnitX();
+    const RContactManifold m = RCollisionSolver::Manifold(c, c, X, 0.05);
+    RScalar deepest = 1;
+    for (int i = 0; i < m.pointCount; ++i) deepest = std::min(deepest, m.points[i].separation);
+    EXPECT_NEAR(deepest, m.query.separation, 1e-9) << deg;
+  }
+  const RConvexShape end = Cylinder(1, 0.5), caps = Capsule(0.1, 0.5);
+  const RScalar phi = 22.5 * kPi / 180, tilt = 20 * kPi / 180;
+  const RVec3 radial(std::cos(phi), 0, -std::sin(phi));
+  const RVec3 up = -std::cos(tilt) * radial + std::sin(tilt) * RVec3::UnitY();
+  RRelativePose X;
+  X.R_AB = Eigen::Quaterniond::FromTwoVectors(RVec3::UnitY(), up).toRotationMatrix();
+  X.t_AB = 0.96 * radial + RVec3(0, 0.5 + 0.1 - 1e-3, 0) + 0.5 * up;
+  for (const RScalar margin : {0.0, 0.02}) {
+    const RContactManifold m = RCollisionSolver::Manifold(end, caps, X, margin);
+    ASSERT_GE(m.pointCount, 1);
+    RScalar deepest = 1;
+    for (int i = 0; i < m.pointCount; ++i) deepest = std::min(deepest, m.points[i].separation);
+    EXPECT_NEAR(deepest, -1e-3, 1e-9) << margin;
+  }
+}

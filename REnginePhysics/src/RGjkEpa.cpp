@@ -157,19 +157,22 @@ void Witnesses(const Simplex& s, RVec3& a, RVec3& b) {
 
 }  // namespace
 
+// The polyhedron first in both: the box and hull pairs' path is the one that must stay fast.
 RVec3 RPairSupport::SupportA(const RVec3& d) {
+  if (a.polyhedron) {
+    const auto& v = a.polyhedron->Vertices();
+    m_lastA = a.polyhedron->Support(v.data(), d, m_lastA);
+    return v[m_lastA];
+  }
   if (a.cylinderRadius > 0) return CylinderSupport(a.cylinderRadius, a.halfHeight, d);
-  if (!a.polyhedron) return a.halfHeight == 0 ? RVec3::Zero() : RVec3(0, d.y() >= 0 ? a.halfHeight : -a.halfHeight, 0);
-  const auto& v = a.polyhedron->Vertices();
-  m_lastA = a.polyhedron->Support(v.data(), d, m_lastA);
-  return v[m_lastA];
+  return a.halfHeight == 0 ? RVec3::Zero() : RVec3(0, d.y() >= 0 ? a.halfHeight : -a.halfHeight, 0);
 }
 
 RVec3 RPairSupport::SupportB(const RVec3& d_A) {
-  if (b.cylinderRadius > 0) {
-    return X.R_AB * CylinderSupport(b.cylinderRadius, b.halfHeight, X.R_AB.transpose() * d_A) + X.t_AB;
-  }
   if (!b.polyhedron) {
+    if (b.cylinderRadius > 0) {
+      return X.R_AB * CylinderSupport(b.cylinderRadius, b.halfHeight, X.R_AB.transpose() * d_A) + X.t_AB;
+    }
     if (b.halfHeight == 0) return X.t_AB;
     // The capsule's core end that is farthest along d: B's y axis is R_AB's second column.
     const RScalar h = X.R_AB.col(1).dot(d_A) >= 0 ? b.halfHeight : -b.halfHeight;
@@ -181,14 +184,14 @@ RVec3 RPairSupport::SupportB(const RVec3& d_A) {
   return X.R_AB * v[m_lastB] + X.t_AB;
 }
 
-RGjkResult Gjk(RPairSupport& sup, bool booleanOnly, RScalar stopAbove) {
+RGjkResult Gjk(RPairSupport& sup, bool booleanOnly, RScalar stopAbove, const RVec3* start) {
   RGjkResult r;
   const RScalar size = sup.a.boundingRadius + sup.b.boundingRadius;
   // Below this |v| the origin is on D's boundary to rounding: touching.
   const RScalar vanishing = 1e-14 * size;
   const RScalar band = RCollisionSolver::kTouchingTolerance * size;
   Simplex s;
-  RVec3 d = sup.X.t_AB;  // first guess: the line between the centres
+  RVec3 d = start ? *start : sup.X.t_AB;  // first guess: the line between the centres
   if (d.squaredNorm() == 0) d = RVec3::UnitX();
   {
     const RVec3 a = sup.SupportA(-d), b = sup.SupportB(d);
@@ -208,7 +211,7 @@ RGjkResult Gjk(RPairSupport& sup, bool booleanOnly, RScalar stopAbove) {
     const RVec3 w = a - b;
     const RScalar vw = v.dot(w);
     const RScalar norm = std::sqrt(vv);
-    r.lowerBound = std::max(r.lowerBound, vw / norm);
+    if (vw / norm > r.lowerBound) r.lowerBound = vw / norm, r.lowerNormal = -v / norm;
     if ((booleanOnly && r.lowerBound > band) || r.lowerBound > stopAbove) {
       // The plane normal to v separates them by more than asked.
       r.overlap = false;

@@ -76,6 +76,7 @@ struct RGjkResult {
   // The largest v.w / |v| seen: the support plane of D normal to v, a lower bound on the
   // distance. The answer is certain to within distance - lowerBound.
   RScalar lowerBound = -std::numeric_limits<RScalar>::infinity();
+  RVec3 lowerNormal = RVec3::UnitX();  // the direction (A to B) of that support plane
   RVec3 closest = RVec3::Zero();  // v = witnessA - witnessB
   RVec3 witnessA = RVec3::Zero(), witnessB = RVec3::Zero();
   int iterations = 0;
@@ -87,9 +88,10 @@ struct RGjkResult {
 // GJK on the cores of the two shapes (spheres are points here). booleanOnly: stop at the
 // first direction that separates them by more than the touching band; stopAbove (m): stop at
 // the first that separates them by more than that. Either way distance is then only an
-// upper bound, lowerBound above the band or stopAbove (and `beyond` is set).
+// upper bound, lowerBound above the band or stopAbove (and `beyond` is set). start: the
+// first direction (A to B) to try, instead of the line between the centres.
 RGjkResult Gjk(RPairSupport& support, bool booleanOnly,
-               RScalar stopAbove = std::numeric_limits<RScalar>::infinity());
+               RScalar stopAbove = std::numeric_limits<RScalar>::infinity(), const RVec3* start = nullptr);
 
 // GJK's answer on a triangle of D, its direction recomputed from the triangle's plane. When
 // the distance is small against the triangle (a box resting a micrometre above a dense hull's
