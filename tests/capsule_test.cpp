@@ -8,6 +8,7 @@
 #include <REnginePhysics/RShape.h>
 
 #include "support/CollisionOracles.h"
+#include "support/RandomPartners.h"
 
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
@@ -82,29 +83,7 @@ RScalar SurfaceOffset(const RConvexShape& s, const RVec3& p) {
   return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
 }
 
-RConvexShape Capsule(RScalar r, RScalar h) {
-  RConvexShape s;
-  s.radius = r, s.halfHeight = h, s.boundingRadius = r + h;
-  return s;
-}
-
-RQuat RandomQuat(std::mt19937_64& rng) {
-  std::normal_distribution<RScalar> n(0, 1);
-  RQuat q(n(rng), n(rng), n(rng), n(rng));
-  q.normalize();
-  return q;
-}
-
-// FCL's capsule lies along its z axis; REngine's along y: FCL's frame is REngine's turned
-// by -90 degrees about x (z to y).
-fcl::Transform3d FclPose(const RVec3& x, const RQuat& q, bool capsule) {
-  fcl::Transform3d tf = fcl::Transform3d::Identity();
-  RMat3 R = q.toRotationMatrix();
-  if (capsule) R = R * Eigen::AngleAxisd(-kPi / 2, RVec3::UnitX()).toRotationMatrix();
-  tf.linear() = R;
-  tf.translation() = x;
-  return tf;
-}
+RConvexShape Capsule(RScalar r, RScalar h) { return CapsuleShape(r, h); }
 
 }  // namespace
 
@@ -163,35 +142,19 @@ TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
     const int kind = n % 4;  // 0 box, 1 sphere, 2 capsule, 3 hull
     const RScalar r = 0.1 + u(rng), h = 0.05 + 2 * u(rng);
     const RConvexShape caps = Capsule(r, h);
-    const RVec3 half(0.2 + u(rng), 0.2 + u(rng), 0.2 + u(rng));
-    const RConvexPolyhedron box = RConvexPolyhedron::Box(half);
-    const RScalar rb = 0.1 + u(rng), hb = 0.05 + u(rng);
-    RConvexShape other;
-    std::shared_ptr<fcl::CollisionGeometryd> fclOwned;
-    const fcl::CollisionGeometryd* fclOther = &hull.FclConvex();
-    if (kind == 0) {
-      other.polyhedron = &box, other.boundingRadius = box.MaxRadius();
-      fclOther = (fclOwned = std::make_shared<fcl::Boxd>(2 * half.x(), 2 * half.y(), 2 * half.z())).get();
-    } else if (kind == 1) {
-      other.radius = rb, other.boundingRadius = rb;
-      fclOther = (fclOwned = std::make_shared<fcl::Sphered>(rb)).get();
-    } else if (kind == 2) {
-      other = Capsule(rb, hb);
-      fclOther = (fclOwned = std::make_shared<fcl::Capsuled>(rb, 2 * hb)).get();
-    } else {
-      other.polyhedron = &hull.Polyhedron(), other.boundingRadius = hull.Radius();
-    }
-    const RQuat qA = RandomQuat(rng), qB = RandomQuat(rng);
-    const RVec3 xA(u(rng), u(rng), u(rng));
-    const RScalar reach = caps.boundingRadius + other.boundingRadius;
-    const RVec3 xB = xA + RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized() * reach * (0.2 + 0.9 * u(rng));
+    static constexpr PartnerKind kKinds[4] = {PartnerKind::kBox, PartnerKind::kSphere, PartnerKind::kCapsule,
+                                              PartnerKind::kHull};
+    const Partner partner(kKinds[kind], rng, hull);
+    const RConvexShape& other = partner.shape;
+    const fcl::CollisionGeometryd* fclOther = partner.fcl;
+    const PairPose pose(rng, caps.boundingRadius + other.boundingRadius);
+    const RQuat &qA = pose.qA, &qB = pose.qB;
+    const RVec3 &xA = pose.xA, &xB = pose.xB;
     // The capsule as A half of the time, as B the other half.
     const bool capsuleIsA = (n / 4) % 2 == 0;
     const RConvexShape& sa = capsuleIsA ? caps : other;
     const RConvexShape& sb = capsuleIsA ? other : caps;
-    RRelativePose X;
-    X.R_AB = (qA.conjugate() * qB).toRotationMatrix();
-    X.t_AB = qA.conjugate() * (xB - xA);
+    const RRelativePose X = pose.Relative();
     const RDistanceResult got = RCollisionSolver::Distance(sa, sb, X);
     const RScalar size = caps.boundingRadius + other.boundingRadius;
     // The witnesses lie on their surfaces (B's in B's frame), the separation apart along the
@@ -231,7 +194,7 @@ TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
       // Two capsules: the depth is r_a + r_b less the distance of their cores, exactly.
       const RVec3 a0(0, -sa.halfHeight, 0), a1(0, sa.halfHeight, 0);
       const RVec3 b0 = X.R_AB * RVec3(0, -sb.halfHeight, 0) + X.t_AB, b1 = X.R_AB * RVec3(0, sb.halfHeight, 0) + X.t_AB;
-      EXPECT_NEAR(got.separation, SegmentDistance(a0, a1, b0, b1) - r - rb, 1e-12 * size) << n;
+      EXPECT_NEAR(got.separation, SegmentDistance(a0, a1, b0, b1) - r - other.radius, 1e-12 * size) << n;
     }
   }
   std::printf("capsule pairs: %d overlapping, %d apart; %d distances against FCL, worst |d - d_fcl| / size %.2e\n",

@@ -9,6 +9,7 @@
 #include <REnginePhysics/RShape.h>
 
 #include "support/CollisionOracles.h"
+#include "support/RandomPartners.h"
 
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
@@ -23,6 +24,9 @@ using namespace REngine;
 using namespace REngine::test;
 
 namespace {
+
+RConvexShape Cylinder(RScalar r, RScalar h) { return CylinderShape(r, h); }
+RConvexShape Capsule(RScalar r, RScalar h) { return CapsuleShape(r, h); }
 
 // The exact signed distance of a point from a cylinder (radius r about y, ends at +-h): the
 // 2-D box distance in (distance from the axis, height).
@@ -45,35 +49,9 @@ RScalar Sdf(const RConvexShape& s, const RVec3& p) {
   return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
 }
 
-RConvexShape Cylinder(RScalar r, RScalar h) {
-  RConvexShape s;
-  s.cylinderRadius = r, s.halfHeight = h, s.boundingRadius = std::hypot(r, h);
-  return s;
-}
 
-RConvexShape Capsule(RScalar r, RScalar h) {
-  RConvexShape s;
-  s.radius = r, s.halfHeight = h, s.boundingRadius = r + h;
-  return s;
-}
 
-RQuat RandomQuat(std::mt19937_64& rng) {
-  std::normal_distribution<RScalar> n(0, 1);
-  RQuat q(n(rng), n(rng), n(rng), n(rng));
-  q.normalize();
-  return q;
-}
 
-// FCL's cylinders and capsules lie along z, REngine's along y: FCL's frame is REngine's
-// turned by -90 degrees about x.
-fcl::Transform3d FclPose(const RVec3& x, const RQuat& q, bool alongZ) {
-  fcl::Transform3d tf = fcl::Transform3d::Identity();
-  RMat3 R = q.toRotationMatrix();
-  if (alongZ) R = R * Eigen::AngleAxisd(-kPi / 2, RVec3::UnitX()).toRotationMatrix();
-  tf.linear() = R;
-  tf.translation() = x;
-  return tf;
-}
 
 // How far B must move along unit n (A's frame) to clear A: h_A(n) + h_B(-n), from the
 // definitions of the support functions (a cylinder's by its rim, a polyhedron's by its
@@ -185,37 +163,14 @@ TEST(CylinderCrosscheck, RandomPairsAgreeWithFclAndTheDefinitions) {
     const int kind = n % 5;  // 0 box, 1 sphere, 2 capsule, 3 cylinder, 4 hull
     const RScalar r = 0.1 + u(rng), h = 0.05 + u(rng);
     const RConvexShape cyl = Cylinder(r, h);
-    const RVec3 half(0.2 + u(rng), 0.2 + u(rng), 0.2 + u(rng));
-    const RConvexPolyhedron box = RConvexPolyhedron::Box(half);
-    const RScalar rb = 0.1 + u(rng), hb = 0.05 + u(rng);
-    RConvexShape other;
-    std::shared_ptr<fcl::CollisionGeometryd> fclOwned;
-    const fcl::CollisionGeometryd* fclOther = &hull.FclConvex();
-    if (kind == 0) {
-      other.polyhedron = &box, other.boundingRadius = box.MaxRadius();
-      fclOther = (fclOwned = std::make_shared<fcl::Boxd>(2 * half.x(), 2 * half.y(), 2 * half.z())).get();
-    } else if (kind == 1) {
-      other.radius = rb, other.boundingRadius = rb;
-      fclOther = (fclOwned = std::make_shared<fcl::Sphered>(rb)).get();
-    } else if (kind == 2) {
-      other = Capsule(rb, hb);
-      fclOther = (fclOwned = std::make_shared<fcl::Capsuled>(rb, 2 * hb)).get();
-    } else if (kind == 3) {
-      other = Cylinder(rb, hb);
-      fclOther = (fclOwned = std::make_shared<fcl::Cylinderd>(rb, 2 * hb)).get();
-    } else {
-      other.polyhedron = &hull.Polyhedron(), other.boundingRadius = hull.Radius();
-    }
-    const RQuat qA = RandomQuat(rng), qB = RandomQuat(rng);
-    const RVec3 xA(u(rng), u(rng), u(rng));
-    const RScalar reach = cyl.boundingRadius + other.boundingRadius;
-    const RVec3 xB = xA + RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized() * reach * (0.2 + 0.9 * u(rng));
+    const Partner partner(static_cast<PartnerKind>(kind), rng, hull);
+    const RConvexShape& other = partner.shape;
+    const fcl::CollisionGeometryd* fclOther = partner.fcl;
+    const PairPose pose(rng, cyl.boundingRadius + other.boundingRadius);
     const bool cylinderIsA = (n / 5) % 2 == 0;
     const RConvexShape& sa = cylinderIsA ? cyl : other;
     const RConvexShape& sb = cylinderIsA ? other : cyl;
-    RRelativePose X;
-    X.R_AB = (qA.conjugate() * qB).toRotationMatrix();
-    X.t_AB = qA.conjugate() * (xB - xA);
+    const RRelativePose X = pose.Relative();
     const RDistanceResult got = RCollisionSolver::Distance(sa, sb, X);
     const RScalar size = cyl.boundingRadius + other.boundingRadius;
     ASSERT_NEAR(got.normal.norm(), 1, 1e-12) << n;
@@ -225,10 +180,9 @@ TEST(CylinderCrosscheck, RandomPairsAgreeWithFclAndTheDefinitions) {
     EXPECT_NEAR(offA, 0, 1e-9 * size) << "pair " << n << " kind " << kind;
     EXPECT_NEAR(offB, 0, 1e-9 * size) << "pair " << n << " kind " << kind;
     EXPECT_NEAR((got.witnessB - got.witnessA).dot(got.normal), got.separation, 1e-9 * size) << n;
-    const bool alongZ = kind == 2 || kind == 3;
     const fcl::Cylinderd fclCyl(r, 2 * h);
-    const fcl::Transform3d tfCyl = FclPose(cylinderIsA ? xA : xB, cylinderIsA ? qA : qB, true);
-    const fcl::Transform3d tfOther = FclPose(cylinderIsA ? xB : xA, cylinderIsA ? qB : qA, alongZ);
+    const fcl::Transform3d tfCyl = FclPose(cylinderIsA ? pose.xA : pose.xB, cylinderIsA ? pose.qA : pose.qB, true);
+    const fcl::Transform3d tfOther = FclPose(cylinderIsA ? pose.xB : pose.xA, cylinderIsA ? pose.qB : pose.qA, partner.alongZ);
     if (got.separation < 0) {
       ++overlaps;
       // Least overlap: no sampled direction, and none within a few degrees of the normal,

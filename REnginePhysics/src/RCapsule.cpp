@@ -1,6 +1,7 @@
 // The narrow phase of capsules: queries on their cores (RCapsule.h).
 #include "RCapsule.h"
 
+#include "RManifold.h"
 #include "RPolyhedronExact.h"
 
 #include <algorithm>
@@ -264,24 +265,15 @@ bool CapsuleAlongCapsule(const RConvexShape& a, const RConvexShape& b, const RRe
   const RScalar hi = std::min(a.halfHeight, std::max(b0.y(), b1.y()));
   const RScalar size = a.boundingRadius + b.boundingRadius;
   if (!(hi - lo > RScalar(1e-4) * size)) return false;  // end to end: one point
-  int count = 0;
   const RScalar ys[2] = {lo, hi};
   for (int k = 0; k < 2; ++k) {
     const RVec3 ca(0, ys[k], 0);
     RVec3 onA, cb;
     ClosestOnSegments(ca, ca, b0, b1, onA, cb);
     const RScalar sep = (cb - ca).dot(n) - a.radius - b.radius;
-    if (sep > margin) {
-      if (droppedMin) *droppedMin = std::min(*droppedMin, sep);
-      continue;
-    }
-    RContactPoint& c = m.points[count++];
-    c.position = ca + (a.radius + RScalar(0.5) * sep) * n;
-    c.separation = sep;
-    c.featureId = 0x10000000u | static_cast<std::uint32_t>(k);
+    KeepWithin(margin, droppedMin, m, ca + (a.radius + RScalar(0.5) * sep) * n, sep, 0x10000000u | static_cast<std::uint32_t>(k));
   }
-  if (count == 0) return false;
-  m.pointCount = count;
+  if (m.pointCount == 0) return false;
   m.normal = n;
   return true;
 }

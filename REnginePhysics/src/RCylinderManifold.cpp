@@ -204,7 +204,6 @@ bool SideAlongSide(const Placed& A, const Placed& B, const RVec3& n, RScalar mar
   const RScalar hi = std::min(a1.y(), std::max(b0.y(), b1.y()));
   const RScalar size = A.s.boundingRadius + B.s.boundingRadius;
   if (!(hi - lo > RScalar(1e-4) * size)) return false;
-  int count = 0;
   const RScalar ys[2] = {lo, hi};
   for (int k = 0; k < 2; ++k) {
     const RScalar t = (ys[k] - b0.y()) / (b1.y() - b0.y());
@@ -212,17 +211,9 @@ bool SideAlongSide(const Placed& A, const Placed& B, const RVec3& n, RScalar mar
     // Measured from A's line at pb's height (n may lean along A's axis by the face-contact
     // angle, and a plane through a0 would count that lean over the height between them).
     const RScalar sep = n.dot(pb - a0) - n.y() * (pb.y() - a0.y());
-    if (sep > margin) {
-      if (droppedMin) *droppedMin = std::min(*droppedMin, sep);
-      continue;
-    }
-    RContactPoint& c = m.points[count++];
-    c.position = pb - RScalar(0.5) * sep * n;
-    c.separation = sep;
-    c.featureId = 0x10000000u | static_cast<std::uint32_t>(k);
+    KeepWithin(margin, droppedMin, m, pb - RScalar(0.5) * sep * n, sep, 0x10000000u | static_cast<std::uint32_t>(k));
   }
-  if (count == 0) return false;
-  m.pointCount = count;
+  if (m.pointCount == 0) return false;
   m.normal = n;
   return true;
 }

@@ -59,6 +59,20 @@ int ClipBySides(const Vertex& vertex, std::uint32_t nRef, const RVec3& refN, RSc
   return nIn;
 }
 
+// Adds a point to m (at its next free place) unless its separation lies beyond the margin:
+// then it is dropped, and the least separation dropped kept in *droppedMin.
+inline void KeepWithin(RScalar margin, RScalar* droppedMin, RContactManifold& m, const RVec3& position,
+                       RScalar separation, std::uint32_t featureId) {
+  if (separation > margin) {
+    if (droppedMin && separation < *droppedMin) *droppedMin = separation;
+    return;
+  }
+  RContactPoint& c = m.points[m.pointCount++];
+  c.position = position;
+  c.separation = separation;
+  c.featureId = featureId;
+}
+
 // Keeps at most 4 of n points: the deepest, the farthest from it, then the two that add
 // the most area (so the manifold spans the contact patch). Returns the count kept.
 int ReduceToFour(RContactPoint* pts, int n, const RVec3& normal);
