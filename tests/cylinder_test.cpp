@@ -430,7 +430,7 @@ TEST(CylinderPhysics, StackOfEightStands) {
     const RVec3 d = bodies[i].Position_W() - start[i];
     worstDrift = std::max(worstDrift, std::hypot(d.x(), d.z()));
     worstTilt = std::max(worstTilt, std::acos(std::min(RScalar(1), (bodies[i].Orientation_WB() * RVec3::UnitY()).y())));
-    EXPECT_NEAR(bodies[i].Position_W().y(), h + 2 * h * (i - 1), 8 * integrator.Settings().penetrationSlop) << i;
+    EXPECT_NEAR(bodies[i].Position_W().y(), h + 2 * h * static_cast<RScalar>(i - 1), 8 * integrator.Settings().penetrationSlop) << i;
   }
   std::printf("cylinder stack of 8: worst sideways drift %.3e m, worst tilt %.3e rad\n", worstDrift, worstTilt);
   EXPECT_LT(worstDrift, 1e-3);
