@@ -531,6 +531,27 @@ TEST_F(Cli, DescribeGivesACylindersClosedFormMassProperties) {
   EXPECT_NEAR(list[0]["com"][2].get<double>(), 3, 1e-15);
 }
 
+// A compound's --describe: two unit cubes side by side along the scene's x, densities 1 and 3:
+// mass 4, centre 0.25 towards the dense one, moments 4/6 about the long axis and
+// 4/6 + 0.75^2 + 3 (0.25^2) across (parallel axes by hand).
+TEST_F(Cli, DescribeGivesACompoundsUnionMassProperties) {
+  const std::string scene = SceneOf({
+      {"pair", R"("shape": {"type": "compound", "children": [
+                    {"shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}, "position": [-0.5, 0, 0]},
+                    {"shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}, "position": [0.5, 0, 0], "density": 3}]},
+                  "position": [1, 2, 3])"},
+  });
+  const Result r = Run(Quote(Write("compound.json", scene)) + " --describe");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json list = nlohmann::json::parse(r.out);
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_NEAR(list[0]["mass"].get<double>(), 4, 1e-13);
+  EXPECT_NEAR(list[0]["com"][0].get<double>(), 1.25, 1e-14);
+  EXPECT_NEAR(list[0]["principal_moments"][0].get<double>(), 4.0 / 6, 1e-13);
+  EXPECT_NEAR(list[0]["principal_moments"][2].get<double>(), 4.0 / 6 + 0.5625 + 0.1875, 1e-13);
+  EXPECT_NEAR(std::abs(list[0]["principal_axes"][0][0].get<double>()), 1, 1e-12);  // the long axis: x
+}
+
 // A capsule's --describe: its mass from the density and its volume, pi r^2 (2h) + 4/3 pi r^3,
 // and its moments, about its axis m_c r^2/2 + 2/5 m_s r^2 (the smallest, for this one) and
 // across it m_c (h^2/3 + r^2/4) + m_s (2/5 r^2 + h^2 + 3/4 h r), the axis turned into the

@@ -157,6 +157,27 @@ TEST(Scene, ACylinderAndACapsuleOfOneSizeStayApart) {
   EXPECT_EQ(bodies[0].PreparedShape(), bodies[2].PreparedShape());
 }
 
+// Compounds that differ only in one child's density are different shapes; equal ones share
+// their prepared shape.
+TEST(Scene, CompoundsShareOnlyWhenEqualInEveryChild) {
+  const RScene s = ParseScene(R"({"bodies": [
+      {"name": "a", "shape": {"type": "compound", "children": [{"shape": {"type": "box", "half_extents": [1, 1, 1]}},
+                                                               {"shape": {"type": "sphere", "radius": 1}, "position": [2, 0, 0]}]}},
+      {"name": "b", "shape": {"type": "compound", "children": [{"shape": {"type": "box", "half_extents": [1, 1, 1]}},
+                                                               {"shape": {"type": "sphere", "radius": 1}, "position": [2, 0, 0], "density": 2}]},
+       "position": [9, 0, 0]},
+      {"name": "c", "shape": {"type": "compound", "children": [{"shape": {"type": "box", "half_extents": [1, 1, 1]}},
+                                                               {"shape": {"type": "sphere", "radius": 1}, "position": [2, 0, 0]}]},
+       "position": [19, 0, 0]}]})",
+                              "compounds.json");
+  const std::vector<RRigidBody> bodies = CreateBodies(s);
+  const double sphere = 4.0 / 3 * 3.14159265358979323846;
+  EXPECT_NEAR(bodies[0].Mass(), 8 + sphere, 1e-12);
+  EXPECT_NEAR(bodies[1].Mass(), 8 + 2 * sphere, 1e-12);
+  EXPECT_NE(bodies[0].PreparedShape(), bodies[1].PreparedShape());
+  EXPECT_EQ(bodies[0].PreparedShape(), bodies[2].PreparedShape());
+}
+
 TEST(Scene, TheFormatDocumentsExampleLoads) {
   const std::string text = R"({
     "format": "rengine-scene/1",
@@ -424,6 +445,21 @@ const std::vector<BadScene> kBadScenes = {
      "bodies[0].shape.radius"},
     {"cylinder of zero half height", OneBody(Shape(R"({"type": "cylinder", "radius": 1, "half_height": 0})")),
      "bodies[0].shape.half_height"},
+    {"compound without children", OneBody(Shape(R"({"type": "compound", "children": []})")),
+     "bodies[0].shape.children"},
+    {"compound child with an unknown key",
+     OneBody(Shape(R"({"type": "compound", "children": [{"shape": {"type": "sphere", "radius": 1}, "colour": 1}]})")),
+     "bodies[0].shape.children[0].colour"},
+    {"compound in a compound",
+     OneBody(Shape(R"({"type": "compound", "children": [{"shape": {"type": "compound", "children": [
+         {"shape": {"type": "sphere", "radius": 1}}]}}]})")),
+     "bodies[0].shape.children[0].shape.type"},
+    {"compound child of negative density",
+     OneBody(Shape(R"({"type": "compound", "children": [{"shape": {"type": "sphere", "radius": 1}, "density": -2}]})")),
+     "bodies[0].shape.children[0].density"},
+    {"compound child's bad radius",
+     OneBody(Shape(R"({"type": "compound", "children": [{"shape": {"type": "sphere", "radius": 0}}]})")),
+     "bodies[0].shape.children[0].shape.radius"},
     {"points field on a cylinder",
      OneBody(Shape(R"({"type": "cylinder", "radius": 1, "half_height": 1, "points": []})")),
      "bodies[0].shape.points"},

@@ -2,6 +2,7 @@
 #include <REnginePhysics/RRigidBody.h>
 
 #include "RCapsule.h"
+#include "RCompound.h"
 #include "RCylinder.h"
 #include "RManifold.h"
 #include "RGjkEpa.h"
@@ -109,6 +110,7 @@ RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexS
 // few GJK iterations instead of the full answer (and, for some, its enumeration).
 RDistanceResult RCollisionSolver::DistanceWithin(const RConvexShape& a, const RConvexShape& b,
                                                  const RRelativePose& X_AB, RScalar cutoff) {
+  if (a.children || b.children) return CompoundDistance(a, b, X_AB, cutoff);
   if (a.cylinderRadius > 0 || b.cylinderRadius > 0) return CylinderPair(a, b, X_AB, cutoff);
   if (!a.polyhedron && !b.polyhedron) {
     return a.halfHeight == 0 && b.halfHeight == 0 ? SphereSphere(a, b, X_AB.t_AB) : RoundPair(a, b, X_AB);
@@ -251,6 +253,10 @@ RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvex
 RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const RConvexShape& b,
                                                   const RRelativePose& X_AB, RScalar margin,
                                                   RScalar cutoff, RScalar* droppedMin) {
+  if (a.children || b.children) {
+    if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();
+    return CompoundManifold(a, b, X_AB, margin, cutoff, droppedMin);
+  }
   RContactManifold m;
   if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();
   m.query = DistanceWithin(a, b, X_AB, cutoff);
@@ -352,6 +358,7 @@ RConvexShape ShapeOf(const RRigidBody& body) {
   s.radius = body.m_coreRadius;
   s.halfHeight = body.m_coreHalfHeight;
   s.cylinderRadius = body.m_cylinderRadius;
+  s.children = body.m_children, s.childCount = body.m_childCount;
   s.boundingRadius = body.BoundingRadius();
   return s;
 }

@@ -159,8 +159,12 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   // slots (no removal has moved a body), else sorted (in place, capacity kept).
   m_eventOrder.resize(count);
   std::iota(m_eventOrder.begin(), m_eventOrder.end(), std::uint32_t(0));
+  // (A compound's child pairs are contacts of one pair of bodies: kept in their order.)
   const auto contactBefore = [this](std::uint32_t x, std::uint32_t y) {
-    return PairBefore(m_contacts[x].handleA, m_contacts[x].handleB, m_contacts[y].handleA, m_contacts[y].handleB);
+    const RContact& cx = m_contacts[x];
+    const RContact& cy = m_contacts[y];
+    if (PairBefore(cx.handleA, cx.handleB, cy.handleA, cy.handleB)) return true;
+    return cx.handleA == cy.handleA && cx.handleB == cy.handleB && x < y;
   };
   if (!std::is_sorted(m_eventOrder.begin(), m_eventOrder.end(), contactBefore)) {
     std::sort(m_eventOrder.begin(), m_eventOrder.end(), contactBefore);
@@ -187,16 +191,30 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   };
   // The merge of two lists in handle order gives the events in that order.
   std::size_t p = 0;
-  for (std::uint32_t ci : m_eventOrder) {
+  for (std::size_t k = 0; k < count;) {
+    const std::uint32_t ci = m_eventOrder[k];
     const RContact& c = m_contacts[ci];
-    const REventContact& e = m_eventContacts[ci];
+    REventContact e = m_eventContacts[ci];
+    RScalar normalImpulse = c.normalImpulse[0] + c.normalImpulse[1] + c.normalImpulse[2] + c.normalImpulse[3];
+    RVec3 friction = c.frictionImpulse_W;
+    // A compound's child pairs: one pair of bodies, one event. It touches when any of them
+    // does, at the first one's point that touched; the impulses add.
+    for (++k; k < count && m_contacts[m_eventOrder[k]].handleA == c.handleA &&
+              m_contacts[m_eventOrder[k]].handleB == c.handleB; ++k) {
+      const RContact& c2 = m_contacts[m_eventOrder[k]];
+      const REventContact& e2 = m_eventContacts[m_eventOrder[k]];
+      constexpr std::uint8_t kTouches = kTouchedDuring | kTouchingEnd;
+      if (!(e.flags & kTouches) && (e2.flags & kTouches)) e.point_W = e2.point_W, e.normal_W = e2.normal_W;
+      e.flags |= e2.flags;
+      normalImpulse += c2.normalImpulse[0] + c2.normalImpulse[1] + c2.normalImpulse[2] + c2.normalImpulse[3];
+      friction += c2.frictionImpulse_W;
+    }
     while (p < m_touching.size() && PairBefore(m_touching[p].a, m_touching[p].b, c.handleA, c.handleB)) lone(m_touching[p++]);
     const bool before = p < m_touching.size() && m_touching[p].a == c.handleA && m_touching[p].b == c.handleB;
     p += before;
     const bool after = (e.flags & kTouchingEnd) != 0;
     if (!before && !(e.flags & kTouchedDuring)) continue;
-    const RScalar normalImpulse = c.normalImpulse[0] + c.normalImpulse[1] + c.normalImpulse[2] + c.normalImpulse[3];
-    const RScalar frictionImpulse = c.frictionImpulse_W.norm();
+    const RScalar frictionImpulse = friction.norm();
     const auto report = [&](RContactEventType type) {
       emit(type, c.handleA, c.handleB, e.point_W, e.normal_W, normalImpulse, frictionImpulse);
     };

@@ -157,6 +157,35 @@ void Witnesses(const Simplex& s, RVec3& a, RVec3& b) {
 
 }  // namespace
 
+namespace {
+
+// The support point of a compound's surface in direction d (its body frame): the farthest
+// of its children's, each child's core support grown by its radius along d.
+RVec3 CompoundSupport(const RConvexShape& s, const RVec3& d) {
+  const RScalar len = d.norm();
+  const RVec3 unit = len > 0 ? RVec3(d / len) : RVec3::UnitX();
+  RVec3 best = RVec3::Zero();
+  RScalar most = -std::numeric_limits<RScalar>::infinity();
+  for (std::uint32_t i = 0; i < s.childCount; ++i) {
+    const RShapeChild& c = s.children[i];
+    const RVec3 dc = c.R_BC.transpose() * d;
+    RVec3 p;
+    if (c.shape.polyhedron) {
+      const auto& v = c.shape.polyhedron->Vertices();
+      p = v[c.shape.polyhedron->Support(v.data(), dc, 0)];
+    } else if (c.shape.cylinderRadius > 0) {
+      p = CylinderSupport(c.shape.cylinderRadius, c.shape.halfHeight, dc);
+    } else {
+      p = RVec3(0, c.shape.halfHeight == 0 ? 0 : dc.y() >= 0 ? c.shape.halfHeight : -c.shape.halfHeight, 0);
+    }
+    const RVec3 q = c.R_BC * p + c.p_BC + c.shape.radius * unit;
+    if (q.dot(d) > most) most = q.dot(d), best = q;
+  }
+  return best;
+}
+
+}  // namespace
+
 // The polyhedron first in both: the box and hull pairs' path is the one that must stay fast.
 RVec3 RPairSupport::SupportA(const RVec3& d) {
   if (a.polyhedron) {
@@ -165,6 +194,7 @@ RVec3 RPairSupport::SupportA(const RVec3& d) {
     return v[m_lastA];
   }
   if (a.cylinderRadius > 0) return CylinderSupport(a.cylinderRadius, a.halfHeight, d);
+  if (a.children) return CompoundSupport(a, d);
   return a.halfHeight == 0 ? RVec3::Zero() : RVec3(0, d.y() >= 0 ? a.halfHeight : -a.halfHeight, 0);
 }
 
@@ -173,6 +203,7 @@ RVec3 RPairSupport::SupportB(const RVec3& d_A) {
     if (b.cylinderRadius > 0) {
       return X.R_AB * CylinderSupport(b.cylinderRadius, b.halfHeight, X.R_AB.transpose() * d_A) + X.t_AB;
     }
+    if (b.children) return X.R_AB * CompoundSupport(b, X.R_AB.transpose() * d_A) + X.t_AB;
     if (b.halfHeight == 0) return X.t_AB;
     // The capsule's core end that is farthest along d: B's y axis is R_AB's second column.
     const RScalar h = X.R_AB.col(1).dot(d_A) >= 0 ? b.halfHeight : -b.halfHeight;

@@ -1,5 +1,6 @@
 // The impact phase (RWorldStep::SolveIslandImpacts): impacts at their time within the step,
 // restitution through one row per manifold.
+#include "RCompound.h"
 #include "RWorldStep.h"
 
 #include "RSolverRows.h"
@@ -22,8 +23,15 @@ using namespace solver;
 template <class Advance>
 bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa,
                                  RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
-                                 RVec3& rA, RVec3& rB, RDirection* dir) const {
+                                 RVec3& rA, RVec3& rB, RDirection* dir, std::uint32_t childA,
+                                 std::uint32_t childB) const {
   const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+  // A compound's contact is one child pair's: the impact is that pair's.
+  RShapeChild aloneA, aloneB;
+  aloneA.shape = shapeA, aloneB.shape = shapeB;
+  const bool children = shapeA.children || shapeB.children;
+  const RShapeChild& ca = shapeA.children ? shapeA.children[childA] : aloneA;
+  const RShapeChild& cb = shapeB.children ? shapeB.children[childB] : aloneB;
   const RRelativePose X0 = RelativePose(A, B);
   const RMat3 R_WA = A.m_q_WB.toRotationMatrix();
   const RScalar tolerance = RCollisionSolver::kTouchingTolerance * (A.BoundingRadius() + B.BoundingRadius());
@@ -32,8 +40,13 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
     advance(sa, t), advance(sb, t);
     RRelativePose X = X0;
     X.t_AB += R_WA.transpose() * (sb.moved - sa.moved);
-    const RContactManifold m =
-        RCollisionSolver::Manifold(shapeA, shapeB, X, std::numeric_limits<RScalar>::max());
+    RContactManifold m;
+    if (children) {
+      m = RCollisionSolver::Manifold(ca.shape, cb.shape, ChildPose(ca, cb, X), std::numeric_limits<RScalar>::max());
+      ChildToBody(ca, childA, childB, m);
+    } else {
+      m = RCollisionSolver::Manifold(shapeA, shapeB, X, std::numeric_limits<RScalar>::max());
+    }
     if (m.pointCount == 0) return false;
     const RLeadingPoints leading = LeadingPoints(m);
     // No point within the slop of the deepest: the separations are not numbers (bodies
@@ -129,7 +142,8 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
         SetDirection(dir[0], r.normal.d, rA, rB, sa, sb);
         SetDirection(dir[1], r.tangent[0], rA, rB, sa, sb);
         SetDirection(dir[2], r.tangent[1], rA, rB, sa, sb);
-      } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir)) {
+      } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir,
+                                 m_contacts[r.contact].manifold.childA, m_contacts[r.contact].manifold.childB)) {
         r.miss = true;  // they pass each other, or meet only after the step
         continue;
       }

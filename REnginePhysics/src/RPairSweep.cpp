@@ -1,5 +1,6 @@
 // The pair sweep (RWorldStep::DetectPairs): every pair, bounding spheres and boxes grown by
 // the step's motion, the filters, then CheckCollision; see RIntegrator.h.
+#include "RCompound.h"
 #include "RWorldStep.h"
 
 #include "RSolverRows.h"
@@ -290,6 +291,28 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
       const RRelativePose X = RelativePose(A, B);
       const RMargin margin{approach * dt + allowance};
+      if (shapeA.children || shapeB.children) {
+        // A compound touches child by child: one contact per touching child pair, each with
+        // its own normal (its manifolds are not kept between steps).
+        bool woken = false;
+        ForEachChildManifold(shapeA, shapeB, X, margin.metres, [&](const RContactManifold& m) {
+          if (woken) return;
+          if ((a.m_sleeping || b.m_sleeping) && a.m_responds && b.m_responds) {
+            st.wake.push_back((a.m_sleeping ? a : b).m_sleepIsland);
+            woken = true;
+            return;
+          }
+          RContact child;
+          child.manifold = m;
+          RCollisionSolver::ToWorld(A, child.manifold);
+          child.a = static_cast<std::uint32_t>(ia), child.b = static_cast<std::uint32_t>(ib);
+          child.handleA = bodies.handles[ia], child.handleB = bodies.handles[ib];
+          child.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], child.manifold, dt);
+          st.contacts.push_back(child);
+          st.contactMemory.push_back(kNoMemory);
+        });
+        continue;
+      }
       bool touching = false;
       while (memory < m_manifolds.size() && before(m_manifolds[memory], m_pairs[k])) ++memory;
       const RManifoldMemory* kept = nullptr;

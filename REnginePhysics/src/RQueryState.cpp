@@ -9,6 +9,19 @@ namespace REngine {
 
 RLocalBox LocalBoxOf(const RConvexShape& shape) {
   RLocalBox box;
+  if (shape.children) {
+    // The children's boxes turned into the body frame, joined.
+    RVec3 lo = RVec3::Constant(std::numeric_limits<RScalar>::infinity()), hi = -lo;
+    for (std::uint32_t i = 0; i < shape.childCount; ++i) {
+      const RShapeChild& c = shape.children[i];
+      const RLocalBox child = LocalBoxOf(c.shape);
+      const RVec3 center = c.R_BC * child.center_B + c.p_BC, half = c.R_BC.cwiseAbs() * child.half_B;
+      lo = lo.cwiseMin(center - half), hi = hi.cwiseMax(center + half);
+    }
+    box.center_B = RScalar(0.5) * (lo + hi);
+    box.half_B = RScalar(0.5) * (hi - lo);
+    return box;
+  }
   if (!shape.polyhedron) {
     const RScalar across = shape.radius + shape.cylinderRadius;  // one of them is 0
     box.half_B = RVec3(across, shape.halfHeight + shape.radius, across);

@@ -2,6 +2,8 @@
 
 #include <REngineMath/RQuaternion.h>
 
+#include "RCompound.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -79,7 +81,12 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
               "shape.half_height", "is too thin: below 1e-4 of radius");
       break;
     case RShapeType::kHull:
+    case RShapeType::kCompound:
       break;
+  }
+  if (shape.type == RShapeType::kCompound) {
+    PrepareCompound(shape, p);
+    return prepared;
   }
   if (shape.type == RShapeType::kHull) {
     RConvexPolyhedron hull_S;
@@ -183,6 +190,9 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   } else if (shape.shape.type == RShapeType::kCapsule) {
     m_coreHalfHeight = shape.shape.halfHeight, m_coreRadius = shape.shape.radius;
     m_boxHalf_B = RVec3(m_coreRadius, m_coreHalfHeight + m_coreRadius, m_coreRadius);
+  } else if (!shape.children.empty()) {
+    m_children = shape.children.data(), m_childCount = static_cast<std::uint32_t>(shape.children.size());
+    m_boxCenter_B = shape.boxCenter_B, m_boxHalf_B = shape.boxHalf_B;
   } else if (shape.shape.type == RShapeType::kCylinder) {
     m_coreHalfHeight = shape.shape.halfHeight, m_cylinderRadius = shape.shape.radius;
     m_boxHalf_B = RVec3(m_cylinderRadius, m_coreHalfHeight, m_cylinderRadius);
@@ -265,6 +275,13 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
   ++m_worldFormComputations;
   wf.sphereCenter_W = m_x_W;
   wf.sphereRadius = m_boundingRadius;
+  if (m_childCount > 0) {  // a compound: its body-frame box turned with it
+    const RMat3 R = m_q_WB.toRotationMatrix();
+    const RVec3 centre = m_x_W + R * m_boxCenter_B, half = R.cwiseAbs() * m_boxHalf_B;
+    wf.aabbMin_W = centre - half;
+    wf.aabbMax_W = centre + half;
+    return;
+  }
   if (m_cylinderRadius > 0) {
     // A cylinder: along world axis k, its axis a reaches h |a_k| and its end discs
     // r sqrt(1 - a_k^2).

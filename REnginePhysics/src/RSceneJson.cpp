@@ -276,14 +276,15 @@ RBodyLocks ReadLocks(const json& j, const std::string& path) {
 
 
 RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& limits) {
-  const Object shape(j, path, {"type", "half_extents", "radius", "points", "half_height"});
+  const Object shape(j, path, {"type", "half_extents", "radius", "points", "half_height", "children"});
   RShape s;
   s.type = ReadChoice<RShapeType>(shape.Required("type"), shape.PathOf("type"),
                                   {{"box", RShapeType::kBox},
                                    {"sphere", RShapeType::kSphere},
                                    {"hull", RShapeType::kHull},
                                    {"capsule", RShapeType::kCapsule},
-                                   {"cylinder", RShapeType::kCylinder}});
+                                   {"cylinder", RShapeType::kCylinder},
+                                   {"compound", RShapeType::kCompound}});
   switch (s.type) {
     case RShapeType::kBox:
       shape.AllowOnly({"type", "half_extents"});
@@ -300,6 +301,31 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
       s.radius = ReadPositive(shape.Required("radius"), shape.PathOf("radius"));
       s.halfHeight = ReadPositive(shape.Required("half_height"), shape.PathOf("half_height"));
       break;
+    case RShapeType::kCompound: {
+      shape.AllowOnly({"type", "children"});
+      const json& children = shape.Required("children");
+      const std::string childrenPath = shape.PathOf("children");
+      if (!children.is_array() || children.empty()) {
+        Fail(childrenPath, "must be a non-empty array of children {\"shape\", \"position\", \"orientation\", "
+                           "\"density\"}" + Got(children));
+      }
+      if (children.size() > RShape::kMaxChildren) {
+        Fail(childrenPath, "has " + std::to_string(children.size()) + " children; at most " +
+                               std::to_string(RShape::kMaxChildren) + " are allowed");
+      }
+      for (std::size_t i = 0; i < children.size(); ++i) {
+        const std::string childPath = Element(childrenPath, i);
+        const Object child(children[i], childPath, {"shape", "position", "orientation", "density"});
+        RCompoundChild c;
+        c.shape = ReadShape(child.Required("shape"), child.PathOf("shape"), limits);
+        if (c.shape.type == RShapeType::kCompound) Fail(child.PathOf("shape") + ".type", "a compound cannot be a child");
+        c.position_S = child.Get("position", c.position_S, ReadVec3);
+        c.q_SC = child.Get("orientation", c.q_SC, ReadOrientation);
+        c.density = child.Get("density", c.density, ReadPositive);
+        s.children.push_back(std::move(c));
+      }
+      break;
+    }
     case RShapeType::kHull: {
       shape.AllowOnly({"type", "points"});
       const json& points = shape.Required("points");

@@ -161,24 +161,28 @@ void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
 class ShapeCache {
  public:
   std::shared_ptr<const RPreparedShape> Get(const RShape& s) {
-    Key key{s.type, s.radius, s.halfHeight, {s.halfExtents.x(), s.halfExtents.y(), s.halfExtents.z()}, {}};
-    for (const RVec3& p : s.points) key.points.push_back({p.x(), p.y(), p.z()});
+    std::vector<RScalar> key;
+    Flatten(s, key);
     auto it = m_cache.find(key);
     if (it == m_cache.end()) it = m_cache.emplace(std::move(key), PrepareShape(s)).first;
     return it->second;
   }
 
  private:
-  struct Key {
-    RShapeType type;
-    RScalar radius;
-    RScalar halfHeight;  // every field of RShape: a field left out merges different shapes
-    std::array<RScalar, 3> half;
-    std::vector<std::array<RScalar, 3>> points;
-    bool operator<(const Key& o) const {
-      return std::tie(type, radius, halfHeight, half, points) < std::tie(o.type, o.radius, o.halfHeight, o.half, o.points);
+  // Every field of RShape, a compound's children's too, as numbers: a field left out would
+  // merge different shapes.
+  static void Flatten(const RShape& s, std::vector<RScalar>& out) {
+    out.insert(out.end(), {static_cast<RScalar>(s.type), s.radius, s.halfHeight, s.halfExtents.x(),
+                           s.halfExtents.y(), s.halfExtents.z(), static_cast<RScalar>(s.points.size())});
+    for (const RVec3& p : s.points) out.insert(out.end(), {p.x(), p.y(), p.z()});
+    out.push_back(static_cast<RScalar>(s.children.size()));
+    for (const RCompoundChild& c : s.children) {
+      Flatten(c.shape, out);
+      out.insert(out.end(), {c.position_S.x(), c.position_S.y(), c.position_S.z(), c.q_SC.w(), c.q_SC.x(),
+                             c.q_SC.y(), c.q_SC.z(), c.density});
     }
-  };
+  }
+  using Key = std::vector<RScalar>;
   std::map<Key, std::shared_ptr<const RPreparedShape>> m_cache;
 };
 

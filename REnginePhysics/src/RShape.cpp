@@ -1,5 +1,7 @@
 #include <REnginePhysics/RShape.h>
 
+#include "RCompound.h"
+
 #include <Eigen/Eigenvalues>
 
 #include <stdexcept>
@@ -49,6 +51,8 @@ RMassProperties ComputeMassProperties(const RShape& shape) {
       mp.principalMoments = RVec3(across, axial, across);
       return mp;
     }
+    case RShapeType::kCompound:
+      return CompoundMassProperties(shape);
     case RShapeType::kHull:
       break;
   }

@@ -27,9 +27,7 @@ enum : std::uint8_t { kDynamic = 0, kStatic = 1, kKinematic = 2 };
 
 // The key a body's shape is saved under: the checksum of its definition (RShape) written as
 // a record. Equal shapes prepared apart (two scenes, two spawns) have one key.
-inline std::uint64_t ShapeKey(const RShape& shape) {
-  std::vector<std::uint8_t> bytes;
-  RWriter w(bytes);
+inline void WriteShapeRecord(RWriter& w, const RShape& shape) {
   w.U8(static_cast<std::uint8_t>(shape.type));
   switch (shape.type) {
     case RShapeType::kSphere: w.F64(shape.radius); break;
@@ -40,7 +38,22 @@ inline std::uint64_t ShapeKey(const RShape& shape) {
       w.U64(shape.points.size());
       for (const RVec3& p : shape.points) w.Vec3(p);
       break;
+    case RShapeType::kCompound:
+      w.U64(shape.children.size());
+      for (const RCompoundChild& c : shape.children) {
+        WriteShapeRecord(w, c.shape);
+        w.Vec3(c.position_S);
+        w.F64(c.q_SC.w()), w.F64(c.q_SC.x()), w.F64(c.q_SC.y()), w.F64(c.q_SC.z());
+        w.F64(c.density);
+      }
+      break;
   }
+}
+
+inline std::uint64_t ShapeKey(const RShape& shape) {
+  std::vector<std::uint8_t> bytes;
+  RWriter w(bytes);
+  WriteShapeRecord(w, shape);
   return Checksum(bytes.data(), bytes.size());
 }
 

@@ -432,7 +432,7 @@ class RWorldStep {
   template <class Advance>
   bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
                       const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
-                      RDirection* dir) const;
+                      RDirection* dir, std::uint32_t childA, std::uint32_t childB) const;
   RScalar SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
   void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
   // An island's contact phase after its impacts (RContactPasses.cpp): passes, direct solves,

@@ -152,7 +152,34 @@ inline btCollisionShape* MakeShape(BulletWorld& w, const RRigidBody& b,
   const bool offset = b.ShapeOffset_B().norm() > 0 ||
                       b.ShapeRotation_BS().angularDistance(RQuat::Identity()) > 0;
   std::unique_ptr<btCollisionShape> shape;
-  if (s.type == RShapeType::kHull) {
+  if (s.type == RShapeType::kCompound) {
+    // Bullet's compound of the children, each child's shape posed in B as REngine poses it.
+    auto compound = std::make_unique<btCompoundShape>();
+    const RPreparedShape& prepared = *b.PreparedShape();
+    for (std::size_t i = 0; i < prepared.children.size(); ++i) {
+      const RShape& cs = prepared.childShapes[i]->shape;
+      const RShapeChild& c = prepared.children[i];
+      const RPreparedShape& cp = *prepared.childShapes[i];
+      std::unique_ptr<btCollisionShape> child;
+      if (cs.type == RShapeType::kHull) {
+        auto hull = std::make_unique<btConvexHullShape>();
+        for (const RVec3& p_S : cs.points) hull->addPoint(Bt(cp.p_BS + cp.q_BS * p_S), false);
+        hull->recalcLocalAabb();
+        child = std::move(hull);
+      } else if (cs.type == RShapeType::kBox) {
+        child = std::make_unique<btBoxShape>(Bt(cs.halfExtents));
+      } else if (cs.type == RShapeType::kCapsule) {
+        child = std::make_unique<btCapsuleShape>(btScalar(cs.radius), btScalar(2 * cs.halfHeight));
+      } else if (cs.type == RShapeType::kCylinder) {
+        child = std::make_unique<btCylinderShape>(btVector3(btScalar(cs.radius), btScalar(cs.halfHeight), btScalar(cs.radius)));
+      } else {
+        child = std::make_unique<btSphereShape>(Bt(cs.radius));
+      }
+      compound->addChildShape(btTransform(Bt(RQuat(c.R_BC)), Bt(c.p_BC)), child.get());
+      w.shapes.push_back(std::move(child));
+    }
+    shape = std::move(compound);
+  } else if (s.type == RShapeType::kHull) {
     // Points taken into B; the hull of the points, as REngine builds it.
     auto hull = std::make_unique<btConvexHullShape>();
     for (const RVec3& p_S : s.points) {

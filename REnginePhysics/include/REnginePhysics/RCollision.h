@@ -32,6 +32,19 @@ struct RConvexShape {
   RScalar halfHeight = 0;                         // capsule core's or cylinder's half length along B's y, m
   // > 0: a cylinder of this radius about B's y axis, its flat ends at y = +-halfHeight, m.
   RScalar cylinderRadius = 0;
+  // Non-null: a compound, the union of these childCount convex children (the fields above
+  // unused but boundingRadius). Every query answers for the union: the least distance over
+  // the children's pairs, the manifold of the deepest pair, the first ray hit.
+  const struct RShapeChild* children = nullptr;
+  std::uint32_t childCount = 0;
+};
+
+// A compound's child as the narrow phase sees it: its convex shape in its own body frame C,
+// and C's pose in the compound's body frame B (p_B = R_BC p_C + p_BC), m.
+struct RShapeChild {
+  RConvexShape shape;
+  RMat3 R_BC = RMat3::Identity();
+  RVec3 p_BC = RVec3::Zero();
 };
 
 // Pose of shape B's frame in shape A's frame: p_A = R_AB p_B + t_AB. Both in metres.
@@ -77,6 +90,8 @@ struct RContactManifold {
   RVec3 normal = RVec3::Zero();
   int pointCount = 0;
   RContactPoint points[4];
+  // A compound's child that touches (its index among the shape's children; 0 otherwise).
+  std::uint32_t childA = 0, childB = 0;
 };
 
 // A speculative margin, m: a gap this small still counts as a contact. (A type of its own so

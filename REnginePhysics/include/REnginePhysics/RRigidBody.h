@@ -9,6 +9,7 @@
 #pragma once
 
 #include <REngineMath/RMath.h>
+#include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RFreeRotation.h>
 #include <REnginePhysics/RShape.h>
 
@@ -64,8 +65,13 @@ struct RPreparedShape {
   RMassProperties unitMass;     // at 1 kg/m^3, S frame
   RVec3 p_BS = RVec3::Zero();   // origin of S in the body frame B, m
   RQuat q_BS = RQuat::Identity();  // rotation S -> B
-  std::shared_ptr<const RConvexPolyhedron> polyhedron_B;  // body frame; null for a sphere or capsule
+  std::shared_ptr<const RConvexPolyhedron> polyhedron_B;  // body frame; null but for a box or hull
   RScalar boundingRadius = 0;   // largest distance of the surface from the centre of mass, m
+  // A compound: its children prepared (each its own shape, body frame and polyhedron), and
+  // as the narrow phase sees them, posed in this body frame B (pointing into childShapes).
+  std::vector<std::shared_ptr<const RPreparedShape>> childShapes;
+  std::vector<RShapeChild> children;
+  RVec3 boxCenter_B = RVec3::Zero(), boxHalf_B = RVec3::Zero();  // a compound's box in B, m
 };
 
 // Checks a shape as RRigidBody does (sizes finite, > 0 and at most 1e12 m, a box no thinner
@@ -371,6 +377,9 @@ class alignas(64) RRigidBody {
   // sphere of the radius, m; or a cylinder of m_cylinderRadius about that segment (its
   // core radius 0). All 0 for a polyhedron.
   RScalar m_coreHalfHeight = 0, m_coreRadius = 0, m_cylinderRadius = 0;
+  // A compound's children (m_prepared's; null and 0 for any other shape).
+  const RShapeChild* m_children = nullptr;
+  std::uint32_t m_childCount = 0;
   mutable RWorldForm m_worldForm;
 
   // Last, what the step reads only at a contact or never: material, mass properties, the

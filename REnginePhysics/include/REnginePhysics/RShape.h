@@ -4,13 +4,16 @@
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace REngine {
 
 // (Values are stored in saved states: new types are appended.)
-enum class RShapeType : std::uint8_t { kSphere, kBox, kHull, kCapsule, kCylinder };
+enum class RShapeType : std::uint8_t { kSphere, kBox, kHull, kCapsule, kCylinder, kCompound };
+
+struct RCompoundChild;
 
 // A shape in its own frame S (the frame the scene gives sizes and points in), metres.
 struct RShape {
@@ -22,10 +25,24 @@ struct RShape {
   RScalar halfHeight = 0.5;
   RVec3 halfExtents = RVec3::Constant(0.5);       // kBox, m, along S's axes
   std::vector<RVec3> points;                      // kHull: the hull of these points, S frame, m
+  // kCompound: a rigid union of convex children, each placed in S (at most kMaxChildren).
+  std::vector<RCompoundChild> children;
+  static constexpr std::size_t kMaxChildren = 256;
+};
+
+// A child of a compound: a convex shape (any type but kCompound) with its own frame C placed
+// in the compound's frame S, and its own density. Where children overlap, their shared
+// volume counts twice in the mass (as the scene format says).
+struct RCompoundChild {
+  RShape shape;
+  RVec3 position_S = RVec3::Zero();  // origin of C in S, m
+  RQuat q_SC = RQuat::Identity();    // C's orientation in S (normalised when prepared)
+  RScalar density = 1;               // kg/m^3, finite and > 0
 };
 
 // Mass properties of a solid of uniform density 1 kg/m^3 (scale by density or by
-// mass / volume), in the shape frame S.
+// mass / volume), in the shape frame S. A compound's are at its children's densities: its
+// `volume` is then the mass, kg, at a body density of 1 (a body's density scales them).
 struct RMassProperties {
   RScalar volume = 0;                       // m^3
   RVec3 com_S = RVec3::Zero();              // centre of mass, S frame, m
