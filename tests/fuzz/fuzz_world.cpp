@@ -44,8 +44,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (int i = 0; i < count; ++i) {
     RBodyDef d;
     const std::uint8_t kind = in.Byte();
-    // (a capsule on 255 and a cylinder on 254: the other values keep the corpus's meaning)
-    switch (kind == 255 ? 3 : kind == 254 ? 4 : kind % 3) {
+    // (a capsule on 255, a cylinder on 254, a compound on 253: the other values keep the
+    // corpus's meaning)
+    switch (kind == 255 ? 3 : kind == 254 ? 4 : kind == 253 ? 5 : kind % 3) {
+      case 5: {  // two or three children: boxes, spheres, capsules and cylinders, anywhere near
+        d.shape.type = RShapeType::kCompound;
+        const int children = 2 + in.Byte() % 2;
+        for (int k = 0; k < children; ++k) {
+          RCompoundChild c;
+          const std::uint8_t t = in.Byte() % 4;
+          c.shape.type = t == 0 ? RShapeType::kBox : t == 1 ? RShapeType::kSphere : t == 2 ? RShapeType::kCapsule : RShapeType::kCylinder;
+          c.shape.halfExtents = RVec3(in.Decades(-2, 1), in.Decades(-2, 1), in.Decades(-2, 1));
+          c.shape.radius = in.Decades(-2, 1), c.shape.halfHeight = in.Decades(-2, 1);
+          c.position_S = in.Vec(-2, 2);
+          c.q_SC = in.Rotation();
+          c.density = in.Decades(-1, 1);
+          d.shape.children.push_back(c);
+        }
+        break;
+      }
       case 3:
         d.shape.type = RShapeType::kCapsule;
         d.shape.radius = in.Decades(-2, 1), d.shape.halfHeight = in.Decades(-2, 1);

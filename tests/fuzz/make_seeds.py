@@ -103,6 +103,9 @@ def body(kind, static=0):
         u16(0.6) * 4 + u16(0.5) * 6 + u16(0.5) + u16(0.3) + bytes([1])
 write("fuzz_world", "stack", bytes([1, 10, 0]) + u16(0.5) + bytes([3]) + body(0, 0) + body(0, 1) + body(1) + bytes([4, 1]))
 write("fuzz_world", "cylinders", bytes([1, 10, 0]) + u16(0.5) + bytes([3]) + body(0, 1) + body(254) + body(254) + bytes([4, 1]))
+write("fuzz_world", "compounds", bytes([1, 10, 0]) + u16(0.5) + bytes([3]) + body(0, 1) +
+      bytes([253, 1]) + (bytes([0]) + u16(0.4) * 5 + u16(0.5) * 3 + u16(0.2) * 2 + u16(0.5)) * 3 + body(1)[1:] +
+      body(253) + bytes([4, 1]))
 write("fuzz_world", "infinite_force", bytes([1, 10, 1]) + u16(0.5) + bytes([2]) + body(0) + body(2) +
       bytes([2, 0, 0, 0, 0]) + raw(float("inf")) + bytes([1]) + raw(1) + bytes([1]) + raw(0) + bytes([1]))
 write("fuzz_world", "nan_pose", bytes([0, 4, 0]) + u16(0.5) + bytes([1]) + body(0) +
