@@ -3,6 +3,7 @@
 // holds a ball its hull would not, rays, events, conservation in free tumbling far from the
 // origin, and save and load.
 #include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RQueries.h>
 #include <REnginePhysics/RRigidBody.h>
@@ -374,4 +375,43 @@ TEST(CompoundState, ASavedWorldOfCompoundsContinuesBitIdentically) {
     EXPECT_EQ(a[i].Orientation_WB().coeffs(), b[i].Orientation_WB().coeffs()) << i;
   }
   EXPECT_GT(most, 4u);  // they did meet (and then went to sleep)
+}
+
+// Queries with a compound: a U-shaped overlap query around a ball in its hollow does not
+// overlap it (its hull would), one shifted so a wall cuts the ball does; a ray cast at a
+// compound body meets its child; a U cast down onto a ball stops when the plate meets it.
+TEST(CompoundQueries, OverlapsRaysAndCastsGoByTheChildren) {
+  RBodies bodies;
+  RBodyDef ball;
+  ball.shape = Sphere(0.4);
+  ball.position_W = RVec3(0, 1.2, 0);
+  const RBodyHandle h = bodies.Add(ball);
+  const std::shared_ptr<const RPreparedShape> u = PrepareShape(UShape());
+  RQueries queries;
+  std::vector<RBodyHandle> found;
+  queries.Overlap(bodies, *u, RVec3::Zero(), RQuat::Identity(), found);
+  EXPECT_TRUE(found.empty());
+  queries.Overlap(bodies, *u, RVec3(1.0, 0, 0), RQuat::Identity(), found);  // the left wall's inner face at x = 0
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0], h);
+  // Cast up from below, open side first: the walls pass beside the ball (0.6 m clear) and
+  // the plate's top (y = 0.25 in the U's frame) meets the ball's bottom (y = 0.8) after the U
+  // has moved 5.55 of its 10 m (its hull would stop at the walls' tops, after 3.55). Cast
+  // down from above, the plate's underside meets the ball's top after 5 - 0.25 - 1.6 = 3.15.
+  std::optional<RShapeCastHit> hit = queries.CastShape(bodies, *u, RVec3(0, -5, 0), RQuat::Identity(), RVec3(0, 10, 0));
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(hit->fraction, 0.555, 1e-9);
+  hit = queries.CastShape(bodies, *u, RVec3(0, 5, 0), RQuat::Identity(), RVec3(0, -10, 0));
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR(hit->fraction, 0.315, 1e-9);
+  // A compound body hit by a ray through its hollow: the plate.
+  RBodyDef ud;
+  ud.shape = UShape();
+  ud.position_W = RVec3(10, 0, 0);
+  bodies.Add(ud);
+  RRay ray;
+  ray.origin_W = RVec3(10, 5, 0.5), ray.direction_W = RVec3(0, -1, 0), ray.maxDistance = 20;
+  const std::optional<RRayHit> rh = queries.CastRay(bodies, ray);
+  ASSERT_TRUE(rh.has_value());
+  EXPECT_NEAR(rh->distance, 4.75, 1e-12);
 }

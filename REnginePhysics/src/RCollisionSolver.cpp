@@ -83,7 +83,7 @@ RDistanceResult Mirror(RDistanceResult r, const RRelativePose& X_AB) {
 bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
                                  const RRelativePose& X_AB) {
   const RScalar band = Band(a, b);
-  if (!a.polyhedron && !b.polyhedron && a.halfHeight == 0 && b.halfHeight == 0) {
+  if (!a.polyhedron && !b.polyhedron && a.halfHeight == 0 && b.halfHeight == 0 && !a.children && !b.children) {
     return X_AB.t_AB.norm() - a.radius - b.radius <= band;
   }
   if (a.polyhedron && b.polyhedron) {

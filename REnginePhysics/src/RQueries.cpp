@@ -67,6 +67,11 @@ Posed Pose(const RPreparedShape& prepared, const RVec3& position_W, const RQuat&
   p.shape.radius = p.shape.polyhedron || cylinder ? 0 : capsule ? prepared.shape.radius : prepared.boundingRadius;
   p.shape.halfHeight = capsule || cylinder ? prepared.shape.halfHeight : 0;
   p.shape.cylinderRadius = cylinder ? prepared.shape.radius : 0;
+  if (!prepared.children.empty()) {  // a compound: its children, no radius of its own
+    p.shape.radius = 0;
+    p.shape.children = prepared.children.data();
+    p.shape.childCount = static_cast<std::uint32_t>(prepared.children.size());
+  }
   p.shape.boundingRadius = prepared.boundingRadius;
   p.R_WB = q_WB.toRotationMatrix();
   p.x_W = position_W - q_WB * prepared.p_BS;

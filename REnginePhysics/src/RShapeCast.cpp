@@ -2,12 +2,40 @@
 // conservative advancement on the narrow phase's distance.
 #include <REnginePhysics/RQueries.h>
 
+#include "RCompound.h"
+
 #include <cmath>
 
 namespace REngine {
 
 bool ShapeCastShape(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB,
                     const RVec3& translation_A, RScalar maxFraction, RShapeCastResult& out) {
+  if (a.children || b.children) {
+    // A compound is not convex, and advancing along the nearest pair's normal could stop
+    // where the nearest child pair slides past (a ball beside a U's wall): the first touch
+    // of any child pair, each cast alone (each pair is convex).
+    RShapeChild aloneA, aloneB;
+    std::uint32_t na, nb;
+    const RShapeChild* ca = ChildrenOf(a, aloneA, na);
+    const RShapeChild* cb = ChildrenOf(b, aloneB, nb);
+    bool found = false;
+    for (std::uint32_t i = 0; i < na; ++i) {
+      for (std::uint32_t j = 0; j < nb; ++j) {
+        RShapeCastResult r;
+        const RScalar limit = found ? out.fraction : maxFraction;
+        if (!ShapeCastShape(ca[i].shape, cb[j].shape, ChildPose(ca[i], cb[j], X_AB),
+                            ca[i].R_BC.transpose() * translation_A, limit, r)) {
+          continue;
+        }
+        if (found && !(r.fraction < out.fraction)) continue;
+        out = r;
+        out.point = ca[i].R_BC * r.point + ca[i].p_BC;
+        out.normal = ca[i].R_BC * r.normal;
+        found = true;
+      }
+    }
+    return found;
+  }
   const RScalar band =
       RCollisionSolver::kTouchingTolerance * (a.boundingRadius + b.boundingRadius);
   RRelativePose X = X_AB;
