@@ -91,6 +91,13 @@ void PrepareCompound(const RShape& shape, RPreparedShape& p) {
     }
   }
   p.unitMass = CompoundMassProperties(shape);
+  // The union's mass properties must be numbers a body can use (densities of 1e308 overflow
+  // the mass, children 1e12 m apart the moments): named here, not as the body's density.
+  const RMassProperties& mp = p.unitMass;
+  if (!std::isfinite(mp.volume) || !(mp.volume > 0) || !Finite(mp.com_S) || !Finite(mp.principalMoments) ||
+      !(mp.principalMoments.minCoeff() > 0)) {
+    throw RBodyError("shape.children", "give a mass, centre or inertia that is not a finite positive number");
+  }
   p.q_BS = p.unitMass.q_SB.conjugate();
   p.p_BS = -(p.q_BS * p.unitMass.com_S);
   // Each child's body frame Bc in the compound's body frame B: p_B = q_BS (q_SC p_C + t) +

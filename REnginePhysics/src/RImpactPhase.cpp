@@ -1,6 +1,7 @@
 // The impact phase (RWorldStep::SolveIslandImpacts): impacts at their time within the step,
 // restitution through one row per manifold.
 #include "RCompound.h"
+#include "RGjkEpa.h"
 #include "RWorldStep.h"
 
 #include "RSolverRows.h"
@@ -48,11 +49,26 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
       m = RCollisionSolver::Manifold(shapeA, shapeB, X, std::numeric_limits<RScalar>::max());
     }
     if (m.pointCount == 0) return false;
-    const RLeadingPoints leading = LeadingPoints(m);
+    RLeadingPoints leading = LeadingPoints(m);
     // No point within the slop of the deepest: the separations are not numbers (bodies
     // flung to 1e300 m/s overflow the pair's pose). No impact to find (found by fuzz_world).
     if (leading.count == 0) return false;
     const RScalar lead = m.points[leading.deepest].separation;
+    if (children) {
+      // A compound meets flat with several children at once (a ship's two hulls on a wall):
+      // the leading points of every child pair facing the same way join this one's, so the
+      // one impact goes through their centre, as a single body's face would.
+      RVec3 sum = leading.centre * leading.count;
+      int count = leading.count;
+      ForEachChildManifold(shapeA, shapeB, X, lead + m_settings.penetrationSlop, [&](const RContactManifold& other) {
+        if (other.childA == m.childA && other.childB == m.childB) return;
+        if (other.normal.dot(m.normal) < kFaceContactCos) return;
+        for (int q = 0; q < other.pointCount; ++q) {
+          if (other.points[q].separation <= lead + m_settings.penetrationSlop) sum += other.points[q].position, ++count;
+        }
+      });
+      leading.centre = sum / count;
+    }
     const RVec3& centre_A = leading.centre;
     // World, relative to each body's centre of mass at t.
     const RVec3 n = R_WA * m.normal;

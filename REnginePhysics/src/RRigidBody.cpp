@@ -224,9 +224,10 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     // touch spins it up without limit (a box 1e-9 m thick and 10 m long). 1e9 is the
     // largest ratio of effective masses the contact solver holds (README, stability
     // envelope); a hull at the thinnest RConvexPolyhedron::Hull accepts stays below it.
-    const char* shapeField = shape.shape.type == RShapeType::kHull ? "shape.points"
-                             : shape.shape.type == RShapeType::kBox ? "shape.half_extents"
-                                                                   : "shape.radius";  // (a capsule: its radius is what makes it thin)
+    const char* shapeField = shape.shape.type == RShapeType::kHull       ? "shape.points"
+                             : shape.shape.type == RShapeType::kBox      ? "shape.half_extents"
+                             : shape.shape.type == RShapeType::kCompound ? "shape.children"
+                                                                        : "shape.radius";  // (a capsule: its radius is what makes it thin)
     Require(m_I_B.maxCoeff() <= kMaxInertiaRatio * m_I_B.minCoeff(), shapeField,
             "is too thin: its largest principal moment exceeds 1e9 times its smallest");
     m_rotation.SetInertia(m_I_B);

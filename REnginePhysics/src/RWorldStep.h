@@ -414,6 +414,7 @@ class RWorldStep {
   RLeadingPoints LeadingPoints(const RContactManifold& m) const;
   std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt);
   void BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block);
+  void JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last);
   static std::size_t FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from);
   // Both return the largest change of a row's relative speed their impulses made, m/s
   // (|delta lambda| k: what SolveIslandBlocks stops on).
