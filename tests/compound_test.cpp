@@ -51,6 +51,15 @@ RShape Compound(std::vector<RCompoundChild> children) {
   return s;
 }
 
+// A table: a top 2 x 1.2 m on four legs 0.7 m tall (children 1 to 4), its feet at y = 0.
+std::vector<RCompoundChild> TableParts() {
+  std::vector<RCompoundChild> parts{Child(Box(RVec3(1, 0.05, 0.6)), RVec3(0, 0.75, 0))};
+  for (const RScalar x : {-0.9, 0.9}) {
+    for (const RScalar z : {-0.5, 0.5}) parts.push_back(Child(Box(RVec3(0.05, 0.35, 0.05)), RVec3(x, 0.35, z)));
+  }
+  return parts;
+}
+
 // A "U": a floor plate and two walls, open at the top, 2 m wide inside.
 RShape UShape() {
   return Compound({Child(Box(RVec3(1.5, 0.25, 1)), RVec3(0, 0, 0)), Child(Box(RVec3(0.25, 1, 1)), RVec3(-1.25, 1.25, 0)),
@@ -210,10 +219,7 @@ RRigidBody Ground() {
 // A table (a top on four legs) dropped on the floor: one contact per leg, four contacts
 // between the same two bodies, and it stands level at its legs' height (within the slop).
 TEST(CompoundPhysics, ATableStandsOnItsFourLegs) {
-  std::vector<RCompoundChild> parts{Child(Box(RVec3(1, 0.05, 0.6)), RVec3(0, 0.75, 0))};
-  for (const RScalar x : {-0.9, 0.9}) {
-    for (const RScalar z : {-0.5, 0.5}) parts.push_back(Child(Box(RVec3(0.05, 0.35, 0.05)), RVec3(x, 0.35, z)));
-  }
+  const std::vector<RCompoundChild> parts = TableParts();
   std::vector<RRigidBody> bodies{Ground()};
   RBodyDef table;
   table.shape = Compound(parts);
@@ -322,10 +328,7 @@ TEST(CompoundPhysics, TumblingConservesEnergyAndAngularMomentumFarOut) {
 // Events: the table's four legs touching the floor are one pair of bodies: one begin, then
 // persist, never four.
 TEST(CompoundEvents, ChildPairsOfOneBodyPairAreOneEvent) {
-  std::vector<RCompoundChild> parts{Child(Box(RVec3(1, 0.05, 0.6)), RVec3(0, 0.75, 0))};
-  for (const RScalar x : {-0.9, 0.9}) {
-    for (const RScalar z : {-0.5, 0.5}) parts.push_back(Child(Box(RVec3(0.05, 0.35, 0.05)), RVec3(x, 0.35, z)));
-  }
+  const std::vector<RCompoundChild> parts = TableParts();
   std::vector<RRigidBody> bodies{Ground()};
   RBodyDef table;
   table.shape = Compound(parts);
@@ -352,10 +355,7 @@ TEST(CompoundEvents, ChildPairsOfOneBodyPairAreOneEvent) {
 // Save and load: a world of tables tumbling onto the floor and each other, saved mid-fall and
 // loaded into a world built the same way, goes on bit for bit as the uninterrupted one.
 TEST(CompoundState, ASavedWorldOfCompoundsContinuesBitIdentically) {
-  std::vector<RCompoundChild> parts{Child(Box(RVec3(1, 0.05, 0.6)), RVec3(0, 0.75, 0))};
-  for (const RScalar x : {-0.9, 0.9}) {
-    for (const RScalar z : {-0.5, 0.5}) parts.push_back(Child(Box(RVec3(0.05, 0.35, 0.05)), RVec3(x, 0.35, z)));
-  }
+  const std::vector<RCompoundChild> parts = TableParts();
   auto build = [&](std::vector<RRigidBody>& bodies) {
     bodies.push_back(Ground());
     for (int i = 0; i < 4; ++i) {
