@@ -60,6 +60,22 @@ std::vector<RCompoundChild> TableParts() {
   return parts;
 }
 
+// Signed distance of a point from a convex shape in its own frame, exact on the surface (0):
+// a polyhedron's largest face-plane distance, a cylinder's 2-D box distance in (distance
+// from the axis, height), a sphere's or capsule's distance from its core less the radius.
+RScalar SurfaceDistance(const RConvexShape& s, const RVec3& p) {
+  if (s.polyhedron) {
+    RScalar most = -std::numeric_limits<RScalar>::infinity();
+    for (const RFace& f : s.polyhedron->Faces()) most = std::max(most, f.plane.SignedDistance(p));
+    return most;
+  }
+  if (s.cylinderRadius > 0) {
+    const RScalar qx = std::hypot(p.x(), p.z()) - s.cylinderRadius, qy = std::abs(p.y()) - s.halfHeight;
+    return std::hypot(std::max(qx, RScalar(0)), std::max(qy, RScalar(0))) + std::min(std::max(qx, qy), RScalar(0));
+  }
+  return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
+}
+
 // A "U": a floor plate and two walls, open at the top, 2 m wide inside.
 RShape UShape() {
   return Compound({Child(Box(RVec3(1.5, 0.25, 1)), RVec3(0, 0, 0)), Child(Box(RVec3(0.25, 1, 1)), RVec3(-1.25, 1.25, 0)),
@@ -150,7 +166,7 @@ TEST(CompoundCrosscheck, DistanceIsTheLeastOverTheChildrenAgainstFcl) {
   std::mt19937_64 rng(7);
   const OracleHull hull(std::vector<RVec3>{{1, 0.2, 0}, {-0.7, 0.9, 0.3}, {0.1, -1, 0.5}, {0.3, 0.4, -1.1},
                                            {-0.5, -0.6, -0.4}, {0.8, 0.7, 0.9}, {-1, 0, -0.2}});
-  int apart = 0, overlapping = 0;
+  int apart = 0, overlapping = 0, agree = 0;
   RScalar worst = 0;
   for (int n = 0; n < 600; ++n) {
     const Partner partner(static_cast<PartnerKind>(std::array<int, 3>{0, 1, 4}[n % 3]), rng, hull);
@@ -189,15 +205,28 @@ TEST(CompoundCrosscheck, DistanceIsTheLeastOverTheChildrenAgainstFcl) {
     if (got.separation > 1e-6 * size) {
       ++apart;
       EXPECT_FALSE(anyCollides) << n;
-      EXPECT_NEAR(got.separation, least, 1e-9 * size) << n;
+      // Never farther than FCL's nearest points, and a distance between real points: A's
+      // witness on one of its children's surfaces, B's on the partner's. (FCL's GJK can stop
+      // short of the least distance: on one pair of boxes, built by clang, it gave 0.303694
+      // where alternating projections give ours, 0.301477.)
+      EXPECT_LE(got.separation, least + 1e-9 * size) << n;
+      RScalar onA = std::numeric_limits<RScalar>::infinity();
+      for (const RShapeChild& c : prepared.children) {
+        onA = std::min(onA, std::abs(SurfaceDistance(c.shape, c.R_BC.transpose() * (got.witnessA - c.p_BC))));
+      }
+      EXPECT_LT(onA, 1e-9 * size) << n;
+      EXPECT_NEAR(SurfaceDistance(partner.shape, X.R_AB.transpose() * (got.witnessB - X.t_AB)), 0, 1e-9 * size) << n;
+      EXPECT_NEAR((got.witnessB - got.witnessA).norm(), got.separation, 1e-9 * size) << n;
+      if (std::abs(got.separation - least) <= 1e-9 * size) ++agree;
       worst = std::max(worst, std::abs(got.separation - least) / size);
     } else if (got.separation < -1e-6 * size) {
       ++overlapping;
       EXPECT_TRUE(anyCollides) << n;
     }
   }
-  std::printf("compound pairs: %d apart, %d overlapping; worst |d - least over the children (FCL)| / size %.2e\n", apart,
-              overlapping, worst);
+  std::printf("compound pairs: %d apart, %d overlapping; %d of the distances FCL's to 1e-9 of the size, worst |d - least "
+              "over the children (FCL)| / size %.2e\n", apart, overlapping, agree, worst);
+  EXPECT_GE(agree, apart * 95 / 100);  // the oracle holds for nearly every pair
   EXPECT_GT(apart, 150);
   EXPECT_GT(overlapping, 150);
 }

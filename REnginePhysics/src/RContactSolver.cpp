@@ -177,7 +177,8 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
 // at its own contact, could return more energy than came in (a box split in two children
 // hitting a wall at e = 1 left at 0.84 of its speed, spinning) or let a fast body through.
 // The deepest contact's row takes the centre of the leading points of every contact of the
-// pair facing its way; the others' rows never impact (their gap is infinite).
+// pair facing its way, whose rows then never impact (their gap is infinite); a contact
+// facing another way (a compound meeting two faces of a static U at once) keeps its own.
 void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
   for (std::uint32_t k0 = first; k0 < last;) {
     const RContact& c0 = m_contacts[m_blockContact[k0]];
@@ -194,8 +195,8 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
       int count = 0;
       for (std::uint32_t k = k0; k < k1; ++k) {
         const RContactManifold& m = m_contacts[m_blockContact[k]].manifold;
-        if (k != lead) m_impacts[k].gap = std::numeric_limits<RScalar>::infinity();
         if (m.normal.dot(n) < kFaceContactCos) continue;
+        if (k != lead) m_impacts[k].gap = std::numeric_limits<RScalar>::infinity();
         for (int q = 0; q < m.pointCount; ++q) {
           if (m.points[q].separation <= r.gap + m_settings.penetrationSlop) sum += m.points[q].position, ++count;
         }
