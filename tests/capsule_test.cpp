@@ -70,19 +70,6 @@ RMassProperties CapsuleByQuadrature(RScalar r, RScalar h) {
   return mp;
 }
 
-// Signed distance of a point from a shape in its own frame, by its definition: a sphere's
-// and a capsule's from their core less the radius; a polyhedron's largest face-plane
-// distance, which is 0 exactly on its surface (inside and on the surface it is the depth;
-// outside it is only a lower bound, and is used only where it must be 0).
-RScalar SurfaceOffset(const RConvexShape& s, const RVec3& p) {
-  if (s.polyhedron) {
-    RScalar most = -std::numeric_limits<RScalar>::infinity();
-    for (const RFace& f : s.polyhedron->Faces()) most = std::max(most, f.plane.SignedDistance(p));
-    return most;
-  }
-  return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
-}
-
 RConvexShape Capsule(RScalar r, RScalar h) { return CapsuleShape(r, h); }
 
 }  // namespace
@@ -160,8 +147,8 @@ TEST(CapsuleCrosscheck, RandomPairsAgreeWithFcl) {
     // The witnesses lie on their surfaces (B's in B's frame), the separation apart along the
     // normal; a penetrating pair moved apart by its depth along its normal touches.
     ASSERT_NEAR(got.normal.norm(), 1, 1e-12) << n;
-    EXPECT_NEAR(SurfaceOffset(sa, got.witnessA), 0, 1e-9 * size) << "pair " << n << " kind " << kind;
-    EXPECT_NEAR(SurfaceOffset(sb, X.R_AB.transpose() * (got.witnessB - X.t_AB)), 0, 1e-9 * size)
+    EXPECT_NEAR(SurfaceDistance(sa, got.witnessA), 0, 1e-9 * size) << "pair " << n << " kind " << kind;
+    EXPECT_NEAR(SurfaceDistance(sb, X.R_AB.transpose() * (got.witnessB - X.t_AB)), 0, 1e-9 * size)
         << "pair " << n << " kind " << kind;
     EXPECT_NEAR((got.witnessB - got.witnessA).dot(got.normal), got.separation, 1e-9 * size) << n;
     if (got.separation < 0) {

@@ -60,22 +60,6 @@ std::vector<RCompoundChild> TableParts() {
   return parts;
 }
 
-// Signed distance of a point from a convex shape in its own frame, exact on the surface (0):
-// a polyhedron's largest face-plane distance, a cylinder's 2-D box distance in (distance
-// from the axis, height), a sphere's or capsule's distance from its core less the radius.
-RScalar SurfaceDistance(const RConvexShape& s, const RVec3& p) {
-  if (s.polyhedron) {
-    RScalar most = -std::numeric_limits<RScalar>::infinity();
-    for (const RFace& f : s.polyhedron->Faces()) most = std::max(most, f.plane.SignedDistance(p));
-    return most;
-  }
-  if (s.cylinderRadius > 0) {
-    const RScalar qx = std::hypot(p.x(), p.z()) - s.cylinderRadius, qy = std::abs(p.y()) - s.halfHeight;
-    return std::hypot(std::max(qx, RScalar(0)), std::max(qy, RScalar(0))) + std::min(std::max(qx, qy), RScalar(0));
-  }
-  return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
-}
-
 // A "U": a floor plate and two walls, open at the top, 2 m wide inside.
 RShape UShape() {
   return Compound({Child(Box(RVec3(1.5, 0.25, 1)), RVec3(0, 0, 0)), Child(Box(RVec3(0.25, 1, 1)), RVec3(-1.25, 1.25, 0)),

@@ -28,31 +28,6 @@ namespace {
 RConvexShape Cylinder(RScalar r, RScalar h) { return CylinderShape(r, h); }
 RConvexShape Capsule(RScalar r, RScalar h) { return CapsuleShape(r, h); }
 
-// The exact signed distance of a point from a cylinder (radius r about y, ends at +-h): the
-// 2-D box distance in (distance from the axis, height).
-RScalar CylinderSdf(RScalar r, RScalar h, const RVec3& p) {
-  const RScalar qx = std::hypot(p.x(), p.z()) - r, qy = std::abs(p.y()) - h;
-  const RScalar outside = std::hypot(std::max(qx, RScalar(0)), std::max(qy, RScalar(0)));
-  return outside + std::min(std::max(qx, qy), RScalar(0));
-}
-
-// Signed distance of a point from a shape in its own frame, exact where it is used: on the
-// surface (0), inside (the depth), and for the round shapes everywhere. A polyhedron's is
-// its largest face-plane distance (only a lower bound outside).
-RScalar Sdf(const RConvexShape& s, const RVec3& p) {
-  if (s.cylinderRadius > 0) return CylinderSdf(s.cylinderRadius, s.halfHeight, p);
-  if (s.polyhedron) {
-    RScalar most = -std::numeric_limits<RScalar>::infinity();
-    for (const RFace& f : s.polyhedron->Faces()) most = std::max(most, f.plane.SignedDistance(p));
-    return most;
-  }
-  return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
-}
-
-
-
-
-
 // How far B must move along unit n (A's frame) to clear A: h_A(n) + h_B(-n), from the
 // definitions of the support functions (a cylinder's by its rim, a polyhedron's by its
 // vertices, a round core's plus its radius). Every direction's overlap is at least the
@@ -175,7 +150,7 @@ TEST(CylinderCrosscheck, RandomPairsAgreeWithFclAndTheDefinitions) {
     const RScalar size = cyl.boundingRadius + other.boundingRadius;
     ASSERT_NEAR(got.normal.norm(), 1, 1e-12) << n;
     worstGjk = std::max(worstGjk, got.gjkIterations);
-    const RScalar offA = Sdf(sa, got.witnessA), offB = Sdf(sb, X.R_AB.transpose() * (got.witnessB - X.t_AB));
+    const RScalar offA = SurfaceDistance(sa, got.witnessA), offB = SurfaceDistance(sb, X.R_AB.transpose() * (got.witnessB - X.t_AB));
     worstWitness = std::max({worstWitness, std::abs(offA) / size, std::abs(offB) / size});
     EXPECT_NEAR(offA, 0, 1e-9 * size) << "pair " << n << " kind " << kind;
     EXPECT_NEAR(offB, 0, 1e-9 * size) << "pair " << n << " kind " << kind;

@@ -10,7 +10,9 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -26,6 +28,28 @@ inline RConvexShape CylinderShape(RScalar r, RScalar h) {
   RConvexShape s;
   s.cylinderRadius = r, s.halfHeight = h, s.boundingRadius = std::hypot(r, h);
   return s;
+}
+
+// The exact signed distance of a point from a cylinder (radius r about y, ends at +-h): the
+// 2-D box distance in (distance from the axis, height).
+inline RScalar CylinderSdf(RScalar r, RScalar h, const RVec3& p) {
+  const RScalar qx = std::hypot(p.x(), p.z()) - r, qy = std::abs(p.y()) - h;
+  const RScalar outside = std::hypot(std::max(qx, RScalar(0)), std::max(qy, RScalar(0)));
+  return outside + std::min(std::max(qx, qy), RScalar(0));
+}
+
+// Signed distance of a point from a convex shape in its own frame, exact on the surface (0)
+// and inside (the depth): a polyhedron's largest face-plane distance (outside only a lower
+// bound), a cylinder's exact one, a sphere's or capsule's distance from its core less the
+// radius. Independent of the narrow phase: each shape by its definition.
+inline RScalar SurfaceDistance(const RConvexShape& s, const RVec3& p) {
+  if (s.cylinderRadius > 0) return CylinderSdf(s.cylinderRadius, s.halfHeight, p);
+  if (s.polyhedron) {
+    RScalar most = -std::numeric_limits<RScalar>::infinity();
+    for (const RFace& f : s.polyhedron->Faces()) most = std::max(most, f.plane.SignedDistance(p));
+    return most;
+  }
+  return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() - s.radius;
 }
 
 inline RQuat RandomQuat(std::mt19937_64& rng) {
