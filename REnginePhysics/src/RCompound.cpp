@@ -17,8 +17,6 @@ namespace REngine {
 
 namespace {
 
-bool Finite(const RVec3& v) { return v.allFinite(); }
-
 // Inertia tensor (S frame, about the centre of mass) of mass properties mp scaled by rho.
 RMat3 InertiaOf(const RMassProperties& mp, RScalar rho) {
   const RMat3 R = mp.q_SB.toRotationMatrix();
@@ -78,7 +76,7 @@ void PrepareCompound(const RShape& shape, RPreparedShape& p) {
     const RCompoundChild& child = shape.children[i];
     const std::string at = "shape.children[" + std::to_string(i) + "].";
     if (child.shape.type == RShapeType::kCompound) throw RBodyError(at + "shape.type", "a compound cannot be a child");
-    if (!Finite(child.position_S) || child.position_S.cwiseAbs().maxCoeff() > 1e12) {
+    if (!AllFinite(child.position_S) || child.position_S.cwiseAbs().maxCoeff() > 1e12) {
       throw RBodyError(at + "position", "must be finite and within 1e12 m");
     }
     const RScalar qn = child.q_SC.coeffs().norm();
@@ -94,7 +92,7 @@ void PrepareCompound(const RShape& shape, RPreparedShape& p) {
   // The union's mass properties must be numbers a body can use (densities of 1e308 overflow
   // the mass, children 1e12 m apart the moments): named here, not as the body's density.
   const RMassProperties& mp = p.unitMass;
-  if (!std::isfinite(mp.volume) || !(mp.volume > 0) || !Finite(mp.com_S) || !Finite(mp.principalMoments) ||
+  if (!std::isfinite(mp.volume) || !(mp.volume > 0) || !AllFinite(mp.com_S) || !AllFinite(mp.principalMoments) ||
       !(mp.principalMoments.minCoeff() > 0)) {
     throw RBodyError("shape.children", "give a mass, centre or inertia that is not a finite positive number");
   }
