@@ -55,7 +55,7 @@ void RWorldStep::InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3
   s.accel = b.m_isStatic ? RVec3::Zero() : Acceleration(b, gravity_W);
   s.radius = b.BoundingRadius();
   // A sphere's contact normal passes through its centre: its arm does not turn with it.
-  s.armTurns = (b.m_polyhedron_B || b.m_coreHalfHeight > 0 || b.m_childCount > 0) && b.m_invMass != 0;
+  s.armTurns = (b.m_polyhedron_B || b.m_coreHalfHeight > 0 || b.m_childCount > 0 || b.m_mesh) && b.m_invMass != 0;
   s.impulse = b.m_linearImpulse_W, s.angularImpulse = b.m_angularImpulse_W;
   s.linMask = b.m_linearMask, s.linLocked = b.m_linearLocked;
   s.endLinear.setZero(), s.endAngular.setZero(), s.deferredImpulse.setZero();

@@ -4,6 +4,7 @@
 #include "RCapsule.h"
 #include "RCompound.h"
 #include "RCylinder.h"
+#include "RMesh.h"
 #include "RManifold.h"
 #include "RGjkEpa.h"
 #include "RPolyhedronExact.h"
@@ -83,7 +84,8 @@ RDistanceResult Mirror(RDistanceResult r, const RRelativePose& X_AB) {
 bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
                                  const RRelativePose& X_AB) {
   const RScalar band = Band(a, b);
-  if (!a.polyhedron && !b.polyhedron && a.halfHeight == 0 && b.halfHeight == 0 && !a.children && !b.children) {
+  if (!a.polyhedron && !b.polyhedron && a.halfHeight == 0 && b.halfHeight == 0 && !a.children && !b.children &&
+      !a.mesh && !b.mesh) {
     return X_AB.t_AB.norm() - a.radius - b.radius <= band;
   }
   if (a.polyhedron && b.polyhedron) {
@@ -110,6 +112,7 @@ RDistanceResult RCollisionSolver::Distance(const RConvexShape& a, const RConvexS
 // few GJK iterations instead of the full answer (and, for some, its enumeration).
 RDistanceResult RCollisionSolver::DistanceWithin(const RConvexShape& a, const RConvexShape& b,
                                                  const RRelativePose& X_AB, RScalar cutoff) {
+  if (a.mesh || b.mesh) return MeshDistance(a, b, X_AB, cutoff);
   if (a.children || b.children) return CompoundDistance(a, b, X_AB, cutoff);
   if (a.cylinderRadius > 0 || b.cylinderRadius > 0) return CylinderPair(a, b, X_AB, cutoff);
   if (!a.polyhedron && !b.polyhedron) {
@@ -245,6 +248,11 @@ int ReduceToFour(RContactPoint* pts, int n, const RVec3& normal) {
   return m;
 }
 
+namespace {
+void FinishManifold(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB, RScalar margin,
+                    RContactManifold& m, RScalar* droppedMin);
+}  // namespace
+
 RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvexShape& b,
                                             const RRelativePose& X_AB, RScalar margin) {
   return ManifoldWithin(a, b, X_AB, margin, std::numeric_limits<RScalar>::infinity());
@@ -253,6 +261,10 @@ RContactManifold RCollisionSolver::Manifold(const RConvexShape& a, const RConvex
 RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const RConvexShape& b,
                                                   const RRelativePose& X_AB, RScalar margin,
                                                   RScalar cutoff, RScalar* droppedMin) {
+  if (a.mesh || b.mesh) {
+    if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();
+    return MeshManifold(a, b, X_AB, margin);
+  }
   if (a.children || b.children) {
     if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();
     return CompoundManifold(a, b, X_AB, margin, cutoff, droppedMin);
@@ -260,9 +272,41 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
   RContactManifold m;
   if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();
   m.query = DistanceWithin(a, b, X_AB, cutoff);
+  m.normal = m.query.normal;
+  if (m.query.status == RCollisionStatus::kIterationCap || m.query.separation > margin) return m;
+  FinishManifold(a, b, X_AB, margin, m, droppedMin);
+  return m;
+}
+
+RContactManifold ManifoldAlong(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB,
+                               const RVec3& n, bool faceOfA, RScalar margin) {
+  // The overlap of the two supports along n: for n a face normal of the face side, the
+  // separation of the other shape's deepest point from that face's plane.
+  RContactManifold m;
+  RPairSupport sup(a, b, X_AB);
+  const RVec3 sA = sup.SupportA(n) + a.radius * n;
+  const RVec3 sB = sup.SupportB(-n) - b.radius * n;
+  RDistanceResult& q = m.query;
+  q.separation = n.dot(sB - sA);
+  q.normal = n;
+  if (faceOfA) {
+    q.witnessB = sB, q.witnessA = sB - q.separation * n;
+  } else {
+    q.witnessA = sA, q.witnessB = sA + q.separation * n;
+  }
+  q.status = StatusOf(q.separation, Band(a, b));
+  m.normal = n;
+  if (q.separation <= margin) FinishManifold(a, b, X_AB, margin, m, nullptr);
+  return m;
+}
+
+namespace {
+
+// The manifold's points from its query (normal, separation, witnesses): clipping for face
+// contacts, the closest points of two edges, the round shapes' own.
+void FinishManifold(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB, RScalar margin,
+                    RContactManifold& m, RScalar* droppedMin) {
   const RDistanceResult& q = m.query;
-  m.normal = q.normal;
-  if (q.status == RCollisionStatus::kIterationCap || q.separation > margin) return m;
   const RVec3 n = q.normal;
 
   auto single = [&](std::uint32_t id) {
@@ -273,16 +317,16 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
   };
   if (a.cylinderRadius > 0 || b.cylinderRadius > 0) {
     CylinderManifold(a, b, X_AB, margin, m, droppedMin);
-    return m;
+    return;
   }
   if (!a.polyhedron || !b.polyhedron) {
     // A capsule along a face or another capsule touches along a line (RCapsule.cpp).
     if ((a.halfHeight > 0 || b.halfHeight > 0) &&
         CapsuleManifold(a, b, X_AB, margin, m, droppedMin)) {
-      return m;
+      return;
     }
     single(0);
-    return m;
+    return;
   }
 
   RScalar alignA, alignB;
@@ -291,7 +335,7 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
   if (std::max(alignA, alignB) < kFaceContactCos) {
     // Edge against edge: the witnesses are the closest points of the two edges.
     single(0x80000000u | (faceA << 16) | faceB);
-    return m;
+    return;
   }
   const bool refIsA = alignA + kReferenceBias >= alignB;
   const RVec3 t0 = RVec3::Zero();
@@ -344,13 +388,15 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
   if (np == 0) {
     // Clipping can lose a touching vertex to rounding: fall back on the witnesses.
     single(faceBits);
-    return m;
+    return;
   }
   m.pointCount = ReduceToFour(pts, np, refN);
   for (int i = 0; i < m.pointCount; ++i) m.points[i] = pts[i];
   m.normal = refIsA ? refN : RVec3(-refN);
-  return m;
+  return;
 }
+
+}  // namespace
 
 RConvexShape ShapeOf(const RRigidBody& body) {
   RConvexShape s;
@@ -359,6 +405,7 @@ RConvexShape ShapeOf(const RRigidBody& body) {
   s.halfHeight = body.m_coreHalfHeight;
   s.cylinderRadius = body.m_cylinderRadius;
   s.children = body.m_children, s.childCount = body.m_childCount;
+  s.mesh = body.m_mesh;
   s.boundingRadius = body.BoundingRadius();
   return s;
 }

@@ -13,6 +13,8 @@
 #include <REnginePhysics/RQueries.h>
 #include <REnginePhysics/RRigidBody.h>
 
+#include "RMesh.h"
+
 #include <cstdint>
 
 namespace REngine {
@@ -53,6 +55,10 @@ inline RRelativePose ChildPose(const RShapeChild& ca, const RShapeChild& cb, con
 // A manifold of a child pair (in ca's frame) turned into A's body frame, naming its children.
 void ChildToBody(const RShapeChild& ca, std::uint32_t ia, std::uint32_t ib, RContactManifold& m);
 
+// Whether a shape meets others part by part (a compound's children, a mesh's triangles):
+// then a pair of bodies can touch at several places, one contact each.
+inline bool HasParts(const RConvexShape& s) { return s.children || s.mesh; }
+
 // The shape as a list of children: a compound's own, or the shape alone at the identity.
 inline const RShapeChild* ChildrenOf(const RConvexShape& s, RShapeChild& alone, std::uint32_t& count) {
   if (s.children) {
@@ -69,6 +75,21 @@ int ForEachChildManifold(const RConvexShape& a, const RConvexShape& b, const RRe
                          const Emit& emit) {
   RShapeChild aloneA, aloneB;
   std::uint32_t na, nb;
+  if (a.mesh || b.mesh) {
+    // A mesh against each child of the other shape: that child's manifolds, merged by normal
+    // (RMesh.h). Two meshes never touch.
+    if (a.mesh && b.mesh) return 0;
+    const bool meshIsA = a.mesh != nullptr;
+    const RConvexShape& other = meshIsA ? b : a;
+    const RShapeChild* c = ChildrenOf(other, aloneA, na);
+    RContactManifold ms[kMaxMeshManifolds];
+    for (std::uint32_t j = 0; j < na; ++j) {
+      const int count = MeshChildManifolds(meshIsA ? *a.mesh : *b.mesh, meshIsA, c[j], other.children ? j : 0, X,
+                                           margin, ms);
+      for (int k = 0; k < count; ++k) emit(static_cast<const RContactManifold&>(ms[k]));
+    }
+    return static_cast<int>(na);
+  }
   const RShapeChild* ca = ChildrenOf(a, aloneA, na);
   const RShapeChild* cb = ChildrenOf(b, aloneB, nb);
   int tested = 0;

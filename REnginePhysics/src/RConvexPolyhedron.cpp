@@ -85,6 +85,23 @@ RConvexPolyhedron RConvexPolyhedron::Box(const RVec3& e) {
   return p;
 }
 
+void RConvexPolyhedron::SetTriangle(const RVec3& a, const RVec3& b, const RVec3& c) {
+  m_vertices.resize(3);
+  m_vertices[0] = a, m_vertices[1] = b, m_vertices[2] = c;
+  const RVec3 n = (b - a).cross(c - a).normalized();
+  m_faces.resize(2);
+  m_faces[0] = RFace{RPlane{n, n.dot(a)}, 0, 3};
+  m_faces[1] = RFace{RPlane{-n, -n.dot(a)}, 3, 3};
+  static constexpr std::uint32_t kLoops[6] = {0, 1, 2, 0, 2, 1};
+  m_loops.assign(kLoops, kLoops + 6);
+  static constexpr REdge kEdges[3] = {{0, 1, 0, 1}, {1, 2, 0, 1}, {0, 2, 0, 1}};
+  m_edges.assign(kEdges, kEdges + 3);
+  static constexpr std::uint32_t kStart[4] = {0, 2, 4, 6}, kAdjacent[6] = {1, 2, 0, 2, 0, 1};
+  m_adjStart.assign(kStart, kStart + 4);
+  m_adj.assign(kAdjacent, kAdjacent + 6);
+  m_maxRadius = std::max({a.norm(), b.norm(), c.norm()});
+}
+
 RConvexPolyhedron RConvexPolyhedron::Hull(const std::vector<RVec3>& points) {
   if (points.size() < 4) {
     throw RHullError("a hull needs at least 4 points that are not coplanar, got " +

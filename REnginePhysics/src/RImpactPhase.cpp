@@ -30,7 +30,7 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
   // A compound's contact is one child pair's: the impact is that pair's.
   RShapeChild aloneA, aloneB;
   aloneA.shape = shapeA, aloneB.shape = shapeB;
-  const bool children = shapeA.children || shapeB.children;
+  const bool children = HasParts(shapeA) || HasParts(shapeB);
   const RShapeChild& ca = shapeA.children ? shapeA.children[childA] : aloneA;
   const RShapeChild& cb = shapeB.children ? shapeB.children[childB] : aloneB;
   const RRelativePose X0 = RelativePose(A, B);
@@ -42,7 +42,9 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
     RRelativePose X = X0;
     X.t_AB += R_WA.transpose() * (sb.moved - sa.moved);
     RContactManifold m;
-    if (children) {
+    if (shapeA.mesh || shapeB.mesh) {
+      m = MeshPartManifold(shapeA, shapeB, X, childA, childB);
+    } else if (children) {
       m = RCollisionSolver::Manifold(ca.shape, cb.shape, ChildPose(ca, cb, X), std::numeric_limits<RScalar>::max());
       ChildToBody(ca, childA, childB, m);
     } else {

@@ -291,7 +291,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
       const RRelativePose X = RelativePose(A, B);
       const RMargin margin{approach * dt + allowance};
-      if (shapeA.children || shapeB.children) {
+      if (HasParts(shapeA) || HasParts(shapeB)) {
         // A compound touches child by child: one contact per touching child pair, each with
         // its own normal (its manifolds are not kept between steps).
         bool woken = false;

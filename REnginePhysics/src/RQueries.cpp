@@ -72,6 +72,10 @@ Posed Pose(const RPreparedShape& prepared, const RVec3& position_W, const RQuat&
     p.shape.children = prepared.children.data();
     p.shape.childCount = static_cast<std::uint32_t>(prepared.children.size());
   }
+  if (prepared.mesh_B) {  // a mesh: its triangles, no radius of its own
+    p.shape.radius = 0;
+    p.shape.mesh = prepared.mesh_B.get();
+  }
   p.shape.boundingRadius = prepared.boundingRadius;
   p.R_WB = q_WB.toRotationMatrix();
   p.x_W = position_W - q_WB * prepared.p_BS;

@@ -9,6 +9,11 @@ namespace REngine {
 
 RLocalBox LocalBoxOf(const RConvexShape& shape) {
   RLocalBox box;
+  if (shape.mesh) {
+    box.center_B = RScalar(0.5) * (shape.mesh->BoxMin() + shape.mesh->BoxMax());
+    box.half_B = RScalar(0.5) * (shape.mesh->BoxMax() - shape.mesh->BoxMin());
+    return box;
+  }
   if (shape.children) {
     // The children's boxes turned into the body frame, joined.
     RVec3 lo = RVec3::Constant(std::numeric_limits<RScalar>::infinity()), hi = -lo;

@@ -159,6 +159,7 @@ bool RayCylinder(RScalar r, RScalar h, const RVec3& o, const RVec3& d, RScalar m
 bool RayCastShape(const RConvexShape& shape, const RVec3& origin, const RVec3& direction,
                   RScalar maxDistance, RShapeRayHit& hit) {
   if (shape.polyhedron) return RayPolyhedron(*shape.polyhedron, origin, direction, maxDistance, hit);
+  if (shape.mesh) return RayCastMesh(*shape.mesh, origin, direction, maxDistance, hit);
   if (shape.children) return RayCastCompound(shape, origin, direction, maxDistance, hit);
   if (shape.cylinderRadius > 0) return RayCylinder(shape.cylinderRadius, shape.halfHeight, origin, direction, maxDistance, hit);
   if (shape.halfHeight > 0) return RayCapsule(shape.radius, shape.halfHeight, origin, direction, maxDistance, hit);

@@ -3,6 +3,7 @@
 #include <REngineMath/RQuaternion.h>
 
 #include "RCompound.h"
+#include "RMesh.h"
 
 #include <algorithm>
 #include <atomic>
@@ -82,10 +83,15 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
       break;
     case RShapeType::kHull:
     case RShapeType::kCompound:
+    case RShapeType::kMesh:
       break;
   }
   if (shape.type == RShapeType::kCompound) {
     PrepareCompound(shape, p);
+    return prepared;
+  }
+  if (shape.type == RShapeType::kMesh) {
+    PrepareMesh(shape, p);
     return prepared;
   }
   if (shape.type == RShapeType::kHull) {
@@ -193,6 +199,9 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   } else if (!shape.children.empty()) {
     m_children = shape.children.data(), m_childCount = static_cast<std::uint32_t>(shape.children.size());
     m_boxCenter_B = shape.boxCenter_B, m_boxHalf_B = shape.boxHalf_B;
+  } else if (shape.mesh_B) {
+    m_mesh = shape.mesh_B.get();
+    m_boxCenter_B = shape.boxCenter_B, m_boxHalf_B = shape.boxHalf_B;
   } else if (shape.shape.type == RShapeType::kCylinder) {
     m_coreHalfHeight = shape.shape.halfHeight, m_cylinderRadius = shape.shape.radius;
     m_boxHalf_B = RVec3(m_cylinderRadius, m_coreHalfHeight, m_cylinderRadius);
@@ -200,6 +209,10 @@ RRigidBody::RRigidBody(const RBodyDef& def)
     m_coreRadius = m_boundingRadius;
     m_boxHalf_B = RVec3::Constant(m_boundingRadius);
   }
+  // Triangles enclose no volume, so a mesh has no mass to move with: terrain and stations
+  // are static, moving platforms kinematic.
+  Require(!m_mesh || kind != RBodyKind::kDynamic, "kind",
+          "must be static or kinematic for a mesh (a mesh has no volume, so no mass)");
   if (kind == RBodyKind::kDynamic) {
     if (def.mass) {
       Require(PositiveFinite(*def.mass), "mass", "must be finite and > 0");
@@ -276,7 +289,7 @@ void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
   ++m_worldFormComputations;
   wf.sphereCenter_W = m_x_W;
   wf.sphereRadius = m_boundingRadius;
-  if (m_childCount > 0) {  // a compound: its body-frame box turned with it
+  if (m_childCount > 0 || m_mesh) {  // a compound or mesh: its body-frame box turned with it
     const RMat3 R = m_q_WB.toRotationMatrix();
     const RVec3 centre = m_x_W + R * m_boxCenter_B, half = R.cwiseAbs() * m_boxHalf_B;
     wf.aabbMin_W = centre - half;

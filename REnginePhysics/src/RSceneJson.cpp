@@ -276,7 +276,8 @@ RBodyLocks ReadLocks(const json& j, const std::string& path) {
 
 
 RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& limits) {
-  const Object shape(j, path, {"type", "half_extents", "radius", "points", "half_height", "children"});
+  const Object shape(j, path, {"type", "half_extents", "radius", "points", "half_height", "children", "vertices",
+                               "triangles"});
   RShape s;
   s.type = ReadChoice<RShapeType>(shape.Required("type"), shape.PathOf("type"),
                                   {{"box", RShapeType::kBox},
@@ -284,7 +285,8 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
                                    {"hull", RShapeType::kHull},
                                    {"capsule", RShapeType::kCapsule},
                                    {"cylinder", RShapeType::kCylinder},
-                                   {"compound", RShapeType::kCompound}});
+                                   {"compound", RShapeType::kCompound},
+                                   {"mesh", RShapeType::kMesh}});
   switch (s.type) {
     case RShapeType::kBox:
       shape.AllowOnly({"type", "half_extents"});
@@ -323,6 +325,37 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
         c.q_SC = child.Get("orientation", c.q_SC, ReadOrientation);
         c.density = child.Get("density", c.density, ReadPositive);
         s.children.push_back(std::move(c));
+      }
+      break;
+    }
+    case RShapeType::kMesh: {
+      // The lists' shapes here; indices in range, degenerate triangles and coordinates are
+      // checked where the mesh is built (RTriangleMesh), named by the same paths.
+      shape.AllowOnly({"type", "vertices", "triangles"});
+      const json& vertices = shape.Required("vertices");
+      const json& triangles = shape.Required("triangles");
+      const std::string verticesPath = shape.PathOf("vertices"), trianglesPath = shape.PathOf("triangles");
+      if (!vertices.is_array() || vertices.size() < 3) {
+        Fail(verticesPath, "must be an array of at least 3 points [x, y, z]" + Got(vertices));
+      }
+      if (!triangles.is_array() || triangles.empty()) {
+        Fail(trianglesPath, "must be a non-empty array of index triples [i, j, k]" + Got(triangles));
+      }
+      for (const auto& [list, listPath] : {std::pair{&vertices, verticesPath}, std::pair{&triangles, trianglesPath}}) {
+        if (list->size() > limits.maxMeshTriangles) {
+          Fail(listPath, "has " + std::to_string(list->size()) + " entries; at most " +
+                             std::to_string(limits.maxMeshTriangles) + " are allowed");
+        }
+      }
+      s.points.reserve(vertices.size());
+      for (std::size_t i = 0; i < vertices.size(); ++i) s.points.push_back(ReadVec3(vertices[i], Element(verticesPath, i)));
+      s.triangles.reserve(triangles.size());
+      for (std::size_t i = 0; i < triangles.size(); ++i) {
+        const std::string at = Element(trianglesPath, i);
+        if (!triangles[i].is_array() || triangles[i].size() != 3) Fail(at, "must be 3 vertex indices [i, j, k]" + Got(triangles[i]));
+        std::array<std::uint32_t, 3> t;
+        for (std::size_t k = 0; k < 3; ++k) t[k] = ReadBits(triangles[i][k], Element(at, k));
+        s.triangles.push_back(t);
       }
       break;
     }

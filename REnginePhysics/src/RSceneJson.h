@@ -175,6 +175,8 @@ class ShapeCache {
     out.insert(out.end(), {static_cast<RScalar>(s.type), s.radius, s.halfHeight, s.halfExtents.x(),
                            s.halfExtents.y(), s.halfExtents.z(), static_cast<RScalar>(s.points.size())});
     for (const RVec3& p : s.points) out.insert(out.end(), {p.x(), p.y(), p.z()});
+    out.push_back(static_cast<RScalar>(s.triangles.size()));
+    for (const auto& t : s.triangles) out.insert(out.end(), {RScalar(t[0]), RScalar(t[1]), RScalar(t[2])});
     out.push_back(static_cast<RScalar>(s.children.size()));
     for (const RCompoundChild& c : s.children) {
       Flatten(c.shape, out);

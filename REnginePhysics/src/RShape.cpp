@@ -53,6 +53,11 @@ RMassProperties ComputeMassProperties(const RShape& shape) {
     }
     case RShapeType::kCompound:
       return CompoundMassProperties(shape);
+    case RShapeType::kMesh:
+      // Triangles enclose no volume: a mesh's body is static or kinematic, massless.
+      mp.volume = 0;
+      mp.principalMoments = RVec3::Zero();
+      return mp;
     case RShapeType::kHull:
       break;
   }

@@ -10,6 +10,7 @@ namespace REngine {
 
 bool ShapeCastShape(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB,
                     const RVec3& translation_A, RScalar maxFraction, RShapeCastResult& out) {
+  if (a.mesh || b.mesh) return ShapeCastMesh(a, b, X_AB, translation_A, maxFraction, out);
   if (a.children || b.children) {
     // A compound is not convex, and advancing along the nearest pair's normal could stop
     // where the nearest child pair slides past (a ball beside a U's wall): the first touch

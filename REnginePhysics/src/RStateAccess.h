@@ -38,6 +38,12 @@ inline void WriteShapeRecord(RWriter& w, const RShape& shape) {
       w.U64(shape.points.size());
       for (const RVec3& p : shape.points) w.Vec3(p);
       break;
+    case RShapeType::kMesh:
+      w.U64(shape.points.size());
+      for (const RVec3& p : shape.points) w.Vec3(p);
+      w.U64(shape.triangles.size());
+      for (const auto& t : shape.triangles) w.U32(t[0]), w.U32(t[1]), w.U32(t[2]);
+      break;
     case RShapeType::kCompound:
       w.U64(shape.children.size());
       for (const RCompoundChild& c : shape.children) {

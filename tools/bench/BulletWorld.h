@@ -132,6 +132,7 @@ struct BulletWorld {
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btTriangleMesh>> meshes;  // the triangles a mesh shape reads
   std::vector<std::unique_ptr<btRigidBody>> bodies;
   // REngine's body for each, for mass properties; the caller keeps them alive.
   std::vector<const RRigidBody*> reference;
@@ -152,7 +153,14 @@ inline btCollisionShape* MakeShape(BulletWorld& w, const RRigidBody& b,
   const bool offset = b.ShapeOffset_B().norm() > 0 ||
                       b.ShapeRotation_BS().angularDistance(RQuat::Identity()) > 0;
   std::unique_ptr<btCollisionShape> shape;
-  if (s.type == RShapeType::kCompound) {
+  if (s.type == RShapeType::kMesh) {
+    // Bullet's triangle mesh with its own tree, the vertices taken into B (static only there).
+    auto triangles = std::make_unique<btTriangleMesh>();
+    const auto at = [&](std::uint32_t i) { return Bt(b.ShapeOffset_B() + b.ShapeRotation_BS() * s.points[i]); };
+    for (const auto& t : s.triangles) triangles->addTriangle(at(t[0]), at(t[1]), at(t[2]));
+    shape = std::make_unique<btBvhTriangleMeshShape>(triangles.get(), true);
+    w.meshes.push_back(std::move(triangles));
+  } else if (s.type == RShapeType::kCompound) {
     // Bullet's compound of the children, each child's shape posed in B as REngine poses it.
     auto compound = std::make_unique<btCompoundShape>();
     const RPreparedShape& prepared = *b.PreparedShape();

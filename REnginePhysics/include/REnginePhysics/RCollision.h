@@ -37,6 +37,10 @@ struct RConvexShape {
   // the children's pairs, the manifold of the deepest pair, the first ray hit.
   const struct RShapeChild* children = nullptr;
   std::uint32_t childCount = 0;
+  // Non-null: a triangle mesh in B (the fields above unused but boundingRadius). Queries
+  // answer for its triangles, each a convex child of its own (RMesh.h); two meshes never
+  // touch.
+  const class RTriangleMesh* mesh = nullptr;
 };
 
 // A compound's child as the narrow phase sees it: its convex shape in its own body frame C,

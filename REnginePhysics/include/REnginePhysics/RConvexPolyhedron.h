@@ -61,6 +61,12 @@ class RConvexPolyhedron {
   // plane). Qhull does the hull; this class owns and checks the result.
   static RConvexPolyhedron Hull(const std::vector<RVec3>& points);
 
+  // Makes this the flat triangle (a, b, c) (m): two faces, the front (counter-clockwise
+  // seen from its normal) and the back, three edges. Not a solid: no mass properties, and
+  // Validate would refuse it; the narrow phase takes it as it takes any polyhedron (a mesh's
+  // triangle, RTriangleMesh). Its storage is reused: no allocation after the first call.
+  void SetTriangle(const RVec3& a, const RVec3& b, const RVec3& c);
+
   // The same polyhedron with every vertex mapped x -> R x + t (planes follow).
   RConvexPolyhedron Transformed(const RMat3& R, const RVec3& t) const;
 

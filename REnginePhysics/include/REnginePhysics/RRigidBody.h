@@ -12,6 +12,7 @@
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RFreeRotation.h>
 #include <REnginePhysics/RShape.h>
+#include <REnginePhysics/RTriangleMesh.h>
 
 #include <array>
 #include <cstdint>
@@ -71,7 +72,9 @@ struct RPreparedShape {
   // as the narrow phase sees them, posed in this body frame B (pointing into childShapes).
   std::vector<std::shared_ptr<const RPreparedShape>> childShapes;
   std::vector<RShapeChild> children;
-  RVec3 boxCenter_B = RVec3::Zero(), boxHalf_B = RVec3::Zero();  // a compound's box in B, m
+  RVec3 boxCenter_B = RVec3::Zero(), boxHalf_B = RVec3::Zero();  // a compound's or mesh's box in B, m
+  // A mesh: its triangles in B (B is S moved to the centre of the mesh's box; no rotation).
+  std::shared_ptr<const RTriangleMesh> mesh_B;
 };
 
 // Checks a shape as RRigidBody does (sizes finite, > 0 and at most 1e12 m, a box no thinner
@@ -380,6 +383,7 @@ class alignas(64) RRigidBody {
   // A compound's children (m_prepared's; null and 0 for any other shape).
   const RShapeChild* m_children = nullptr;
   std::uint32_t m_childCount = 0;
+  const RTriangleMesh* m_mesh = nullptr;  // a mesh's triangles in B (m_prepared's), else null
   mutable RWorldForm m_worldForm;
 
   // Last, what the step reads only at a contact or never: material, mass properties, the

@@ -103,6 +103,10 @@ struct RSceneLimits {
   double maxBodySteps = 1e10;
   std::uint64_t maxActions = 1000000;       // entries of "actions"
   std::uint64_t maxRays = 1000000;          // entries of "rays"
+  // Per mesh, vertices and triangles each: the tree builds in n log n, and a triangle costs
+  // about 100 bytes prepared. (Last, so the fields above keep their places in aggregate
+  // initialisation.)
+  std::uint64_t maxMeshTriangles = 4000000;
 };
 
 // Reads and validates a scene file. Throws RSceneError (also when the file cannot be read).

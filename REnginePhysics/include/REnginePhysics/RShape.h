@@ -4,6 +4,7 @@
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -11,7 +12,7 @@
 namespace REngine {
 
 // (Values are stored in saved states: new types are appended.)
-enum class RShapeType : std::uint8_t { kSphere, kBox, kHull, kCapsule, kCylinder, kCompound };
+enum class RShapeType : std::uint8_t { kSphere, kBox, kHull, kCapsule, kCylinder, kCompound, kMesh };
 
 struct RCompoundChild;
 
@@ -24,7 +25,11 @@ struct RShape {
   // at y = +-halfHeight, m.
   RScalar halfHeight = 0.5;
   RVec3 halfExtents = RVec3::Constant(0.5);       // kBox, m, along S's axes
-  std::vector<RVec3> points;                      // kHull: the hull of these points, S frame, m
+  // kHull: the hull of these points; kMesh: the mesh's vertices. S frame, m.
+  std::vector<RVec3> points;
+  // kMesh: corner indices into points, three a triangle (two-sided). A mesh is for static and
+  // kinematic bodies only: it has no volume, so no mass.
+  std::vector<std::array<std::uint32_t, 3>> triangles;
   // kCompound: a rigid union of convex children, each placed in S (at most kMaxChildren).
   std::vector<RCompoundChild> children;
   static constexpr std::size_t kMaxChildren = 256;
@@ -50,7 +55,7 @@ struct RMassProperties {
   RQuat q_SB = RQuat::Identity();           // principal (body) frame B to S: columns are axes
 };
 
-// Exact mass properties. Sphere, box, capsule and cylinder in closed form, with the body frame equal to the
+// Exact mass properties. A mesh has none (volume 0). Sphere, box, capsule and cylinder in closed form, with the body frame equal to the
 // shape frame (so the scene's orientation passes through untouched); a hull from its
 // polyhedron (below). Throws RHullError for hull points that do not span a solid.
 RMassProperties ComputeMassProperties(const RShape& shape);

@@ -1,0 +1,401 @@
+// Triangle meshes (#15): bad meshes refused by name, the tree and rays against brute force,
+// distances and verdicts against FCL's BVH models, and the physics a mesh must not spoil: a
+// box slides over a tessellated floor exactly as over one box, a ball rolls down a mesh
+// incline at 5/7 g sin(theta), a ball dropped on a vertex where six triangles meet bounces
+// straight up.
+#include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RIntegrator.h>
+#include <REnginePhysics/RQueries.h>
+#include <REnginePhysics/RRigidBody.h>
+#include <REnginePhysics/RScene.h>
+#include <REnginePhysics/RShape.h>
+#include <REnginePhysics/RTriangleMesh.h>
+
+#include "support/CollisionOracles.h"
+#include "support/RandomPartners.h"
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <random>
+#include <set>
+
+using namespace REngine;
+using namespace REngine::test;
+
+namespace {
+
+// A grid of nx x nz quads over [x0, x0 + nx d] x [z0, z0 + nz d], heights y(x, z), two
+// triangles a quad (diagonals alternating, as terrain exporters do).
+RShape GridMesh(int nx, int nz, RScalar d, RScalar x0, RScalar z0, const std::function<RScalar(RScalar, RScalar)>& y) {
+  RShape s;
+  s.type = RShapeType::kMesh;
+  for (int j = 0; j <= nz; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      const RScalar x = x0 + i * d, z = z0 + j * d;
+      s.points.emplace_back(x, y(x, z), z);
+    }
+  }
+  const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(j * (nx + 1) + i); };
+  for (int j = 0; j < nz; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      if ((i + j) % 2 == 0) {
+        s.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+        s.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+      } else {
+        s.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j)});
+        s.triangles.push_back({at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)});
+      }
+    }
+  }
+  return s;
+}
+
+RShape Box(const RVec3& half) {
+  RShape s;
+  s.type = RShapeType::kBox, s.halfExtents = half;
+  return s;
+}
+
+RShape Sphere(RScalar r) {
+  RShape s;
+  s.type = RShapeType::kSphere, s.radius = r;
+  return s;
+}
+
+RBodyDef StaticBody(const RShape& shape, const RVec3& x = RVec3::Zero(), const RQuat& q = RQuat::Identity()) {
+  RBodyDef d;
+  d.name = "floor";
+  d.kind = RBodyKind::kStatic;
+  d.shape = shape;
+  d.position_W = x, d.q_WS = q;
+  return d;
+}
+
+// The closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5).
+RVec3 ClosestOnTriangle(const RVec3& p, const RVec3& a, const RVec3& b, const RVec3& c) {
+  const RVec3 ab = b - a, ac = c - a, ap = p - a;
+  const RScalar d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const RVec3 bp = p - b;
+  const RScalar d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const RScalar vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const RVec3 cp = p - c;
+  const RScalar d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const RScalar vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const RScalar va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const RScalar denom = 1 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+RScalar DistanceToMesh(const RTriangleMesh& m, const RVec3& p) {
+  RScalar best = std::numeric_limits<RScalar>::infinity();
+  for (std::uint32_t t = 0; t < m.TriangleCount(); ++t) {
+    best = std::min(best, (p - ClosestOnTriangle(p, m.Vertex(t, 0), m.Vertex(t, 1), m.Vertex(t, 2))).norm());
+  }
+  return best;
+}
+
+std::string WriteScene(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+}  // namespace
+
+// Indices out of range, degenerate triangles, NaN and a dynamic mesh are refused by name, in
+// the API and in a scene file.
+TEST(MeshChecks, BadMeshesAreRefusedNamingTheField) {
+  const auto refused = [](RShape s, RBodyKind kind, const std::string& field) {
+    RBodyDef d;
+    d.shape = std::move(s);
+    d.kind = kind;
+    try {
+      RRigidBody b(d);
+      ADD_FAILURE() << "accepted; expected a complaint about " << field;
+    } catch (const RBodyError& e) {
+      EXPECT_EQ(e.Field(), field) << e.what();
+    }
+  };
+  const RShape good = GridMesh(2, 2, 1, 0, 0, [](RScalar, RScalar) { return 0; });
+  RShape s = good;
+  s.triangles[3][1] = 9;  // 9 vertices: 0..8
+  refused(s, RBodyKind::kStatic, "shape.triangles[3]");
+  s = good;
+  s.triangles[2] = {4, 4, 5};
+  refused(s, RBodyKind::kStatic, "shape.triangles[2]");
+  s.points = {RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(2, 0, 1e-9)};
+  s.triangles = {{0, 1, 2}};
+  refused(s, RBodyKind::kStatic, "shape.triangles[0]");
+  s = good;
+  s.points[5].y() = std::numeric_limits<RScalar>::quiet_NaN();
+  refused(s, RBodyKind::kStatic, "shape.vertices[5]");
+  s = good;
+  s.triangles.clear();
+  refused(s, RBodyKind::kStatic, "shape.triangles");
+  refused(good, RBodyKind::kDynamic, "kind");
+  RBodyDef ok;
+  ok.shape = good, ok.kind = RBodyKind::kKinematic;
+  EXPECT_NO_THROW(RRigidBody{ok});
+
+  // The same from a scene file: the JSON path of the bad part.
+  const auto sceneRefused = [](const std::string& body, const std::string& path) {
+    const std::string file = WriteScene("mesh_bad.json", R"({"gravity": [0, -9.81, 0], "dt": 0.01, "steps": 1,
+      "bodies": [)" + body + "]}");
+    try {
+      const RScene scene = LoadScene(file);
+      (void)CreateBodies(scene);
+      ADD_FAILURE() << "accepted; expected a complaint about " << path;
+    } catch (const RSceneError& e) {
+      EXPECT_EQ(e.JsonPath(), path) << e.what();
+    }
+  };
+  const std::string verts = R"("vertices": [[0, 0, 0], [1, 0, 0], [0, 0, 1], [1, 0, 1]])";
+  sceneRefused(R"({"name": "m", "static": true, "shape": {"type": "mesh", )" + verts + R"(, "triangles": [[0, 1, 2], [1, 3, 4]]}})",
+               "bodies[0].shape.triangles[1]");
+  sceneRefused(R"({"name": "m", "static": true, "shape": {"type": "mesh", )" + verts + R"(, "triangles": [[0, 1, 2], [1, 1, 3]]}})",
+               "bodies[0].shape.triangles[1]");
+  sceneRefused(R"({"name": "m", "static": true, "shape": {"type": "mesh", )" + verts + R"(, "triangles": [[0, 1, -2]]}})",
+               "bodies[0].shape.triangles[0][2]");
+  sceneRefused(R"({"name": "m", "static": true, "shape": {"type": "mesh", )" + verts + R"(, "triangles": [[0, 1]]}})",
+               "bodies[0].shape.triangles[0]");
+  sceneRefused(R"({"name": "m", "shape": {"type": "mesh", )" + verts + R"(, "triangles": [[0, 1, 2]]}})", "bodies[0].kind");
+  sceneRefused(R"({"name": "m", "static": true, "shape": {"type": "mesh", "vertices": [[0, 0, 0], [1, 0, "x"], [0, 0, 1]], "triangles": [[0, 1, 2]]}})",
+               "bodies[0].shape.vertices[1][2]");
+}
+
+// The tree finds every triangle whose box meets a query box, and a ray's first hit is the
+// nearest over every triangle (brute force), on a bumpy terrain of 2048 triangles.
+TEST(MeshTree, BoxesAndRaysAgreeWithBruteForce) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<RScalar> u(0, 1);
+  const RShape s = GridMesh(32, 32, 0.5, -8, -8, [](RScalar x, RScalar z) { return 0.7 * std::sin(0.9 * x) * std::cos(0.6 * z); });
+  const RTriangleMesh mesh(s.points, s.triangles);
+  for (int n = 0; n < 300; ++n) {
+    const RVec3 c(16 * u(rng) - 8, 2 * u(rng) - 1, 16 * u(rng) - 8), h(0.05 + u(rng), 0.05 + u(rng), 0.05 + u(rng));
+    std::set<std::uint32_t> found;
+    mesh.ForEachOverlapping(RVec3(c - h), RVec3(c + h), [&](std::uint32_t t) { found.insert(t); });
+    for (std::uint32_t t = 0; t < mesh.TriangleCount(); ++t) {
+      RVec3 lo = mesh.Vertex(t, 0), hi = lo;
+      for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(mesh.Vertex(t, k)), hi = hi.cwiseMax(mesh.Vertex(t, k));
+      const bool meets = ((lo - (c + h)).array() <= 0).all() && ((hi - (c - h)).array() >= 0).all();
+      if (meets) {
+        EXPECT_TRUE(found.count(t)) << n << " " << t;
+      }
+    }
+  }
+  int hits = 0;
+  for (int n = 0; n < 2000; ++n) {
+    const RVec3 o(16 * u(rng) - 8, 3 * u(rng) - 1.5, 16 * u(rng) - 8);
+    const RVec3 d = RVec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+    RScalar dist;
+    std::uint32_t tri;
+    RVec3 normal;
+    const bool hit = mesh.RayCast(o, d, 6, dist, tri, normal);
+    // Brute force: the plane's parameter where the point lies inside (by the closest point).
+    RScalar best = std::numeric_limits<RScalar>::infinity();
+    for (std::uint32_t t = 0; t < mesh.TriangleCount(); ++t) {
+      const RVec3 &a = mesh.Vertex(t, 0), n3 = mesh.Normal(t);
+      const RScalar along = n3.dot(d);
+      if (along == 0) continue;
+      const RScalar along_s = n3.dot(a - o) / along;
+      if (along_s < 0 || along_s > 6) continue;
+      const RVec3 p = o + along_s * d;
+      if ((ClosestOnTriangle(p, a, mesh.Vertex(t, 1), mesh.Vertex(t, 2)) - p).norm() <= 1e-12) best = std::min(best, along_s);
+    }
+    ASSERT_EQ(hit, std::isfinite(best)) << n;
+    if (!hit) continue;
+    ++hits;
+    EXPECT_NEAR(dist, best, 1e-11) << n;
+    EXPECT_LE(normal.dot(d), 0) << n;  // facing the ray: two-sided
+    EXPECT_NEAR(std::abs(normal.dot(mesh.Normal(tri))), 1, 1e-15);
+  }
+  EXPECT_GT(hits, 300);
+  EXPECT_LT(hits, 1900);
+}
+
+// A mesh against box, sphere, capsule, cylinder and hull partners in random poses: the
+// distance against FCL's BVH model of the same triangles, the witness on a triangle and on
+// the partner, and the verdict where FCL says they collide.
+TEST(MeshCrosscheck, DistanceAndVerdictAgainstFcl) {
+  const RShape s = GridMesh(6, 6, 0.5, -1.5, -1.5, [](RScalar x, RScalar z) { return 0.25 * std::sin(2.1 * x + 0.4) * std::cos(1.7 * z); });
+  const RTriangleMesh mesh(s.points, s.triangles);
+  RConvexShape shape;
+  shape.mesh = &mesh, shape.boundingRadius = mesh.MaxRadius();
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  std::vector<fcl::Vector3d> fv(s.points.begin(), s.points.end());
+  std::vector<fcl::Triangle> ft;
+  for (const auto& t : s.triangles) ft.emplace_back(t[0], t[1], t[2]);
+  model->beginModel();
+  model->addSubModel(fv, ft);
+  model->endModel();
+  std::mt19937_64 rng(5);
+  const OracleHull hull(std::vector<RVec3>{{0.5, 0.1, 0}, {-0.35, 0.45, 0.15}, {0.05, -0.5, 0.25}, {0.15, 0.2, -0.55},
+                                           {-0.25, -0.3, -0.2}, {0.4, 0.35, 0.45}, {-0.5, 0, -0.1}});
+  int apart = 0, overlapping = 0, agree = 0;
+  RScalar worst = 0;
+  for (int n = 0; n < 1000; ++n) {
+    const Partner partner(static_cast<PartnerKind>(n % 5), rng, hull);
+    // The partner's centre near the surface: within its size of a random point of the patch.
+    std::uniform_real_distribution<RScalar> u(0, 1);
+    const RVec3 at(3 * u(rng) - 1.5, 0, 3 * u(rng) - 1.5);
+    const RQuat qB = RandomQuat(rng);
+    const RVec3 xB = at + RVec3(0, 0.25 * std::sin(2.1 * at.x() + 0.4) * std::cos(1.7 * at.z()), 0) +
+                     RVec3(0, (2 * u(rng) - 1) * 1.3 * partner.shape.boundingRadius, 0);
+    RRelativePose X;
+    X.R_AB = qB.toRotationMatrix(), X.t_AB = xB;
+    const RDistanceResult got = RCollisionSolver::Distance(shape, partner.shape, X);
+    fcl::DistanceRequestd request(true);
+    request.distance_tolerance = 1e-12;
+    request.gjk_solver_type = fcl::GST_INDEP;
+    fcl::DistanceResultd result;
+    fcl::distance(model.get(), fcl::Transform3d::Identity(), partner.fcl, FclPose(xB, qB, partner.alongZ), request, result);
+    fcl::CollisionRequestd creq;
+    fcl::CollisionResultd cres;
+    fcl::collide(model.get(), fcl::Transform3d::Identity(), partner.fcl, FclPose(xB, qB, partner.alongZ), creq, cres);
+    const RScalar size = partner.shape.boundingRadius + 1;
+    if (got.separation > 1e-6 * size) {
+      ++apart;
+      EXPECT_FALSE(cres.isCollision()) << n;
+      EXPECT_LE(got.separation, result.min_distance + 1e-9 * size) << n;
+      EXPECT_LT(DistanceToMesh(mesh, got.witnessA), 1e-9 * size) << n;
+      EXPECT_NEAR(SurfaceDistance(partner.shape, X.R_AB.transpose() * (got.witnessB - X.t_AB)), 0, 1e-9 * size) << n;
+      EXPECT_NEAR((got.witnessB - got.witnessA).norm(), got.separation, 1e-9 * size) << n;
+      if (std::abs(got.separation - result.min_distance) <= 1e-9 * size) ++agree;
+      worst = std::max(worst, std::abs(got.separation - result.min_distance) / size);
+    } else if (got.separation < -1e-6 * size) {
+      ++overlapping;
+      EXPECT_TRUE(cres.isCollision()) << n;
+    }
+  }
+  std::printf("mesh pairs: %d apart, %d overlapping; %d of the distances FCL's to 1e-9 of the size, worst |d - FCL| / "
+              "size %.2e\n", apart, overlapping, agree, worst);
+  EXPECT_GE(agree, apart * 95 / 100);
+  EXPECT_GT(apart, 250);
+  EXPECT_GT(overlapping, 250);
+}
+
+namespace {
+
+// A box sliding on a floor at v0 until friction stops it, yawed so its corners cross the
+// floor's edges at different times: the distance, the largest lift and tilt.
+struct Slide {
+  RScalar distance = 0, lift = 0, tilt = 0;
+};
+
+Slide SlideOn(const RBodyDef& floor) {
+  std::vector<RRigidBody> bodies{RRigidBody(floor)};
+  RBodyDef box;
+  box.name = "box";
+  box.shape = Box(RVec3(0.5, 0.25, 0.4));
+  const RQuat yaw(Eigen::AngleAxisd(0.3, RVec3::UnitY()));
+  box.position_W = RVec3(-8.37, 0.25, -3.21), box.q_WS = yaw;
+  box.velocity_W = RVec3(6, 0, 2.5);
+  box.friction = 0.4, box.restitution = 0;
+  bodies.emplace_back(box);
+  RIntegrator integrator;
+  integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
+  Slide s;
+  const RVec3 start = bodies[1].Position_W();
+  for (int k = 0; k < 240; ++k) {
+    integrator.Update(bodies, 1.0 / 120);
+    s.lift = std::max(s.lift, bodies[1].Position_W().y() - 0.25);
+    const RVec3 up = bodies[1].Orientation_WB() * bodies[1].ShapeRotation_BS() * RVec3::UnitY();
+    s.tilt = std::max(s.tilt, std::acos(std::min(RScalar(1), up.y())));
+  }
+  s.distance = (bodies[1].Position_W() - start).norm();
+  EXPECT_LT(bodies[1].Velocity_W().norm(), 1e-9);
+  return s;
+}
+
+}  // namespace
+
+// The issue's test: a box slides over a floor of 40 x 40 quads (3200 triangles) and stops at
+// v0^2 / (2 mu g), as on one flat box, never lifting more than 1 mm or tilting: the
+// triangles' edges inside the flat floor are not active, and the manifolds of the triangles
+// under the box merge into the four corners a box floor gives.
+TEST(MeshPhysics, ABoxSlidesOverATessellatedFloorAsOverOneBox) {
+  RBodyDef meshFloor = StaticBody(GridMesh(40, 40, 1, -20, -20, [](RScalar, RScalar) { return 0; }));
+  meshFloor.friction = 0.4;
+  RBodyDef boxFloor = StaticBody(Box(RVec3(20, 0.5, 20)), RVec3(0, -0.5, 0));
+  boxFloor.friction = 0.4;
+  const Slide onMesh = SlideOn(meshFloor), onBox = SlideOn(boxFloor);
+  const RScalar v0 = std::hypot(6.0, 2.5), exact = v0 * v0 / (2 * 0.4 * 9.81);
+  std::printf("slide: mesh %.6f m, box %.6f m, closed form %.6f m; lift %.2e m, tilt %.2e rad on the mesh\n",
+              onMesh.distance, onBox.distance, exact, onMesh.lift, onMesh.tilt);
+  EXPECT_NEAR(onMesh.distance, exact, 0.01 * exact);
+  // The same slide to 2e-6 of its length: the floors differ only in where the solver's
+  // points sit (the box floor clips the box's face, the mesh each triangle's, then merged and
+  // reduced to four), which moves the friction's share between them by rounding.
+  EXPECT_NEAR(onMesh.distance, onBox.distance, 1e-5);
+  EXPECT_LT(onMesh.lift, 1e-3);
+  EXPECT_LT(onMesh.tilt, 1e-6);
+}
+
+// A ball rolls without slipping down a 20-degree incline made of triangles (a grid turned
+// about z), across their edges: s = 5/14 g sin(theta) t^2, as on one box.
+TEST(MeshPhysics, ABallRollsDownAMeshInclineAtFiveSevenths) {
+  const RScalar theta = 20 * kPi / 180;
+  const RQuat tilt(Eigen::AngleAxisd(-theta, RVec3::UnitZ()));
+  RBodyDef floor = StaticBody(GridMesh(30, 10, 0.7, -10.5, -3.5, [](RScalar, RScalar) { return 0; }), RVec3::Zero(), tilt);
+  floor.friction = 1;
+  std::vector<RRigidBody> bodies{RRigidBody(floor)};
+  RBodyDef ball;
+  ball.shape = Sphere(0.3);
+  ball.position_W = tilt * RVec3(-6, 0.3, 0.13);
+  ball.friction = 1, ball.restitution = 0;
+  bodies.emplace_back(ball);
+  RIntegrator integrator;
+  integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
+  const RVec3 start = bodies[1].Position_W();
+  const int steps = 90;
+  for (int k = 0; k < steps; ++k) integrator.Update(bodies, 1.0 / 60);
+  const RScalar t = steps / 60.0, exact = 5.0 / 14 * 9.81 * std::sin(theta) * t * t;
+  const RScalar got = (bodies[1].Position_W() - start).norm();
+  std::printf("rolling ball on a mesh incline: %.6f m in %.1f s, closed form %.6f m\n", got, t, exact);
+  EXPECT_NEAR(got, exact, 0.01 * exact);
+  // On the surface all the way: its height above the incline's plane is its radius.
+  EXPECT_NEAR((tilt.conjugate() * bodies[1].Position_W()).y(), 0.3, 1e-3);
+}
+
+// A ball dropped onto a vertex where six triangles of a flat floor meet (and one onto an
+// edge) bounces straight up: the contacts of the triangles around it take the face normal
+// and merge into one point.
+TEST(MeshPhysics, ABallOnAVertexOrEdgeOfAFlatFloorBouncesStraightUp) {
+  for (const RVec3& at : {RVec3(0, 0, 0), RVec3(0.5, 0, 0), RVec3(0.25, 0, 0.25)}) {
+    RBodyDef floor = StaticBody(GridMesh(4, 4, 1, -2, -2, [](RScalar, RScalar) { return 0; }));
+    floor.restitution = 0.5;
+    std::vector<RRigidBody> bodies{RRigidBody(floor)};
+    RBodyDef ball;
+    ball.shape = Sphere(0.2);
+    ball.position_W = at + RVec3(0, 1, 0);
+    ball.restitution = 0.5;
+    bodies.emplace_back(ball);
+    RIntegrator integrator;
+    integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
+    RScalar up = 0;
+    for (int k = 0; k < 60 && up <= 0; ++k) {
+      integrator.Update(bodies, 1.0 / 120);
+      up = bodies[1].Velocity_W().y();
+    }
+    ASSERT_GT(up, 0) << at.transpose();
+    const RScalar impact = std::sqrt(2 * 9.81 * 0.8);
+    EXPECT_NEAR(up, 0.5 * impact, 0.02 * impact) << at.transpose();
+    EXPECT_LT(std::hypot(bodies[1].Velocity_W().x(), bodies[1].Velocity_W().z()), 1e-12) << at.transpose();
+    EXPECT_LT(bodies[1].AngularVelocity_W().norm(), 1e-12) << at.transpose();
+  }
+}
