@@ -97,6 +97,8 @@ bool RCollisionSolver::Intersect(const RConvexShape& a, const RConvexShape& b,
     if (CertainOverlap(g, band)) return true;
     if (g.converged && g.lowerBound > band) return false;
   }
+  // (A mesh: only its triangles within the band of the other shape, not all of them.)
+  if (a.mesh || b.mesh) return MeshDistance(a, b, X_AB, band).separation <= band;
   return Distance(a, b, X_AB).separation <= band;
 }
 
@@ -263,7 +265,7 @@ RContactManifold RCollisionSolver::ManifoldWithin(const RConvexShape& a, const R
                                                   RScalar cutoff, RScalar* droppedMin) {
   if (a.mesh || b.mesh) {
     if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();
-    return MeshManifold(a, b, X_AB, margin);
+    return MeshManifold(a, b, X_AB, margin, cutoff);
   }
   if (a.children || b.children) {
     if (droppedMin) *droppedMin = std::numeric_limits<RScalar>::infinity();

@@ -75,7 +75,9 @@ void PrepareCompound(const RShape& shape, RPreparedShape& p) {
   for (std::size_t i = 0; i < shape.children.size(); ++i) {
     const RCompoundChild& child = shape.children[i];
     const std::string at = "shape.children[" + std::to_string(i) + "].";
-    if (child.shape.type == RShapeType::kCompound) throw RBodyError(at + "shape.type", "a compound cannot be a child");
+    if (child.shape.type == RShapeType::kCompound || child.shape.type == RShapeType::kMesh) {
+      throw RBodyError(at + "shape.type", "a compound or a mesh cannot be a child (children are convex)");
+    }
     if (!AllFinite(child.position_S) || child.position_S.cwiseAbs().maxCoeff() > 1e12) {
       throw RBodyError(at + "position", "must be finite and within 1e12 m");
     }

@@ -130,9 +130,12 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
         // apart along it by more than the band is apart (a speculative contact of bodies
         // that did not meet) without the narrow phase.
         const RVec3 n_A = q_AW0 * m.query.normal;
+        // (A mesh has no support mapping worth its cost: the intersection test decides.)
         RPairSupport support(shapeA, shapeB, X1);
-        const RScalar gap = n_A.dot(support.SupportB(-n_A)) - shapeB.radius -
-                            n_A.dot(support.SupportA(n_A)) - shapeA.radius;
+        const RScalar gap = shapeA.mesh || shapeB.mesh
+                                ? -std::numeric_limits<RScalar>::infinity()
+                                : n_A.dot(support.SupportB(-n_A)) - shapeB.radius - n_A.dot(support.SupportA(n_A)) -
+                                      shapeA.radius;
         end = !(gap > band) && RCollisionSolver::Intersect(shapeA, shapeB, X1);
       }
       bool during = start || end || (e.flags & kImpact) != 0;

@@ -41,8 +41,10 @@ int MeshChildManifolds(const RTriangleMesh& mesh, bool meshIsA, const RShapeChil
 // each), in A's frame, as RCompound's CompoundDistance gives it for children.
 RDistanceResult MeshDistance(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB, RScalar cutoff);
 
-// The deepest of the pair's manifolds (MeshChildManifolds over the convex side's children).
-RContactManifold MeshManifold(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB, RScalar margin);
+// The deepest of the pair's manifolds (MeshChildManifolds over the convex side's children);
+// with none, the query is MeshDistance's within cutoff.
+RContactManifold MeshManifold(const RConvexShape& a, const RConvexShape& b, const RRelativePose& X_AB, RScalar margin,
+                              RScalar cutoff);
 
 // The manifold of the contact that named children (childA, childB) of a pair with a mesh,
 // as MeshChildManifolds gives it for the convex side's child at any depth: the one naming
@@ -90,6 +92,11 @@ void ForEachTriangleChild(const RTriangleMesh& mesh, const RVec3& lo, const RVec
     ~Leave() { --level; }
   } leave{level};
   mesh.ForEachOverlapping(lo, hi, [&](std::uint32_t t) {
+    // The triangle's own box first: a leaf's box holds four.
+    const RVec3 &a = mesh.Vertex(t, 0), &b = mesh.Vertex(t, 1), &c = mesh.Vertex(t, 2);
+    if ((a.cwiseMin(b).cwiseMin(c).array() > hi.array()).any() || (a.cwiseMax(b).cwiseMax(c).array() < lo.array()).any()) {
+      return;
+    }
     RShapeChild child;
     MakeTriangleChild(mesh, t, scratch, child);
     f(t, static_cast<const RShapeChild&>(child));

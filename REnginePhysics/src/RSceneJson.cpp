@@ -320,7 +320,9 @@ RShape ReadShape(const json& j, const std::string& path, const RSceneLimits& lim
         const Object child(children[i], childPath, {"shape", "position", "orientation", "density"});
         RCompoundChild c;
         c.shape = ReadShape(child.Required("shape"), child.PathOf("shape"), limits);
-        if (c.shape.type == RShapeType::kCompound) Fail(child.PathOf("shape") + ".type", "a compound cannot be a child");
+        if (c.shape.type == RShapeType::kCompound || c.shape.type == RShapeType::kMesh) {
+          Fail(child.PathOf("shape") + ".type", "a compound or a mesh cannot be a child (children are convex)");
+        }
         c.position_S = child.Get("position", c.position_S, ReadVec3);
         c.q_SC = child.Get("orientation", c.q_SC, ReadOrientation);
         c.density = child.Get("density", c.density, ReadPositive);
