@@ -299,9 +299,10 @@ bool RWorldStep::CloseAtEnd(RContactRow& r, RScalar dt) const {
   auto arc = [dt](const RSolverBody& s, const RVec3& arm) {
     return s.armTurns ? s.w.norm() * arm.norm() * dt : RScalar(0);
   };
-  const bool spinning = arc(sa, r.rA) + arc(sb, r.rB) > m_settings.penetrationSlop;
-  r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted &&
-                        !spinning && r.n.k > 0
+  // (Its square roots only for a row that is otherwise closed.)
+  auto spinning = [&] { return arc(sa, r.rA) + arc(sb, r.rB) > m_settings.penetrationSlop; };
+  r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted && r.n.k > 0 &&
+                        !spinning()
                     ? RScalar(0) : kNever;
   if (r.endTarget == kNever) r.lambdaE = 0;
   return r.endTarget == 0;

@@ -59,26 +59,31 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     tally.reusedInverses += blk.inverse == 2;
     tally.computedInverses += blk.inverse == 1;
     RWarmStart* warm = &m_warmNext[warmBase + m_rowStart[m_blockContact[k]].warm];
+    // The manifold's friction, which each of its points remembers.
+    RVec3 tangentImpulse[2];
+    bool patchFinite = true;
+    for (int ph = 0; ph < 2; ++ph) {
+      tangentImpulse[ph] = blk.lambdaT1[ph] * blk.t[0].d + blk.lambdaT2[ph] * blk.t[1].d;
+      patchFinite = patchFinite && AllFinite(tangentImpulse[ph]) && std::isfinite(blk.lambdaTwist[ph]);
+    }
+    const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
     for (int i = 0; i < blk.count; ++i) {
       const RContactRow& r = m_rows[blk.first + i];
       accumulate(r.a, r.b, r.rA, r.rB, r.lambdaN * r.n.d);
       if (r.lambdaE != 0) accumulateEnd(r.a, r.b, r.rA, r.rB, r.lambdaE * r.n.d);
       m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN + r.lambdaE;
       RWarmStart& w = warm[i];
-      w.pair = PairKey(c.handleA.index, c.handleB.index);
+      w.pair = pair;
       w.genA = c.handleA.generation, w.genB = c.handleB.generation;
       w.feature = c.manifold.points[r.point].featureId;
       w.point_A = m_rowPoint_A[blk.first + i];
       w.lambdaN = r.lambdaN;
       w.lambdaE = r.lambdaE;
-      bool finite = std::isfinite(w.lambdaN) && std::isfinite(w.lambdaE) && AllFinite(w.point_A);
-      for (int ph = 0; ph < 2; ++ph) {
-        w.tangentImpulse[ph] = blk.lambdaT1[ph] * blk.t[0].d + blk.lambdaT2[ph] * blk.t[1].d;
-        w.twistImpulse[ph] = blk.lambdaTwist[ph];
-        finite = finite && AllFinite(w.tangentImpulse[ph]) && std::isfinite(w.twistImpulse[ph]);
-      }
+      for (int ph = 0; ph < 2; ++ph) w.tangentImpulse[ph] = tangentImpulse[ph], w.twistImpulse[ph] = blk.lambdaTwist[ph];
       // A step that overflowed must not seed the next one (its bodies are put back).
-      if (!finite) w.pair = kDroppedWarm, tally.dropped = true;
+      if (!(patchFinite && std::isfinite(w.lambdaN) && std::isfinite(w.lambdaE) && AllFinite(w.point_A))) {
+        w.pair = kDroppedWarm, tally.dropped = true;
+      }
     }
   }
   for (std::uint32_t k = first; k < last; ++k) {

@@ -84,6 +84,18 @@ void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std
   r.miss = false;
 }
 
+// Asks for what BuildContactRows reads of contact ci: the contact and its pair's warm starts
+// of last step (a manifold's worth, four entries).
+void RWorldStep::PrefetchContact(std::uint32_t ci) const {
+  const char* c = reinterpret_cast<const char*>(&m_contacts[ci]);
+  for (std::size_t line = 0; line < sizeof(RContact); line += 64) __builtin_prefetch(c + line);
+  const std::size_t w0 = m_rowStart[ci].warmFound, w1 = std::min(w0 + 4, m_warm.size());
+  for (std::size_t w = w0; w < w1; ++w) {
+    const char* p = reinterpret_cast<const char*>(&m_warm[w]);
+    __builtin_prefetch(p), __builtin_prefetch(p + 64);
+  }
+}
+
 // One resolved contact's rows (at m_rowStart): a contact row per manifold point
 // warm-started from last step's impulses, and its friction patch. Returns how many rows
 // found a warm start.
@@ -109,7 +121,8 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   for (int k = 0; k < c.manifold.pointCount; ++k) {
     const RVec3& position = c.manifold.points[k].position;
     const RScalar gap = c.manifold.points[k].separation;
-    RContactRow r;
+    // Written in place, every field: a row built aside and copied in cost a copy per row.
+    RContactRow& r = m_rows[firstRow + k];
     r.a = c.a, r.b = c.b, r.contact = ci, r.point = k;
     r.rA = position - A.m_x_W;
     r.rB = position - B.m_x_W;
@@ -159,12 +172,11 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
       r.lambdaE = match->lambdaE;
       if (!patchWarm) patchWarm = match;
     }
-    m_rows[firstRow + k] = r;
   }
   // The manifold's friction patch (see RBlock): at the centroid of its points, limited by
   // mu times their total normal impulse, and a twist limited by mu times the sum of each
   // point's normal impulse and distance from the centroid.
-  RBlock blk;
+  RBlock& blk = m_blocks[blockIndex];  // in place, every field, as the rows
   blk.first = firstRow;
   blk.count = c.manifold.pointCount;
   blk.useBlock = blk.count > 1;
@@ -197,7 +209,6 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
       blk.lambdaTwist[ph] = patchWarm->twistImpulse[ph];
     }
   }
-  m_blocks[blockIndex] = blk;
   return warmStarted;
 }
 

@@ -146,11 +146,19 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   const RScalar halfDt = RScalar(0.5) * dt;
   const auto [first, last] = m_blockIslands[island];
   if (!m_islandRowsBuilt[island]) {  // (else built as tasks: FindImpulses)
-    for (std::uint32_t k = m_islandBodyStart[island]; k < m_islandBodyStart[island + 1]; ++k) {
+    // An island's bodies and contacts lie far apart in storage (a pile's column: a layer of
+    // bodies between two), each a wait for memory: the next ones are asked for while one
+    // is worked on.
+    const std::uint32_t b0 = m_islandBodyStart[island], b1 = m_islandBodyStart[island + 1];
+    for (std::uint32_t k = b0; k < b1; ++k) {
+      if (k + 2 < b1) PrefetchBody(bodies[m_islandBodies[k + 2]], 8 * 64);  // to the shape's core
       const std::uint32_t i = m_islandBodies[k];
       InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
     }
-    for (std::uint32_t k = first; k < last; ++k) tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
+    for (std::uint32_t k = first; k < last; ++k) {
+      if (k + 1 < last) PrefetchContact(m_blockContact[k + 1]);
+      tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
+    }
   }
   WarmStartIsland(RPhase::kVelocity, first, last);
   // Most islands (a resting pile: every one) have no impact: their impact rows are not built.

@@ -82,12 +82,19 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_rowStart.resize(m_contacts.size());
   m_inRows.assign(n, 0);
   std::uint32_t blockCount = 0, warmCount = 0;
+  constexpr std::size_t kWarmAhead = 16;  // entries: four contacts' manifolds
   // Each contact alone, as tasks: whether it is resolved, and where last step's warm starts
   // of its pair begin (searched in the contacts' order: the rows are built island by
   // island, where a search from the last contact's entries would cross the list each time).
   ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 256, [&](std::size_t c0, std::size_t c1, std::size_t) {
     std::size_t warmFrom = 0;
     for (std::size_t ci = c0; ci < c1; ++ci) {
+      // The search reads on from the last contact's entries, a manifold's worth (four
+      // entries, 512 bytes) a contact: the stream prefetch stops at every page, so the next
+      // pages' lines are asked for a few contacts ahead.
+      for (std::size_t w = warmFrom + kWarmAhead; w < std::min(warmFrom + kWarmAhead + 4, m_warm.size()); ++w) {
+        __builtin_prefetch(&m_warm[w].pair);
+      }
       RContact& c = m_contacts[ci];
       const RRigidBody& A = bodies[c.a];
       const RRigidBody& B = bodies[c.b];
@@ -247,6 +254,7 @@ bool RWorldStep::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
   sc.b.resize(kDirectRows), sc.x.resize(kDirectRows), sc.active.resize(kDirectRows);
   sc.map.resize(kDirectRows), sc.envelope.resize(kDirectRows);
   sc.lo.resize(kDirectRows), sc.hi.resize(kDirectRows);
+  sc.columnsFrom.resize(kDirectRows), sc.columnsTo.resize(kDirectRows);
   sc.invDiag.resize(kDirectRows), sc.residual.resize(kDirectRows);
   RScalar* K = sc.K.data();
   RScalar* b = sc.b.data();
@@ -327,15 +335,21 @@ bool RWorldStep::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
     constexpr RScalar kRefined = 1e-12;  // m/s
     RScalar* residual = sc.residual.data();
     RScalar previous = std::numeric_limits<RScalar>::infinity();
+    // Each active row's active columns within [lo, hi]: [columnsFrom, columnsTo) of map,
+    // the same every pass.
+    for (int p = 0; p < na; ++p) {
+      const int i = map[p];
+      int q = static_cast<int>(std::lower_bound(map, map + na, sc.lo[i]) - map);
+      sc.columnsFrom[p] = q;
+      while (q < na && map[q] <= sc.hi[i]) ++q;
+      sc.columnsTo[p] = q;
+    }
     for (int pass = 0; pass < kMaxRefinements; ++pass) {
       RScalar largest = 0;
       for (int p = 0; p < na; ++p) {
         const int i = map[p];
         RScalar v = b[i];
-        for (int q = static_cast<int>(std::lower_bound(map, map + na, sc.lo[i]) - map);
-             q < na && map[q] <= sc.hi[i]; ++q) {
-          v += K[i * ld + map[q]] * x[q];
-        }
+        for (int q = sc.columnsFrom[p]; q < sc.columnsTo[p]; ++q) v += K[i * ld + map[q]] * x[q];
         residual[p] = target(m_rows[sc.index[i]]) - v;
         largest = std::max(largest, std::abs(residual[p]));
       }

@@ -227,6 +227,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // computed here, before the pairs are shared out, since a lazily computed form would be
   // written by whichever threads asked at once.
   constexpr std::size_t kPairGrain = 32;  // pairs per task, at least
+  constexpr std::size_t kPairAhead = 4, kPairLines = 9 * 64;  // see stage 2's loop
   if (m_jobs && RangeCount(m_pairs.size(), tasks, kPairGrain) > 1) {
     m_formNeeded.assign(n, 0);
     for (const auto& [i, j] : m_pairs) m_formNeeded[i] = m_formNeeded[j] = 1;
@@ -253,6 +254,10 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         std::lower_bound(m_manifolds.begin(), m_manifolds.end(), m_pairs[k0], before) - m_manifolds.begin()) : m_manifolds.size();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::size_t i = m_pairs[k].first, j = m_pairs[k].second;
+      // A pair's second body is far from its first in storage (a pile's upper neighbour is
+      // a layer of bodies away) and waits for memory: asked for a few pairs ahead, up to
+      // its world form (the first lines every pair reads).
+      if (k + kPairAhead < k1) PrefetchBody(bodies[m_pairs[k + kPairAhead].second], kPairLines);
       const RRigidBody& a = bodies[i];
       const RRigidBody& b = bodies[j];
       // Bounding boxes from the stamped world forms, grown the same way: they reject the
