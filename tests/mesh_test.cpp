@@ -15,6 +15,7 @@
 
 #include "support/CollisionOracles.h"
 #include "support/RandomPartners.h"
+#include "support/TestBodies.h"
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/narrowphase/collision.h>
@@ -61,17 +62,8 @@ RShape GridMesh(int nx, int nz, RScalar d, RScalar x0, RScalar z0, const std::fu
   return s;
 }
 
-RShape Box(const RVec3& half) {
-  RShape s;
-  s.type = RShapeType::kBox, s.halfExtents = half;
-  return s;
-}
-
-RShape Sphere(RScalar r) {
-  RShape s;
-  s.type = RShapeType::kSphere, s.radius = r;
-  return s;
-}
+RShape Box(const RVec3& half) { return BoxDef(half).shape; }
+RShape Sphere(RScalar r) { return SphereDef(r).shape; }
 
 RBodyDef StaticBody(const RShape& shape, const RVec3& x = RVec3::Zero(), const RQuat& q = RQuat::Identity()) {
   RBodyDef d;
