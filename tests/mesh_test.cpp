@@ -229,7 +229,8 @@ TEST(MeshTree, BoxesAndRaysAgreeWithBruteForce) {
 
 // A mesh against box, sphere, capsule, cylinder and hull partners in random poses: the
 // distance against FCL's BVH model of the same triangles, the witness on a triangle and on
-// the partner, and the verdict where FCL says they collide.
+// the partner, the verdict where FCL says they collide, and a ball's depth against its
+// closed form.
 TEST(MeshCrosscheck, DistanceAndVerdictAgainstFcl) {
   const RShape s = GridMesh(6, 6, 0.5, -1.5, -1.5, [](RScalar x, RScalar z) { return 0.25 * std::sin(2.1 * x + 0.4) * std::cos(1.7 * z); });
   const RTriangleMesh mesh(s.points, s.triangles);
@@ -245,7 +246,7 @@ TEST(MeshCrosscheck, DistanceAndVerdictAgainstFcl) {
   std::mt19937_64 rng(5);
   const OracleHull hull(std::vector<RVec3>{{0.5, 0.1, 0}, {-0.35, 0.45, 0.15}, {0.05, -0.5, 0.25}, {0.15, 0.2, -0.55},
                                            {-0.25, -0.3, -0.2}, {0.4, 0.35, 0.45}, {-0.5, 0, -0.1}});
-  int apart = 0, overlapping = 0, agree = 0;
+  int apart = 0, overlapping = 0, agree = 0, balls = 0;
   RScalar worst = 0;
   for (int n = 0; n < 1000; ++n) {
     const Partner partner(static_cast<PartnerKind>(n % 5), rng, hull);
@@ -279,10 +280,19 @@ TEST(MeshCrosscheck, DistanceAndVerdictAgainstFcl) {
     } else if (got.separation < -1e-6 * size) {
       ++overlapping;
       EXPECT_TRUE(cres.isCollision()) << n;
+      // A ball's depth has a closed form: its radius less its centre's distance from the
+      // nearest triangle (a centre off every triangle: the two-sided surface's depth).
+      const RScalar centre = DistanceToMesh(mesh, xB);
+      if (partner.shape.polyhedron == nullptr && partner.shape.halfHeight == 0 && partner.shape.cylinderRadius == 0 &&
+          centre > 1e-6) {
+        ++balls;
+        EXPECT_NEAR(got.separation, centre - partner.shape.radius, 1e-9 * size) << n;
+      }
     }
   }
-  std::printf("mesh pairs: %d apart, %d overlapping; %d of the distances FCL's to 1e-9 of the size, worst |d - FCL| / "
-              "size %.2e\n", apart, overlapping, agree, worst);
+  std::printf("mesh pairs: %d apart, %d overlapping (%d balls, depth the closed form); %d of the distances FCL's to "
+              "1e-9 of the size, worst |d - FCL| / size %.2e\n", apart, overlapping, balls, agree, worst);
+  EXPECT_GT(balls, 50);
   EXPECT_GE(agree, apart * 95 / 100);
   EXPECT_GT(apart, 250);
   EXPECT_GT(overlapping, 250);
