@@ -395,7 +395,6 @@ void FinishManifold(const RConvexShape& a, const RConvexShape& b, const RRelativ
   m.pointCount = ReduceToFour(pts, np, refN);
   for (int i = 0; i < m.pointCount; ++i) m.points[i] = pts[i];
   m.normal = refIsA ? refN : RVec3(-refN);
-  return;
 }
 
 }  // namespace
