@@ -167,7 +167,9 @@ bool RTriangleMesh::RayCast(const RVec3& origin, const RVec3& direction, RScalar
   if (m_nodes.empty()) return false;
   bool found = false;
   RScalar best = maxDistance;
-  const RVec3 inv(1 / direction.x(), 1 / direction.y(), 1 / direction.z());
+  // (A component of 0 is never divided by: the slab test takes that axis apart.)
+  const RVec3 inv(direction.x() != 0 ? 1 / direction.x() : 0, direction.y() != 0 ? 1 / direction.y() : 0,
+                  direction.z() != 0 ? 1 / direction.z() : 0);
   // The slab test of a node's box: the ray's parameter range inside it.
   const auto enters = [&](const Node& n) {
     RScalar t0 = 0, t1 = best;
