@@ -88,6 +88,7 @@ void RBodies::WakeForDeparture(RRigidBody& b) {
 
 void RBodies::Remove(RBodyHandle h) {
   std::uint32_t dense = DenseIndex(h);
+  if (!m_joints.empty()) RemoveJointsOf(h), dense = DenseIndex(h);
   if (dense < m_enabled) {
     WakeForDeparture(m_bodies[dense]);
     // To the end of the enabled range (its last body takes the removed one's place), then

@@ -87,20 +87,13 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
   // out only what the direct solve leaves out too (rows never in contact), but for
   // position correction, which they skip in a manifold with none of its own: the island
   // must have none at all (its bodies then have no pseudo-velocity).
-  const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last);
+  const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last, island, &sc);
   const auto [rowsFirst, rowsLast] = IslandRows(island);
   const bool direct = m_islandDirect[island];
-  if (direct) {
-    bool positions = false;
-    for (std::uint32_t i = rowsFirst; i < rowsLast && !positions; ++i) {
-      positions = m_rows[i].pseudoTarget > 0 || m_rows[i].lambdaP > 0;
-    }
-    if (!settled || positions) {
-      PrepareIslandDirect(island, sc);
-      if (!settled) SolveIslandDirect(RPhase::kVelocity, sc);
-      SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
-    }
-  }
+  if (direct) IslandDirectSolves(island, sc, settled);
+  // The joints' Newton rounds and their projection (RJoints.cpp): passes again while some
+  // joint would end the step off its constraint.
+  if (IslandHasJoints(island)) JointRounds(bodies, island, dt, sc);
   bool closes = false;
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) closes = CloseAtEnd(m_rows[i], dt) || closes;
   // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland).
@@ -133,6 +126,21 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
   }
 }
 
+// The island's direct solves after its velocity passes: velocities (unless the passes left
+// them solved) and position correction, on the same matrix.
+void RWorldStep::IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool settled) {
+  const auto [rowsFirst, rowsLast] = IslandRows(island);
+  bool positions = false;
+  for (std::uint32_t i = rowsFirst; i < rowsLast && !positions; ++i) {
+    positions = m_rows[i].pseudoTarget > 0 || m_rows[i].lambdaP > 0;
+  }
+  if (!settled || positions) {
+    PrepareIslandDirect(island, sc);
+    if (!settled) SolveIslandDirect(RPhase::kVelocity, sc);
+    SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
+  }
+}
+
 // The sequential-impulse passes over the manifolds, alternating the sweep's direction (for
 // the same reason as the blocks across manifolds). kVelocity: each manifold's normal rows
 // (reach the targets, never pull), its friction bounded by this pass's normal impulses,
@@ -153,11 +161,13 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
 // at all is followed by passes that change nothing (each manifold's solve depends only on
 // its bodies' velocities and its impulses), so a stop at rounding changes the answer by no
 // more than rounding's worth per pass it skips.
-bool RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last) {
+bool RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last,
+                                   std::size_t island, RIslandScratch* sc) {
   constexpr RScalar kConverged = 1e-12;  // m/s
+  const bool joints = sc && phase == RPhase::kVelocity && IslandHasJoints(island);
   RScalar change = 0;
   for (int it = 0; it < iterations; ++it) {
-    change = 0;
+    change = joints ? SolveJointsPass(island, *sc) : 0;
     for (std::uint32_t k = first; k < last; ++k) {
       RBlock& blk = m_blocks[(it % 2 == 0) ? k : last - 1 - (k - first)];
       RContactRow* rows = &m_rows[blk.first];

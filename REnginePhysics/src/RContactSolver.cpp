@@ -42,9 +42,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   m_warmBodyCount = bodies.byIndex ? n : 0;
   m_warmNext.clear();
   KeepSleepingWarmStarts(bodies);
-  m_solverBodies.resize(n);
+  // One more solver body: the world's, what a joint to the world holds on to (never moved).
+  m_solverBodies.resize(n + 1);
   const RScalar halfDt = RScalar(0.5) * dt;
-  bool anyRow = false;
+  GatherJoints(bodies);
+  bool anyRow = !m_stepJoints.empty();
   for (const RContact& c : m_contacts) {
     const RRigidBody& a = bodies[c.a];
     const RRigidBody& b = bodies[c.b];
@@ -61,6 +63,13 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // The rows, impact rows and friction patches of every contact, at places counted
   // beforehand island by island, and the islands' bodies (LayOutIslands).
   LayOutIslands(bodies);
+  if (!m_stepJoints.empty()) {
+    RSolverBody& world = m_solverBodies[n];
+    world.v.setZero(), world.w.setZero(), world.vp.setZero(), world.wp.setZero();
+    world.invI.setZero(), world.invM = 0, world.linMask = RVec3::Ones(), world.linLocked = false;
+    m_jointRows.resize(m_stepJoints.size() * RJoint::kMaxRows);
+    m_jointPoses.resize(n);
+  }
   // The static and kinematic bodies' solver state, which every island that touches them
   // reads (their velocities are their own: impulses do not move them, and the impact phase
   // moves them on copies).
@@ -161,6 +170,8 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
     }
   }
   WarmStartIsland(RPhase::kVelocity, first, last);
+  const bool joints = IslandHasJoints(island);
+  if (joints) BuildIslandJoints(bodies, island, dt, sc);
   // Most islands (a resting pile: every one) have no impact: their impact rows are not built.
   m_islandImpacts[island] = MayImpact(island);
   if (m_islandImpacts[island]) {
@@ -177,7 +188,9 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   // once a step, the first time the block has something to solve; when its answer would
   // pull at a point, that manifold falls back to one point at a time.
   SolveIslandContacts(bodies, dt, island, sc);
+  if (joints) ReportJoints(island);
   ReportIsland(bodies, dt, island, warmBase, tally);
+  if (joints) SolveJointsAtEnd(bodies, island, dt, sc);
 }
 
 // Several contacts of one pair of bodies (a compound's child pairs, one after another in

@@ -123,6 +123,10 @@ void RIntegrator::Update(RBodies& bodies, RScalar dt) {
   view.wakeIslands = &bodies.m_wakeIslands;
   view.wakeAll = &bodies.m_wakeAll;
   view.wakeBoxes = &bodies.m_wakeBoxes;
+  view.joints = bodies.m_joints.data();
+  view.jointCount = bodies.m_joints.size();
+  view.noCollidePairs = bodies.m_noCollide.data();
+  view.noCollideCount = bodies.m_noCollide.size();
   // Queries' caches of the poses (RQueries) see the bodies moved, also when the step throws
   // part way.
   bodies.m_poseStamp.Bump();

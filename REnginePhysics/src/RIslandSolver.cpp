@@ -119,6 +119,13 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     warmCount += static_cast<std::uint32_t>(c.manifold.pointCount);
     if (!bodies[c.a].Immovable() && !bodies[c.b].Immovable()) m_islandSets.Union(c.a, c.b);
   }
+  // Joints join islands as contacts do; the world's end (index n) joins nothing.
+  for (const RStepJoint& j : m_stepJoints) {
+    const bool movesA = !bodies[j.a].Immovable(), movesB = j.b < n && !bodies[j.b].Immovable();
+    m_inRows[j.a] = 1;
+    if (j.b < n) m_inRows[j.b] = 1;
+    if (movesA && movesB) m_islandSets.Union(j.a, j.b);
+  }
   // A counting sort of the resolved contacts by their island's representative (its smallest
   // body index), each island's in the contacts' order.
   m_blockStart.assign(n + 1, 0);
@@ -129,15 +136,41 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     m_rowStart[ci].block = root;  // for now
     ++m_blockStart[root + 1];
   }
+  // Joints likewise, by the island of their movable body (an island may have only joints).
+  m_islandJointStart.clear();
+  if (!m_stepJoints.empty()) {
+    m_jointRootCount.assign(n, 0);
+    for (const RStepJoint& j : m_stepJoints) {
+      ++m_jointRootCount[m_islandSets.Find(bodies[j.a].Immovable() ? j.b : j.a)];
+    }
+  }
   m_blockIslands.clear();
   m_islandOfRoot.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (m_blockStart[i + 1] > 0) {
+    const bool jointed = !m_stepJoints.empty() && m_jointRootCount[i] > 0;
+    if (m_blockStart[i + 1] > 0 || jointed) {
       m_islandOfRoot[i] = static_cast<std::uint32_t>(m_blockIslands.size());
       m_blockIslands.emplace_back(static_cast<std::uint32_t>(m_blockStart[i]),
                                   static_cast<std::uint32_t>(m_blockStart[i] + m_blockStart[i + 1]));
+      if (!m_stepJoints.empty()) m_islandJointStart.push_back(m_jointRootCount[i]);
     }
     m_blockStart[i + 1] += m_blockStart[i];
+  }
+  if (!m_stepJoints.empty()) {
+    // Counts to starts, then each island's joints in the step's order.
+    std::uint32_t sum = 0;
+    for (std::uint32_t& c : m_islandJointStart) {
+      const std::uint32_t count = c;
+      c = sum, sum += count;
+    }
+    m_islandJointStart.push_back(sum);
+    m_islandJoints.resize(sum);
+    m_islandJointFill.assign(m_islandJointStart.begin(), m_islandJointStart.end() - 1);
+    for (std::uint32_t k = 0; k < m_stepJoints.size(); ++k) {
+      const RStepJoint& j = m_stepJoints[k];
+      const std::uint32_t root = m_islandSets.Find(bodies[j.a].Immovable() ? j.b : j.a);
+      m_islandJoints[m_islandJointFill[m_islandOfRoot[root]]++] = k;
+    }
   }
   m_blockContact.resize(blockCount);
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
@@ -182,6 +215,10 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   // its block), at most kDirectRows rows; each island's blocks and their rows are one run.
   m_islandDirect.clear();
   for (const auto& [first, last] : m_blockIslands) {
+    if (first == last) {  // joints only
+      m_islandDirect.push_back(0);
+      continue;
+    }
     const std::size_t rowsFirst = m_rowStart[m_blockContact[first]].row;
     const std::size_t rowsLast = m_rowStart[m_blockContact[last - 1]].row +
                                  static_cast<std::size_t>(m_contacts[m_blockContact[last - 1]].manifold.pointCount);

@@ -278,7 +278,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       // does not respond (a kinematic sensor reports what it sweeps through).
       if ((a.m_isStatic && b.m_isStatic) ||
           (a.Immovable() && b.Immovable() && a.m_responds && b.m_responds) ||
-          !a.ShouldCheckCollision(b) ||
+          !a.ShouldCheckCollision(b) || (a.m_jointNoCollide && b.m_jointNoCollide && bodies.JointedNoCollide(i, j)) ||
           (m_filter && !m_filter(a, b, m_filterUser))) {
         ++st.rejectedFilter;
         continue;

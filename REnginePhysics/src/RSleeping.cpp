@@ -109,6 +109,19 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
       }
     }
   }
+  // A joint between a sleeper and an awake body (added by the game, or a body enabled
+  // again) wakes the sleeper's island: joined bodies move as one island.
+  for (std::size_t k = 0; k < bodies.jointCount; ++k) {
+    const RJointDef& def = bodies.joints[k].def;
+    if (!def.b.IsValid()) continue;
+    const std::uint32_t a = bodies.denseOfSlot[def.a.index], b = bodies.denseOfSlot[def.b.index];
+    if (a >= n || b >= n) continue;
+    const RRigidBody& A = bodies[a];
+    const RRigidBody& B = bodies[b];
+    if (A.Immovable() || B.Immovable() || A.m_sleeping == B.m_sleeping) continue;
+    const RRigidBody& sleeper = A.m_sleeping ? A : B;
+    if (sleeper.m_sleepIsland < m_wakeMark.size()) m_wakeMark[sleeper.m_sleepIsland] = 1, any = true;
+  }
   if (any) WakeMarked(bodies);
 }
 
@@ -157,6 +170,18 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
       continue;
     }
     m_sleepSets.Union(c.a, c.b);
+  }
+  // Joints bind islands as contacts do (they sleep and wake as one); a joint to the world or
+  // to static geometry that held its body this step supports it.
+  const std::uint32_t world = static_cast<std::uint32_t>(n);
+  for (const RStepJoint& j : m_stepJoints) {
+    const bool immovableA = bodies[j.a].Immovable(), immovableB = j.b == world || bodies[j.b].Immovable();
+    if (!immovableA && !immovableB) {
+      m_sleepSets.Union(j.a, j.b);
+      continue;
+    }
+    const RJoint& J = bodies.joints[j.joint];
+    if (!(J.impulse_W.isZero(0) && J.angularImpulse_W.isZero(0))) m_sleepSupported[immovableA ? j.b : j.a] = 1;
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     const RRigidBody& b = bodies[i];

@@ -16,6 +16,8 @@
 //   RIntegration.cpp    Integrate (the motion)
 //   RBodyMotion.cpp     kinematic bodies, angular locks, drag, gravity scales
 //   RContactEvents.cpp  KeepStartPoses, FindContactEvents (after the motion)
+//   RJoints.cpp         GatherJoints, BuildIslandJoints, JointTargets, SolveJointsPass,
+//                       ReportJoints, SolveJointsAtEnd (rows: RJointRows.cpp)
 // Stages that run as tasks (RJobSystem, m_jobs and m_tasks) write only their own outputs:
 // per-task scratch, or slots counted beforehand; the results do not depend on the threads.
 #pragma once
@@ -23,6 +25,7 @@
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RJobSystem.h>
+#include <REnginePhysics/RJoint.h>
 
 #include "RBoundsTree.h"
 #include "RUnionFind.h"
@@ -50,6 +53,12 @@ inline void PrefetchBody(const RRigidBody& b, std::size_t bytes) {
   for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
 }
 
+// A body's pose for its joints: centre of mass (world, m) and orientation q_WB.
+struct RJointPoseIn {
+  RVec3 x;
+  RQuat q;
+};
+
 struct RStepBodies {
   RRigidBody* data = nullptr;
   std::size_t count = 0;
@@ -63,6 +72,14 @@ struct RStepBodies {
   std::vector<std::uint32_t>* wakeIslands = nullptr;
   bool* wakeAll = nullptr;
   std::vector<RVec3>* wakeBoxes = nullptr;  // static and kinematic departures' boxes
+  // An RBodies' joints (a plain vector has none), and the pairs of slots joined by a joint
+  // whose bodies do not collide (lower slot << 32 | higher, sorted).
+  RJoint* joints = nullptr;
+  std::size_t jointCount = 0;
+  const std::uint64_t* noCollidePairs = nullptr;
+  std::size_t noCollideCount = 0;
+  // Whether two bodies (dense indices) are joined by a joint that keeps them from colliding.
+  bool JointedNoCollide(std::size_t i, std::size_t j) const;
 
   RRigidBody& operator[](std::size_t i) const { return data[i]; }
   std::size_t size() const { return count; }
@@ -235,6 +252,18 @@ class RWorldStep {
     RVec3 rAxd, rBxd;          // lever arms crossed with d, m
     RVec3 iA, iB;              // inverse inertia times the lever arms, 1/(kg m)
     RScalar k;                 // inverse effective mass along d, 1/kg
+  };
+  // One scalar constraint of a joint (a row of its Jacobian, RJoints.cpp): the relative
+  // velocity along it is Speed(dir, ...) as for a contact's normal; an angular row has
+  // dir.d = 0 and rAxd = rBxd = its world axis. Its impulse stays within [lo, hi].
+  enum class RJointRowKind : std::uint8_t { kOff, kEquality, kLimit, kMotor };
+  struct RJointRow {
+    RDirection dir;
+    std::uint32_t a, b;      // solver bodies (b: bodies.size() for the world)
+    RJointRowKind kind;
+    RScalar target;          // relative velocity to reach, m/s or rad/s
+    RScalar lo, hi;          // impulse bounds, N s or N m s
+    RScalar lambda;          // accumulated impulse
   };
   // One contact point's normal constraint, built once per step (solver scratch). Friction
   // acts per manifold (RBlock).
@@ -452,13 +481,16 @@ class RWorldStep {
   void LayOutIslands(const RStepBodies& bodies);
   // An island's passes: blocks [first, last).
   // Returns whether its last pass changed nothing at all (every manifold at its targets).
-  bool SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last);
+  // The velocity passes also solve the island's joints (island, sc) when it has some.
+  bool SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last,
+                         std::size_t island = 0, RIslandScratch* sc = nullptr);
   // The manifolds lie island by island (LayOutIslands), each island's in the contacts' order;
   // m_blockIslands holds each island's [first, last) of m_blocks.
   std::vector<std::uint32_t> m_blockStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_blockIslands;
   // An island's rows, [first, last) of m_rows (its blocks' rows are one run).
   std::pair<std::uint32_t, std::uint32_t> IslandRows(std::size_t island) const {
+    if (m_blockIslands[island].first == m_blockIslands[island].second) return {0, 0};  // joints only
     const RBlock& lastBlock = m_blocks[m_blockIslands[island].second - 1];
     return {m_blocks[m_blockIslands[island].first].first, lastBlock.first + static_cast<std::uint32_t>(lastBlock.count)};
   }
@@ -477,6 +509,27 @@ class RWorldStep {
     std::vector<std::pair<int, int>> runs;  // the island's manifolds: [first, last)
     std::vector<char> active;
     bool kReady = false;
+    // The island's joints (RJoints.cpp): their equality rows (indices into the rows),
+    // groups of them solved as one block each ([first, last) of eq), the blocks' skyline
+    // factors, the end of the step's rows and bodies.
+    std::vector<std::uint32_t> eq, eqFirst, eqOffset;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> eqGroups;
+    std::vector<char> eqGroupOk;  // factored (else its rows are solved one at a time)
+    std::vector<RScalar> eqL, eqInvDiag, eqRhs, eqX;
+    std::vector<std::uint32_t> jointBodies;  // the island's movable joint bodies
+    // Per solver body (mark) and per end body (endMark): scratch, kNone between uses.
+    std::vector<std::uint32_t> mark, endMark;
+    std::vector<RJointRow> endRows;
+    // Per row: its error at the start of the step, and as predicted at the end.
+    std::vector<RScalar> startC, jointC;
+    struct REndBody {
+      RVec3 v, w;
+      RMat3 invI;
+      RScalar invM;
+      RVec3 linMask;
+      bool linLocked;
+    };
+    std::vector<REndBody> endBodies;
   };
   std::vector<RIslandScratch> m_islandScratch;
   bool SolveIslandDirect(RPhase phase, RIslandScratch& sc);
@@ -553,6 +606,72 @@ class RWorldStep {
   // Identity handles for the plain-vector path (RStepBodies::byIndex).
   std::vector<RBodyHandle> m_indexHandles;
   std::vector<std::uint32_t> m_indexSlots;
+
+  // Joints (RJoints.cpp, RJointRows.cpp). The step's joints: those whose bodies are both
+  // stepped, one at least dynamic and awake, in the container's order; b is the world's
+  // solver body (index bodies.size()) for a joint to the world.
+  struct RStepJoint {
+    std::uint32_t joint;  // index into RStepBodies::joints
+    std::uint32_t a, b;   // dense indices
+  };
+  std::vector<RStepJoint> m_stepJoints;
+  void GatherJoints(const RStepBodies& bodies);
+  // Each island's joints: m_islandJoints[m_islandJointStart[k], m_islandJointStart[k + 1])
+  // are indices into m_stepJoints, in its order (LayOutIslands).
+  std::vector<std::uint32_t> m_islandJoints, m_islandJointStart;
+  std::vector<std::uint32_t> m_jointRootCount, m_islandJointFill;  // (LayOutIslands' scratch)
+  // The joints' rows, kMaxRows a joint, island by island: the island's joint at position p
+  // of m_islandJoints has its rows at p * RJoint::kMaxRows.
+  std::vector<RJointRow> m_jointRows;
+  // A body's pose at the end of the step as the motion will make it from the solver's
+  // velocities (what the joints' position errors are predicted at), and its velocities
+  // then (before the end impulses). Per movable body in some joint; kept from the last
+  // prediction of the step.
+  struct RJointPose {
+    RVec3 x;        // centre of mass, world, m
+    RQuat q;        // q_WB
+    RQuat qFlow;    // q_WB after the free flow, before position correction's turn
+    RVec3 vMid;     // the velocity it moves with, m/s
+    RVec3 wEnd_W;   // its spin at the end of the free flow, world, rad/s (before the end kick)
+  };
+  std::vector<RJointPose> m_jointPoses;
+  RJointPose PredictPose(const RRigidBody& b, std::uint32_t i, RScalar dt) const;
+  // A joint body's pose at the start of the step, or at its end as predicted (end = true;
+  // the world's: the origin, unturned).
+  RJointPoseIn JointPose(const RStepBodies& bodies, std::uint32_t i, RScalar dt, bool end) const;
+  // The island's joints: rows built at the start of the step, warm-started and factored
+  // (BuildIslandJoints); the Newton rounds after the passes (JointRounds, with
+  // PredictJoints and SetJointTargets), the projection of what error they leave
+  // (ProjectJoints); the impulses reported to the solver bodies (ReportJoints); and the end
+  // of the step's velocity projection at the end poses (SolveJointsAtEnd).
+  void BuildIslandJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
+  RScalar PredictJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
+  void SetJointTargets(std::size_t island, RScalar dt, RIslandScratch& sc);
+  void JointRounds(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
+  void ProjectJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
+  RScalar SolveJointsPass(std::size_t island, RIslandScratch& sc);
+  void ReportJoints(std::size_t island);
+  void SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
+  // The end bodies (RIslandScratch::endBodies) of the island's joints, each movable body
+  // once (sc.mark: its index there; cleared by ClearJointMarks), each immovable end apart;
+  // their rows at the predicted end poses in sc.endRows, errors in sc.jointC. atEnd: with
+  // the end velocities (SolveJointsAtEnd), else at rest (ProjectJoints' pseudo-velocities).
+  void BuildEndRows(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc, bool atEnd);
+  void ClearJointMarks(RIslandScratch& sc);
+  void IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool settled);
+  // A joint's tolerance (m or rad) near world point x: 1e-10, or a few ulps of x far from
+  // the origin.
+  static RScalar JointTolerance(const RVec3& x) {
+    return std::max(RScalar(1e-10), RScalar(1e-15) * x.cwiseAbs().maxCoeff());
+  }
+  bool IslandHasJoints(std::size_t island) const {
+    return !m_islandJointStart.empty() && m_islandJointStart[island + 1] > m_islandJointStart[island];
+  }
+  // Joints solved exactly as one block per island up to this many equality rows (a chain
+  // of 40 hinges), larger islands joint by joint.
+  static constexpr int kJointBlockRows = 256;
+  // Newton rounds of the joints' end-of-step prediction after the first, at most.
+  static constexpr int kJointRounds = 6;
 };
 
 }  // namespace REngine

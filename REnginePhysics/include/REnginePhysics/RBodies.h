@@ -18,6 +18,8 @@
 // (everything, for a static body), and every other pair keeps its warm start.
 #pragma once
 
+#include <REnginePhysics/RBodyHandle.h>
+#include <REnginePhysics/RJoint.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <cstdint>
@@ -26,21 +28,6 @@
 #include <vector>
 
 namespace REngine {
-
-// A body's name in an RBodies: slot index and generation. Default-constructed: invalid.
-struct RBodyHandle {
-  static constexpr std::uint32_t kInvalidIndex = std::numeric_limits<std::uint32_t>::max();
-  std::uint32_t index = kInvalidIndex;
-  std::uint32_t generation = 0;
-  bool IsValid() const { return index != kInvalidIndex; }
-  friend bool operator==(RBodyHandle a, RBodyHandle b) {
-    return a.index == b.index && a.generation == b.generation;
-  }
-  friend bool operator!=(RBodyHandle a, RBodyHandle b) { return !(a == b); }
-  friend bool operator<(RBodyHandle a, RBodyHandle b) {
-    return a.index < b.index || (a.index == b.index && a.generation < b.generation);
-  }
-};
 
 // A value from NextCacheStamp() (process-wide, never repeated), drawn afresh when the
 // container changes and when it is copied or moved, so that a cache keyed by it can never
@@ -116,6 +103,30 @@ class RBodies {
   void Reserve(std::size_t n);
   void Clear();
 
+  // Joints (RJoint.h). AddJoint checks the definition (throws RJointError naming the field,
+  // RHandleError for a body that is not here, and adds nothing), fixes the anchors and axes
+  // in the bodies' frames as they stand, and wakes both bodies. A joint whose body is
+  // disabled does nothing until it is enabled again; removing a body removes its joints.
+  RJointHandle AddJoint(const RJointDef& def);
+  // Throws RHandleError for a stale or invalid handle. Wakes the joint's bodies.
+  void RemoveJoint(RJointHandle h);
+  bool ContainsJoint(RJointHandle h) const {
+    return h.index < m_jointGeneration.size() && m_jointGeneration[h.index] == h.generation &&
+           m_jointDenseOfSlot[h.index] != kFree;
+  }
+  const RJoint& Joint(RJointHandle h) const { return m_joints[JointDenseIndex(h)]; }
+  // A motor's target speed and force (RJointMotor's checks: finite, force >= 0; throws
+  // RJointError), for a hinge or slider; wakes the joint's bodies.
+  void SetJointMotor(RJointHandle h, const RJointMotor& motor);
+  // Every joint, in an order that depends only on the sequence of AddJoint and RemoveJoint
+  // calls (a removed joint's place is taken by the last one).
+  std::size_t JointCount() const { return m_joints.size(); }
+  const RJoint& JointAt(std::size_t dense) const { return m_joints.at(dense); }
+  RJointHandle JointHandleAt(std::size_t dense) const { return m_jointHandles.at(dense); }
+  // A hinge's angle (rad, b's turn about the axis relative to a since the joint was added)
+  // and a slider's travel (m), at the bodies' present poses; 0 for other types.
+  RScalar JointPosition(RJointHandle h) const;
+
   // For caches kept outside the step (RQueries' tree). LayoutStamp changes whenever the set or
   // order of the enabled bodies does (Add, Remove, Disable, Enable, a copy); PoseStamp
   // whenever LayoutStamp does and whenever RIntegrator::Update moves the bodies. Poses set
@@ -147,6 +158,16 @@ class RBodies {
   // left: the sleepers they touched wake.
   std::vector<RVec3> m_wakeBoxes;
   RBodiesStamp m_layoutStamp, m_poseStamp;
+  // Joints: a slot map as the bodies', and the pairs of body slots a joint keeps from
+  // colliding (lower << 32 | higher, sorted; a pair joined twice is there twice).
+  std::vector<RJoint> m_joints;
+  std::vector<RJointHandle> m_jointHandles;
+  std::vector<std::uint32_t> m_jointGeneration, m_jointDenseOfSlot, m_jointFree;
+  std::vector<std::uint64_t> m_noCollide;
+  std::uint32_t JointDenseIndex(RJointHandle h) const;
+  void RemoveJointAt(std::uint32_t dense);
+  void RemoveJointsOf(RBodyHandle body);
+  void SetNoCollideFlags(RBodyHandle body);
   void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(); }
 };
 

@@ -331,6 +331,8 @@ class alignas(64) RRigidBody {
   bool m_worldSpin = false;
   // Whether m_ignore (a cold line) holds anything: the pair loop asks only then.
   bool m_ignores = false;
+  // Whether a joint keeps it from colliding with the body it joins (RBodies' m_noCollide).
+  bool m_jointNoCollide = false;
   std::uint32_t m_sleepIsland = kNoIsland;
   std::uint32_t m_slot = kNoIsland;
   std::uint32_t m_category = 1, m_mask = 0xFFFFFFFFu;
