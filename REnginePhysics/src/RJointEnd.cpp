@@ -99,9 +99,9 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
       ClearJointMarks(sc);
       break;
     }
-    FactorEquality(sc.endRows.data(), nj, sc.endBodies.data(), sc, sc.endMark, kJointBlockRows);
+    BeginJointBlocks(sc.endRows.data(), nj, sc);
     for (int it = 0; it < iterations; ++it) {
-      if (!(JointPass(sc.endRows.data(), nj, sc.endBodies.data(), sc) > kAtTarget)) break;
+      if (!(JointPass(sc.endRows.data(), nj, sc.endBodies.data(), sc, sc.endMark, kJointBlockRows) > kAtTarget)) break;
     }
     for (std::uint32_t i : sc.jointBodies) {
       const RIslandScratch::REndBody& e = sc.endBodies[sc.mark[i]];
@@ -144,20 +144,18 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
     const RScalar tolerance = JointTolerance(JointPose(bodies, sj.a, dt, true).x);
     for (int k = 0; k < kRows; ++k) {
       RJointRow& r = sc.endRows[std::size_t(t) * kRows + k];
-      // A limit holds at the end only where it is reached; a motor drives the start only.
-      if (r.kind == Kind::kMotor || (r.kind == Kind::kLimit && sc.jointC[std::size_t(t) * kRows + k] > tolerance)) {
-        r.kind = Kind::kOff;
-      }
-      r.target = 0;
+      // A limit holds at the end only where it is reached; a motor drives at both ends.
+      if (r.kind == Kind::kLimit && sc.jointC[std::size_t(t) * kRows + k] > tolerance) r.kind = Kind::kOff;
+      if (r.kind != Kind::kMotor) r.target = 0;
       if (r.kind == Kind::kOff || !std::isfinite(J.lambdaEnd[k])) continue;
       r.lambda = std::clamp(J.lambdaEnd[k], r.lo, r.hi);
       if (r.lambda != 0) RowPush(r, r.lambda, sc.endBodies.data());
     }
   }
-  FactorEquality(sc.endRows.data(), nj, sc.endBodies.data(), sc, sc.endMark, kJointBlockRows);
+  BeginJointBlocks(sc.endRows.data(), nj, sc);
   const int iterations = std::max(1, m_settings.solverIterations);
   for (int it = 0; it < iterations; ++it) {
-    if (!(JointPass(sc.endRows.data(), nj, sc.endBodies.data(), sc) > kAtTarget)) break;
+    if (!(JointPass(sc.endRows.data(), nj, sc.endBodies.data(), sc, sc.endMark, kJointBlockRows) > kAtTarget)) break;
   }
   ClearJointMarks(sc);
   // The end impulses to the motion, about the centres where the step starts (Integrate

@@ -104,7 +104,9 @@ void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn&
   auto motor = [&](int k) {
     rows[k].kind = Kind::kMotor;
     rows[k].target = J.def.motor.speed;
-    rows[k].hi = J.def.motor.maxForce * dt, rows[k].lo = -rows[k].hi;
+    // Half the step's impulse at each end (kick-drift-kick, as a force): exact for a
+    // constant torque, and the end of the step reaches the motor's speed too.
+    rows[k].hi = J.def.motor.maxForce * (RScalar(0.5) * dt), rows[k].lo = -rows[k].hi;
   };
   switch (J.def.type) {
     case RJointType::kBall:

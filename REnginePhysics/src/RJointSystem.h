@@ -62,17 +62,29 @@ void RowPush(const RJointRow& r, RScalar lambda, Body* bodies) {
   solver::Push(r.dir, lambda, a, b, a.v, a.w, b.v, b.w);
 }
 
-// The island's equality rows (rows[0 .. 8 nj)) in groups solved as one block each, their
-// skyline factors in the scratch. One group when the island has at most kJointBlockRows
-// of them, else one a joint. mark: per body, kNone (left so on return).
+// Which of the island's rows (rows[0 .. 8 nj)) are in the exact block: every equality row,
+// a limit that pushes, a motor within its force. Called once the rows are built; the block
+// is factored at the next pass.
+inline void BeginJointBlocks(const RJointRow* rows, int nj, RIslandScratch& sc) {
+  sc.jointActive.resize(std::size_t(nj) * kRows);
+  for (std::size_t i = 0; i < std::size_t(nj) * kRows; ++i) {
+    const RJointRow& r = rows[i];
+    sc.jointActive[i] = r.kind == Kind::kEquality || (r.kind == Kind::kLimit && r.lambda > 0) ||
+                        (r.kind == Kind::kMotor && r.lambda > r.lo && r.lambda < r.hi);
+  }
+  sc.blockStale = true;
+}
+
+// The rows in the block (sc.jointActive) in groups solved as one block each, their skyline
+// factors in the scratch. One group when the island has at most blockRows of them, else
+// one a joint. mark: per body, kNone (left so on return).
 template <class Body>
-void FactorEquality(const RJointRow* rows, int nj, const Body* bodies, RIslandScratch& sc,
-                    std::vector<std::uint32_t>& mark, int blockRows) {
+void FactorBlocks(const RJointRow* rows, int nj, const Body* bodies, RIslandScratch& sc,
+                  std::vector<std::uint32_t>& mark, int blockRows) {
+  sc.blockStale = false;
   sc.eq.clear(), sc.eqGroups.clear();
-  for (int t = 0; t < nj; ++t) {
-    for (int k = 0; k < kRows; ++k) {
-      if (rows[t * kRows + k].kind == Kind::kEquality) sc.eq.push_back(static_cast<std::uint32_t>(t * kRows + k));
-    }
+  for (std::uint32_t i = 0; i < std::uint32_t(nj) * kRows; ++i) {
+    if (sc.jointActive[i] && rows[i].dir.k > 0) sc.eq.push_back(i);
   }
   const std::uint32_t total = static_cast<std::uint32_t>(sc.eq.size());
   if (total <= static_cast<std::uint32_t>(blockRows)) {
@@ -130,64 +142,78 @@ void FactorEquality(const RJointRow* rows, int nj, const Body* bodies, RIslandSc
   }
 }
 
-// One pass over the island's joints: each equality group solved exactly (and refined
-// against the velocities it leaves), then the limits and motors one row at a time within
-// their bounds. Returns the largest change of a row's relative velocity it made.
+// One pass over the island's joints: the block solved exactly (and refined against the
+// velocities it leaves), then the active set checked, as the contacts' direct solve does: a
+// limit that would pull leaves the block, a motor past its force stays at it, a limit
+// crossed or a motor that would have to push back joins it; solved again while it changes.
+// Rows the factor could not take are solved one at a time within their bounds. Returns the
+// largest change of a row's relative velocity the pass made.
 template <class Body>
-RScalar JointPass(RJointRow* rows, int nj, Body* bodies, RIslandScratch& sc) {
+RScalar JointPass(RJointRow* rows, int nj, Body* bodies, RIslandScratch& sc, std::vector<std::uint32_t>& mark,
+                  int blockRows) {
   RScalar change = 0;
-  for (std::size_t g = 0; g < sc.eqGroups.size(); ++g) {
-    const auto [e0, e1] = sc.eqGroups[g];
-    const int m = static_cast<int>(e1 - e0);
-    RScalar* rhs = sc.eqRhs.data() + e0;
-    if (!sc.eqGroupOk[g]) {  // (not positive definite: a degenerate row; one at a time)
-      for (int i = 0; i < m; ++i) {
-        RJointRow& r = rows[sc.eq[e0 + i]];
-        if (!(r.dir.k > 0)) continue;
-        const RScalar d = (r.target - RowSpeed(r, bodies)) / r.dir.k;
-        r.lambda += d;
-        if (d != 0) RowPush(r, d, bodies);
-        change = std::max(change, std::abs(d) * r.dir.k);
+  auto apply = [&](RJointRow& r, RScalar d) {
+    if (d == 0) return;
+    r.lambda += d;
+    RowPush(r, d, bodies);
+    change = std::max(change, std::abs(d) * r.dir.k);
+  };
+  constexpr int kActiveRounds = 8;
+  for (int round = 0; round < kActiveRounds; ++round) {
+    if (sc.blockStale) FactorBlocks(rows, nj, bodies, sc, mark, blockRows);
+    for (std::size_t g = 0; g < sc.eqGroups.size(); ++g) {
+      const auto [e0, e1] = sc.eqGroups[g];
+      const int m = static_cast<int>(e1 - e0);
+      RScalar* rhs = sc.eqRhs.data() + e0;
+      if (!sc.eqGroupOk[g]) {  // (not positive definite: a degenerate row; one at a time)
+        for (int i = 0; i < m; ++i) {
+          RJointRow& r = rows[sc.eq[e0 + i]];
+          apply(r, std::clamp(r.lambda + (r.target - RowSpeed(r, bodies)) / r.dir.k, r.lo, r.hi) - r.lambda);
+        }
+        continue;
       }
-      continue;
-    }
-    RScalar worst = 0;
-    for (int i = 0; i < m; ++i) {
-      const RJointRow& r = rows[sc.eq[e0 + i]];
-      rhs[i] = r.target - RowSpeed(r, bodies);
-      worst = std::max(worst, std::abs(rhs[i]));
-    }
-    // Refinement: the factor carries the ridge, so each solve leaves a residual of 1e-9 of
-    // the answer in the stiff directions and more in the soft ones (a heavy weight's): it
-    // is solved again while it shrinks.
-    for (int refine = 0; refine < 8 && worst > kAtTarget; ++refine) {
-      SkylineSolve(sc.eqL.data(), m, sc.eqFirst.data() + e0, sc.eqOffset.data() + e0, sc.eqInvDiag.data() + e0, rhs);
-      for (int i = 0; i < m; ++i) {
-        RJointRow& r = rows[sc.eq[e0 + i]];
-        if (rhs[i] == 0) continue;
-        r.lambda += rhs[i];
-        RowPush(r, rhs[i], bodies);
-        change = std::max(change, std::abs(rhs[i]) * r.dir.k);
-      }
-      const RScalar before = worst;
-      worst = 0;
+      RScalar worst = 0;
       for (int i = 0; i < m; ++i) {
         const RJointRow& r = rows[sc.eq[e0 + i]];
         rhs[i] = r.target - RowSpeed(r, bodies);
         worst = std::max(worst, std::abs(rhs[i]));
       }
-      if (!(worst < RScalar(0.5) * before)) break;
+      // Refinement: the factor carries the ridge, so each solve leaves a residual of 1e-9 of
+      // the answer in the stiff directions and more in the soft ones (a heavy weight's): it
+      // is solved again while it shrinks.
+      for (int refine = 0; refine < 8 && worst > kAtTarget; ++refine) {
+        SkylineSolve(sc.eqL.data(), m, sc.eqFirst.data() + e0, sc.eqOffset.data() + e0, sc.eqInvDiag.data() + e0, rhs);
+        for (int i = 0; i < m; ++i) apply(rows[sc.eq[e0 + i]], rhs[i]);
+        const RScalar before = worst;
+        worst = 0;
+        for (int i = 0; i < m; ++i) {
+          const RJointRow& r = rows[sc.eq[e0 + i]];
+          rhs[i] = r.target - RowSpeed(r, bodies);
+          worst = std::max(worst, std::abs(rhs[i]));
+        }
+        if (!(worst < RScalar(0.5) * before)) break;
+      }
     }
-  }
-  for (int i = 0; i < nj * kRows; ++i) {
-    RJointRow& r = rows[i];
-    if (r.kind != Kind::kLimit && r.kind != Kind::kMotor) continue;
-    if (!(r.dir.k > 0)) continue;
-    const RScalar l = std::clamp(r.lambda + (r.target - RowSpeed(r, bodies)) / r.dir.k, r.lo, r.hi);
-    const RScalar d = l - r.lambda;
-    r.lambda = l;
-    if (d != 0) RowPush(r, d, bodies);
-    change = std::max(change, std::abs(d) * r.dir.k);
+    // The active set.
+    bool changed = false;
+    for (std::size_t i = 0; i < std::size_t(nj) * kRows; ++i) {
+      RJointRow& r = rows[i];
+      if ((r.kind != Kind::kLimit && r.kind != Kind::kMotor) || !(r.dir.k > 0)) continue;
+      if (sc.jointActive[i]) {
+        const RScalar clamped = std::clamp(r.lambda, r.lo, r.hi);
+        if (clamped == r.lambda) continue;
+        apply(r, clamped - r.lambda);
+        sc.jointActive[i] = 0, changed = true;
+      } else {
+        const RScalar miss = r.target - RowSpeed(r, bodies);
+        // Out of the block, the row sits at a bound: it joins when its solve would move it
+        // off that bound (a limit crossed; a motor that would have to push back).
+        const bool joins = (miss > kAtTarget && r.lambda < r.hi) || (miss < -kAtTarget && r.lambda > r.lo);
+        if (joins) sc.jointActive[i] = 1, changed = true;
+      }
+    }
+    if (!changed) break;
+    sc.blockStale = true;
   }
   return change;
 }

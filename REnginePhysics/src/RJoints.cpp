@@ -32,8 +32,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <cstdio>
-#include <cstdlib>
 
 namespace REngine {
 
@@ -103,7 +101,7 @@ void RWorldStep::BuildIslandJoints(const RStepBodies& bodies, std::size_t island
     }
   }
   for (std::uint32_t i : sc.jointBodies) sc.mark[i] = kNone;
-  FactorEquality(rows, static_cast<int>(j1 - j0), m_solverBodies.data(), sc, sc.mark, kJointBlockRows);
+  BeginJointBlocks(rows, static_cast<int>(j1 - j0), sc);
   sc.jointC.resize(std::size_t(j1 - j0) * kRows);
   PredictJoints(bodies, island, dt, sc);
   SetJointTargets(island, dt, sc);
@@ -190,7 +188,8 @@ void RWorldStep::JointRounds(const RStepBodies& bodies, std::size_t island, RSca
 
 RScalar RWorldStep::SolveJointsPass(std::size_t island, RIslandScratch& sc) {
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
-  return JointPass(m_jointRows.data() + std::size_t(j0) * kRows, static_cast<int>(j1 - j0), m_solverBodies.data(), sc);
+  return JointPass(m_jointRows.data() + std::size_t(j0) * kRows, static_cast<int>(j1 - j0), m_solverBodies.data(), sc,
+                   sc.mark, kJointBlockRows);
 }
 
 // The joints' impulses at the start of the step, added to the solver bodies' (which the

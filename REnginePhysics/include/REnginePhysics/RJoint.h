@@ -47,7 +47,8 @@ struct RJointHandle {
 
 // Drives a hinge's angle or a slider's travel towards a relative speed (b's relative to
 // a's, about or along the axis: rad/s or m/s) with at most maxForce (N m or N), as Jolt's
-// and Bullet's velocity motors do. The limit is on the impulse of each step: maxForce dt.
+// and Bullet's velocity motors do: maxForce dt of impulse a step, half at each end of it
+// (so a motor at its force is a constant force, integrated as gravity is).
 struct RJointMotor {
   bool enabled = false;
   RScalar speed = 0;
