@@ -76,6 +76,7 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
       w.pair = pair;
       w.genA = c.handleA.generation, w.genB = c.handleB.generation;
       w.feature = c.manifold.points[r.point].featureId;
+      if (i > 0 && w.feature < warm[i - 1].feature) tally.warmUnordered = true;
       w.point_A = m_rowPoint_A[blk.first + i];
       w.lambdaN = r.lambdaN;
       w.lambdaE = r.lambdaE;

@@ -122,12 +122,13 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
     tally = RIslandTally{};
     for (std::size_t isl = i0; isl < i1; ++isl) SolveIsland(bodies, dt, isl, warmBase, m_islandScratch[task], tally);
   });
-  bool dropped = false;
+  bool dropped = false, warmUnordered = false;
   for (std::size_t t = 0; t < tasks; ++t) {
     m_pairStats.warmStarted += m_islandTallies[t].warmStarted;
     m_pairStats.reusedInverses += m_islandTallies[t].reusedInverses;
     m_pairStats.computedInverses += m_islandTallies[t].computedInverses;
     dropped = dropped || m_islandTallies[t].dropped;
+    warmUnordered = warmUnordered || m_islandTallies[t].warmUnordered;
   }
   // A step that overflowed must not seed the next one (ReportIsland marks its rows).
   if (dropped) {
@@ -136,11 +137,15 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
                      m_warmNext.end());
   }
   // Rows come in the pair sweep's order, which is slot order unless bodies were added or
-  // removed (or it is a plain vector reordered): sorted already, most steps.
+  // removed (or it is a plain vector reordered): sorted already, most steps. Known to be
+  // sorted, without reading the list again (5 MB in a 10000-box pile), when nothing was
+  // kept for sleeping pairs before the rows, the contacts' pairs increase and each
+  // contact's features do not decrease (what std::is_sorted would find).
   auto before = [](const RWarmStart& x, const RWarmStart& y) {
     return x.pair < y.pair || (x.pair == y.pair && x.feature < y.feature);
   };
-  if (!std::is_sorted(m_warmNext.begin(), m_warmNext.end(), before)) {
+  const bool inOrder = warmBase == 0 && !dropped && m_warmPairsIncrease && !warmUnordered;
+  if (!inOrder && !std::is_sorted(m_warmNext.begin(), m_warmNext.end(), before)) {
     std::sort(m_warmNext.begin(), m_warmNext.end(), before);
   }
   std::swap(m_warm, m_warmNext);

@@ -108,9 +108,14 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
       m_rowStart[ci].warmFound = static_cast<std::uint32_t>(warmFrom);
     }
   });
+  m_warmPairsIncrease = true;
+  std::uint64_t lastPair = 0;
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
     const RContact& c = m_contacts[ci];
     if (!c.resolved) continue;
+    const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
+    if (blockCount > 0 && !(pair > lastPair)) m_warmPairsIncrease = false;
+    lastPair = pair;
     m_inRows[c.a] = m_inRows[c.b] = 1;
     ++blockCount;
     // Next step's warm starts come out in the contacts' order, whichever island each

@@ -242,16 +242,41 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // take contiguous ranges of the pairs; their contacts, joined in task order, keep the
   // pairs' order.
   const bool reuse = shortcuts.contactReuse;
+  auto before = [](const RManifoldMemory& mem, const std::pair<std::uint32_t, std::uint32_t>& p) {
+    return mem.i < p.first || (mem.i == p.first && mem.j < p.second);
+  };
+  // Each range's part of last step's memory (both lists in (i, j) order): from the first
+  // entry not before its first pair up to the next range's. A task reads and writes only
+  // its own part (see remember below). The ranges are ParallelRanges'.
+  const std::size_t ranges = m_pairs.empty() ? 0 : m_jobs ? RangeCount(m_pairs.size(), tasks, kPairGrain) : 1;
+  m_memoryFrom.assign(ranges + 1, m_manifolds.size());
+  for (std::size_t t = 0; reuse && t < ranges; ++t) {
+    m_memoryFrom[t] = static_cast<std::size_t>(
+        std::lower_bound(m_manifolds.begin(), m_manifolds.end(), m_pairs[m_pairs.size() * t / ranges], before) -
+        m_manifolds.begin());
+  }
   const std::size_t pairTasks = ParallelRanges(m_jobs, m_pairs.size(), tasks, kPairGrain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.contacts.clear(), st.wake.clear(), st.manifolds.clear(), st.contactMemory.clear();
     st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = st.reused = 0;
-    // Last step's manifolds from this range's first pair on (both lists in (i, j) order).
-    auto before = [](const RManifoldMemory& mem, const std::pair<std::uint32_t, std::uint32_t>& p) {
-      return mem.i < p.first || (mem.i == p.first && mem.j < p.second);
+    // Last step's manifolds from this range's first pair on.
+    std::size_t memory = m_memoryFrom[task];
+    const std::size_t memoryEnd = m_memoryFrom[task + 1];
+    // This step's memory is written over last step's in place, from the range's first entry
+    // (st.manifoldsFrom) on, while it stays behind the entries still to be read: a settled
+    // pile's memory is then written where it already is, and a kept entry (720 bytes) is not
+    // copied at all. The tasks' ranges of last step's entries do not overlap, so a task
+    // writes only entries no other task reads. Past the first entry that would overwrite
+    // one still to be read, the rest go to st.manifolds (joined after the sweep).
+    st.manifoldsFrom = memory;
+    st.inPlace = 0;
+    bool inPlace = reuse;
+    // Where this task's next entry goes (the count so far: in place, then st.manifolds).
+    auto remember = [&](std::size_t unread) -> RManifoldMemory* {
+      if (inPlace && st.manifoldsFrom + st.inPlace < unread) return &m_manifolds[st.manifoldsFrom + st.inPlace++];
+      inPlace = false;
+      return &st.manifolds.emplace_back();
     };
-    std::size_t memory = reuse && k0 < k1 ? static_cast<std::size_t>(
-        std::lower_bound(m_manifolds.begin(), m_manifolds.end(), m_pairs[k0], before) - m_manifolds.begin()) : m_manifolds.size();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::size_t i = m_pairs[k].first, j = m_pairs[k].second;
       // A pair's second body is far from its first in storage (a pile's upper neighbour is
@@ -319,10 +344,13 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         continue;
       }
       bool touching = false;
-      while (memory < m_manifolds.size() && before(m_manifolds[memory], m_pairs[k])) ++memory;
+      while (memory < memoryEnd && before(m_manifolds[memory], m_pairs[k])) ++memory;
       const RManifoldMemory* kept = nullptr;
-      const std::size_t remembered = st.manifolds.size();
-      if (memory < m_manifolds.size() && m_manifolds[memory].i == i && m_manifolds[memory].j == j) {
+      const std::size_t remembered = st.inPlace + st.manifolds.size();
+      // Last step's entries from `unread` on are still to be read (this pair's is read here).
+      std::size_t unread = memory;
+      if (memory < memoryEnd && m_manifolds[memory].i == i && m_manifolds[memory].j == j) {
+        unread = memory + 1;
         const RManifoldMemory& mem = m_manifolds[memory];
         // How far any point of B has moved in A's frame since then, and the margin the
         // narrow phase would use now (CheckCollisionInA's): the same points are kept while
@@ -339,25 +367,30 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       }
       if (kept) {
         contact.manifold = kept->manifold_A;
-        st.manifolds.push_back(*kept);
+        RManifoldMemory* to = remember(unread);
+        if (to != kept) *to = *kept;
         ++st.reused;
         touching = true;
       } else {
         RScalar droppedMin = 0;
         touching = RCollisionSolver::CheckCollisionInA(shapeA, shapeB, X, margin, contact.manifold, &droppedMin);
+        RScalar keptMax = contact.manifold.query.separation;
         if (touching && reuse && contact.manifold.pointCount > 0) {
-          RManifoldMemory mem;
+          for (int p = 0; p < contact.manifold.pointCount; ++p) {
+            keptMax = std::max(keptMax, contact.manifold.points[p].separation);
+          }
+        }
+        if (touching && reuse && contact.manifold.pointCount > 0 && std::isfinite(keptMax)) {
+          RManifoldMemory& mem = *remember(unread);
           mem.i = static_cast<std::uint32_t>(i), mem.j = static_cast<std::uint32_t>(j);
           mem.handleA = bodies.handles[ia], mem.handleB = bodies.handles[ib];
           mem.serialA = A.Serial(), mem.serialB = B.Serial();
           mem.X = X;
           mem.manifold_A = contact.manifold;
-          mem.keptMax = contact.manifold.query.separation;
-          for (int p = 0; p < contact.manifold.pointCount; ++p) {
-            mem.keptMax = std::max(mem.keptMax, contact.manifold.points[p].separation);
-          }
+          mem.keptMax = keptMax;
           mem.droppedMin = droppedMin;
-          if (std::isfinite(mem.keptMax)) st.manifolds.push_back(mem);
+          mem.hasInverse = false;
+          mem.K.setZero(), mem.pinv.setZero();
         }
       }
       if (touching) RCollisionSolver::ToWorld(A, contact.manifold);
@@ -373,7 +406,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
         contact.handleA = bodies.handles[ia], contact.handleB = bodies.handles[ib];
         contact.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], contact.manifold, dt);
         st.contacts.push_back(contact);
-        st.contactMemory.push_back(st.manifolds.size() > remembered ? static_cast<std::uint32_t>(remembered) : kNoMemory);
+        st.contactMemory.push_back(st.inPlace + st.manifolds.size() > remembered ? static_cast<std::uint32_t>(remembered) : kNoMemory);
       }
     }
   });
@@ -404,27 +437,42 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     m_pairStats.reusedManifolds += st.reused;
   }
   // This step's manifolds, joined in task order: the (i, j) order for the next step; and
-  // each contact's entry among them.
-  // (One task's are swapped in, as its contacts are: a 10000-box pile remembers 7 MB.)
-  // Several tasks' are copied to their places side by side, as the contacts are.
-  if (pairTasks <= 1) {
-    m_manifolds.clear(), m_contactMemory.clear();
-    if (pairTasks == 1) {
-      std::swap(m_manifolds, m_sweepTasks[0].manifolds);
-      std::swap(m_contactMemory, m_sweepTasks[0].contactMemory);
-    }
+  // each contact's entry among them. Each task's are its entries written in place, from
+  // manifoldsFrom on, then its st.manifolds. When the tasks' in-place runs follow one
+  // another from the list's start and no task has any aside (a settled pile: every step),
+  // the list is cut to its new length; otherwise the entries are gathered into a new list.
+  std::size_t manifolds = 0, contacts = 0;
+  bool contiguous = true;
+  for (std::size_t t = 0; t < pairTasks; ++t) {
+    RSweepTask& st = m_sweepTasks[t];
+    contiguous = contiguous && st.manifoldsFrom == manifolds && st.manifolds.empty();
+    st.manifoldsAt = manifolds, manifolds += st.inPlace + st.manifolds.size();
+    contacts += st.contactMemory.size();
+  }
+  if (contiguous) {
+    m_manifolds.resize(manifolds);
   } else {
-    std::size_t manifolds = 0, contacts = 0;
-    for (std::size_t t = 0; t < pairTasks; ++t) {
-      m_sweepTasks[t].manifoldsAt = manifolds, manifolds += m_sweepTasks[t].manifolds.size();
-      contacts += m_sweepTasks[t].contactMemory.size();
-    }
-    m_manifolds.resize(manifolds), m_contactMemory.resize(contacts);
+    m_manifoldsGather.resize(manifolds);
+    ParallelRanges(m_jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+      for (std::size_t t = t0; t < t1; ++t) {
+        const RSweepTask& st = m_sweepTasks[t];
+        const auto from = m_manifolds.begin() + static_cast<std::ptrdiff_t>(st.manifoldsFrom);
+        const auto to = m_manifoldsGather.begin() + static_cast<std::ptrdiff_t>(st.manifoldsAt);
+        std::copy(from, from + static_cast<std::ptrdiff_t>(st.inPlace), to);
+        std::copy(st.manifolds.begin(), st.manifolds.end(), to + static_cast<std::ptrdiff_t>(st.inPlace));
+      }
+    });
+    std::swap(m_manifolds, m_manifoldsGather);
+  }
+  if (pairTasks <= 1) {
+    m_contactMemory.clear();
+    if (pairTasks == 1) std::swap(m_contactMemory, m_sweepTasks[0].contactMemory);
+  } else {
+    m_contactMemory.resize(contacts);
     ParallelRanges(m_jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
       for (std::size_t t = t0; t < t1; ++t) {
         const RSweepTask& st = m_sweepTasks[t];
         const auto base = static_cast<std::uint32_t>(st.manifoldsAt);
-        std::copy(st.manifolds.begin(), st.manifolds.end(), m_manifolds.begin() + static_cast<std::ptrdiff_t>(st.manifoldsAt));
         for (std::size_t k = 0; k < st.contactMemory.size(); ++k) {
           const std::uint32_t m = st.contactMemory[k];
           m_contactMemory[st.contactsAt + k] = m == kNoMemory ? m : base + m;

@@ -192,6 +192,8 @@ class RWorldStep {
     Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero(), pinv = Eigen::Matrix<RScalar, 4, 4>::Zero();
   };
   std::vector<RManifoldMemory> m_manifolds;
+  std::vector<RManifoldMemory> m_manifoldsGather;  // DetectPairs' join when it cannot keep them in place
+  std::vector<std::size_t> m_memoryFrom;  // DetectPairs: each pair range's first entry of m_manifolds
   std::vector<std::uint32_t> m_contactMemory;  // per contact: its m_manifolds entry, or kNoMemory
   static constexpr std::uint32_t kNoMemory = 0xffffffffu;
   // The pair sweep's work, cut into tasks (see DetectPairs): each task's scratch and
@@ -205,6 +207,9 @@ class RWorldStep {
     std::vector<RContact> contacts;          // stage 2: contacts, in pair order
     std::size_t contactsAt = 0;              // where they go in m_contacts (and m_contactMemory)
     std::size_t manifoldsAt = 0;             // where its manifolds go in m_manifolds
+    // Its entries written over last step's in place: inPlace of them from manifoldsFrom on
+    // (the rest in manifolds).
+    std::size_t manifoldsFrom = 0, inPlace = 0;
     std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
     std::vector<RManifoldMemory> manifolds;  // stage 2: this step's manifold memory
     std::vector<std::uint32_t> contactMemory;  // stage 2: per contact, its entry in manifolds
@@ -433,8 +438,12 @@ class RWorldStep {
   struct RIslandTally {
     std::uint64_t warmStarted = 0, reusedInverses = 0, computedInverses = 0;  // (see RPairStats)
     bool dropped = false;
+    bool warmUnordered = false;  // some contact's points' features decrease (ReportIsland)
   };
   std::vector<RIslandTally> m_islandTallies;
+  // The resolved contacts' pair keys increase from one to the next (LayOutIslands): next
+  // step's warm starts are then in order unless some contact's features are not.
+  bool m_warmPairsIncrease = false;
   struct RLeadingPoints {
     int deepest = 0;
     int count = 0;
