@@ -128,16 +128,24 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
 
 // The island's direct solves after its velocity passes: velocities (unless the passes left
 // them solved) and position correction, on the same matrix.
+// The island has no position correction to solve when no row pushes (lambdaP) and none asks
+// for more than half the direct solve's kDirectSolved: the island's pseudo-velocities are
+// then those of impulses that came back to zero (rounding of targets that small, if any),
+// each row misses its target by no more than the target itself, and the position solve
+// would return at once. A resting pile's boxes stay up to 3.3e-14 m beyond the slop (the
+// passes' at-target band, 1e-12 m/s, times dt over the correction's 0.5: closer than that,
+// halving the excess no longer moves them), and in the 10000-box pile 99% of the directly
+// solved islands' steps had such a row.
 void RWorldStep::IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool settled) {
   const auto [rowsFirst, rowsLast] = IslandRows(island);
   bool positions = false;
   for (std::uint32_t i = rowsFirst; i < rowsLast && !positions; ++i) {
-    positions = m_rows[i].pseudoTarget > 0 || m_rows[i].lambdaP > 0;
+    positions = m_rows[i].pseudoTarget > RScalar(0.5) * kDirectSolved || m_rows[i].lambdaP > 0;
   }
   if (!settled || positions) {
     PrepareIslandDirect(island, sc);
     if (!settled) SolveIslandDirect(RPhase::kVelocity, sc);
-    SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
+    if (positions) SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
   }
 }
 

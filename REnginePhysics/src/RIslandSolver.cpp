@@ -307,7 +307,7 @@ bool RWorldStep::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
   // does not is at or above it) is left alone. Only to rounding: with a looser test
   // (1e-6 m/s) a 1000 kg box on a 1 kg one, skipped step after step, lost its hold after
   // 170 steps and sank through.
-  constexpr RScalar kSolved = 1e-9;  // m/s
+  constexpr RScalar kSolved = kDirectSolved;  // m/s
   RScalar worst = 0;
   bool anyActive = false;
   for (int i = 0; i < m; ++i) {

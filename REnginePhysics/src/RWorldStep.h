@@ -550,6 +550,8 @@ class RWorldStep {
   // Islands up to this many rows get their normal impulses solved directly (see
   // SolveIslandContacts): 128 rows, 32 boxes resting face on face, cost about 0.1 ms.
   static constexpr int kDirectRows = 128;
+  // An island the passes left solved to this (m/s) is left alone by its direct solve.
+  static constexpr RScalar kDirectSolved = 1e-9;
   RUnionFind m_islandSets;  // bodies linked by rows between two dynamic bodies
   std::vector<RWarmStart> m_warm, m_warmNext;  // sorted by pair, then feature
   static constexpr std::uint64_t kDroppedWarm = ~std::uint64_t{0};  // not a pair: dropped
