@@ -408,7 +408,9 @@ TEST(State, WhatIsNotAStateIsRefusedByItsMagic) {
 
 TEST(State, AnotherVersionIsRefused) {
   std::vector<std::uint8_t> saved = Small().Saved();
-  saved[state::kVersionAt] = 2;
+  saved[state::kVersionAt] = static_cast<std::uint8_t>(state::kVersion + 1);
+  EXPECT_EQ(RefusedField(saved), "header.version");
+  saved[state::kVersionAt] = static_cast<std::uint8_t>(state::kVersion - 1);  // before joints were saved
   EXPECT_EQ(RefusedField(saved), "header.version");
 }
 

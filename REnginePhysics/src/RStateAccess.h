@@ -160,7 +160,14 @@ struct RStateAccess {
     std::size_t enabled = 0;
     bool wakeAll = false;
     bool plainVector = false;
+    // RBodies only: the joints and their slot table (RStateJoints.cpp).
+    std::vector<RJoint> joints;
+    std::vector<RJointHandle> jointHandles;
+    std::vector<std::uint32_t> jointGeneration, jointDenseOfSlot, jointFree;
   };
+  static void WriteJoints(RWriter& w, const RBodies& c);
+  static void ReadJoints(RReader& r, RSavedBodies& out);
+  static void CommitJoints(RBodies& bodies, RSavedBodies& saved);
 
   static void WriteBodies(RWriter& w, const RWorldStep& s, const std::vector<RRigidBody>& bodies);
 

@@ -428,6 +428,7 @@ void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const RBodies
   w.U64(c.m_wakeBoxes.size());
   for (const RVec3& corner : c.m_wakeBoxes) w.Vec3(corner);
   WriteBodies(w, s, c.m_bodies);
+  WriteJoints(w, c);
 }
 
 void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const std::vector<RRigidBody>& c) {
@@ -492,6 +493,7 @@ RStateAccess::RSavedBodies RStateAccess::ReadContainer(RReader& r, const RShapeC
     r.SetRecord(Indexed("bodies", d));
     out.bodies.push_back(ReadBody(r, shapes, out.shapeKeys[d], worldId, foreignId));
   }
+  if (!out.plainVector) ReadJoints(r, out);
   r.SetRecord("");
   return out;
 }

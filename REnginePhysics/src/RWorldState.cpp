@@ -161,6 +161,7 @@ void RStateAccess::LoadInto(RIntegrator& integrator, RBodies& bodies, const std:
     bodies.m_enabled = saved.enabled;
     bodies.m_wakeAll = saved.wakeAll;
     bodies.m_wakeBoxes.swap(saved.wakeBoxes);
+    CommitJoints(bodies, saved);
     bodies.LayoutChanged();  // queries' trees are rebuilt
   });
 }

@@ -17,6 +17,8 @@
 //     state (pose, velocities, accumulated forces and impulses, sleeping, rest time, island,
 //     the exact free rotation's cached elliptic constants, which the next step reuses bit for
 //     bit); its shape by a key of the shape's definition (RShape), not its geometry;
+//   - the container's joints: each joint's definition, the frames it keeps in its bodies,
+//     its last impulses (the next step's warm start) and the joints' slot table;
 //   - the integrator: its settings (all but `threads`, which changes no result: the loading
 //     integrator keeps its own), the step count, the warm starts, the manifold memory of
 //     contact reuse (with its cached block inverses), sleeping's bookkeeping, the pairs that
@@ -48,7 +50,7 @@
 // loaded into an RBodies or the other way round, and values no saved world has (a NaN
 // velocity, a handle table that contradicts itself).
 //
-// Format (version 1). Little-endian; doubles as their IEEE 754 bits. A 32-byte header: the
+// Format (version 2; version 1 had no joints). Little-endian; doubles as their IEEE 754 bits. A 32-byte header: the
 // magic "\x89RSTATE\n", the format version (u32), 0 (u32), the payload's length (u64), and
 // its checksum (u64, a 64-bit hash that detects corruption, not tampering); then the
 // payload: the world tag, the settings, the integrator's memory, the container and the
