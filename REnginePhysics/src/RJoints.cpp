@@ -151,7 +151,8 @@ void RWorldStep::SetJointTargets(std::size_t island, RScalar dt, RIslandScratch&
 // passes (and the island's direct solves: passes) again, as long as each round at least
 // halves the worst error.
 void RWorldStep::JointRounds(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
-  const auto [first, last] = m_blockIslands[island];
+  // (Not a structured binding: the lambda below captures them, which C++17 forbids.)
+  const std::uint32_t first = m_blockIslands[island].first, last = m_blockIslands[island].second;
   const int iterations = std::max(1, m_settings.solverIterations);
   auto passes = [&] {
     const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last, island, &sc);
