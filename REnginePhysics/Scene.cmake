@@ -3,7 +3,7 @@
 find_package(nlohmann_json 3 REQUIRED)
 
 add_library(REngineScene src/RScene.cpp src/RSceneJson.cpp src/RSceneActions.cpp
-  src/RSceneRays.cpp src/RSceneWorld.cpp)
+  src/RSceneRays.cpp src/RSceneJoints.cpp src/RSceneWorld.cpp)
 add_library(REngine::Scene ALIAS REngineScene)
 set_target_properties(REngineScene PROPERTIES EXPORT_NAME Scene OUTPUT_NAME rengine_scene)
 target_include_directories(REngineScene PUBLIC

@@ -29,7 +29,7 @@ namespace {
 RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   const Object root(doc, "",
                     {"format", "gravity", "dt", "steps", "restitution_combine",
-                     "friction_combine", "solver", "bodies", "actions", "rays"});
+                     "friction_combine", "solver", "bodies", "joints", "actions", "rays"});
   RScene scene;
   if (root.Has("format")) {
     const json& format = root.Required("format");
@@ -86,6 +86,7 @@ RScene ReadScene(const json& doc, const RSceneLimits& limits) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
+  if (root.Has("joints")) ReadJoints(root.Required("joints"), scene, limits);
   if (root.Has("actions")) ReadActions(root.Required("actions"), scene, limits);
   if (root.Has("rays")) ReadRays(root.Required("rays"), scene, limits);
   return scene;

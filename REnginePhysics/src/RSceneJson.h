@@ -1,7 +1,7 @@
 // Private to REngine::Scene: reading a scene's JSON, value by value, each reader given the
 // value and its JSON path and failing with both (Invalid, turned into an RSceneError with
-// the file name at the API boundary). Used by RScene.cpp (the world and its bodies) and
-// RSceneActions.cpp (what the game does between steps).
+// the file name at the API boundary). Used by RScene.cpp (the world and its bodies),
+// RSceneActions.cpp (what the game does between steps), RSceneRays.cpp and RSceneJoints.cpp.
 #pragma once
 
 #include <REngineMath/RMath.h>
@@ -154,6 +154,10 @@ void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits);
 
 // The scene's "rays" (RSceneRays.cpp): read, checked, sorted by step.
 void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
+
+// The scene's "joints" (RSceneJoints.cpp): read and checked against the scene's bodies
+// (scene.bodies must be read already), in file order.
+void ReadJoints(const json& j, RScene& scene, const RSceneLimits& limits);
 
 // Equal shapes share one prepared shape: a scene of a thousand equal boxes, or one that
 // spawns a thousand missiles, builds their hull once, and its bodies share one copy of it

@@ -1,4 +1,4 @@
-// A scene's world as it runs: bodies in an RBodies, actions applied at their steps.
+// A scene's world as it runs: bodies and joints in an RBodies, actions applied at their steps.
 #include <REnginePhysics/RScene.h>
 
 #include <algorithm>
@@ -14,6 +14,18 @@ RSceneWorld::RSceneWorld(const RScene& scene) : m_scene(&scene) {
     const RBodyHandle h = m_bodies.Add(std::move(b));
     m_byName.emplace(m_bodies[h].Name(), h);
     m_live.push_back(h);
+  }
+  // The joints, as the bodies stand at the start. The loader made every check AddJoint makes;
+  // should one still refuse, it is named by the scene's path.
+  for (const RSceneJoint& j : scene.joints) {
+    RJointDef def = j.def;
+    def.a = m_byName.at(j.a);
+    if (!j.b.empty()) def.b = m_byName.at(j.b);
+    try {
+      m_bodies.AddJoint(def);
+    } catch (const RJointError& e) {
+      throw RSceneError(scene.fileName, j.path + "." + e.Field(), e.Problem());
+    }
   }
 }
 

@@ -3,7 +3,7 @@
 
 Each target's directory gets a few ordinary inputs and every reproducer of issue #11 that
 its encoding can express (see each fuzz_*.cpp for the encoding):
-  fuzz_scene: the format's example, small shared-style scenes, a value nested 100k deep,
+  fuzz_scene: the format's example, small shared-style scenes (one with joints), a value nested 100k deep,
               hull points of 1e300, a name with a NUL and one with an escape sequence;
   fuzz_hull:  a cube, points of 1e300, a needle (three points within 1e-9 m, one 10 m off);
   fuzz_narrowphase: every mode, and the 26 m box touching the 4 km box (exact doubles);
@@ -60,6 +60,20 @@ write("fuzz_scene", "kinds.json", json.dumps({"gravity": [0, -9.81, 0], "steps":
     {"name": "floor", "shape": {"type": "sphere", "radius": 1}, "static": True, "kind": "static",
      "position": [0, -9, 0]}],
     "actions": [{"step": 3, "set_velocity": {"body": "table", "angular_velocity": [0, -2, 0]}}]}))
+write("fuzz_scene", "joints.json", json.dumps({"gravity": [0, -9.81, 0], "steps": 10, "bodies": [
+    {"name": "ground", "shape": {"type": "box", "half_extents": [5, 0.5, 5]}, "static": True},
+    {"name": "arm", "shape": {"type": "box", "half_extents": [1, 0.1, 0.1]}, "position": [1, 2, 0]},
+    {"name": "bob", "shape": {"type": "sphere", "radius": 0.2}, "position": [2, 1, 0]},
+    {"name": "car", "shape": {"type": "box", "half_extents": [0.5, 0.2, 0.3]}, "position": [0, 4, 0]}],
+    "joints": [
+        {"name": "shoulder", "type": "hinge", "a": "arm", "b": "ground", "anchor": [0, 2, 0], "axis": [0, 0, 1],
+         "limits": [-1.5, 1.5], "motor": {"speed": 1, "max_force": 50}},
+        {"name": "wrist", "type": "ball", "a": "bob", "b": "arm", "anchor": [2, 2, 0]},
+        {"name": "rail", "type": "slider", "a": "car", "anchor": [0, 4, 0], "axis": [1, -1, 0], "limits": [-1, 1]},
+        {"name": "weld", "type": "fixed", "a": "car", "b": "bob", "anchor": [1, 2.5, 0], "collide_connected": True},
+        {"name": "rope", "type": "distance", "a": "bob", "anchor": [2, 1, 0], "anchor_b": [2, 5, 0],
+         "min_distance": 0, "max_distance": 4.5}],
+    "actions": [{"step": 5, "remove": "arm"}]}))
 write("fuzz_scene", "deep_nesting.json", '{"gravity": ' + "[" * 100000 + "]" * 100000 + ', "bodies": []}')
 write("fuzz_scene", "hull_1e300.json", json.dumps({"bodies": [{"name": "big", "shape": {"type": "hull", "points": [
     [1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300], [1e300, 1e300, 1e300], [0, 0, 0]]}}]}))

@@ -1,5 +1,5 @@
 // Scene files (../shared/SCENE_FORMAT.md, "rengine-scene/1"): a world's settings, its step
-// and step count, and its bodies, read from JSON and checked field by field.
+// and step count, its bodies and joints, read from JSON and checked field by field.
 //
 // Every problem is reported, never repaired: a typo in a field name, a NaN, a zero-length
 // quaternion or a flat hull is an RSceneError naming the file, the JSON path and what is
@@ -9,6 +9,7 @@
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
+#include <REnginePhysics/RJoint.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <cstddef>
@@ -69,6 +70,21 @@ struct RSceneRay {
   bool all = false;                   // every body hit, nearest first; false: the nearest
 };
 
+// A joint of the scene (SCENE_FORMAT.md, "Joints"), added by RSceneWorld after the scene's
+// bodies and before the actions of step 0. Its anchors and axis are world values as the
+// scene starts; every check RBodies::AddJoint makes is made at load (ReadJoints), so a scene
+// that loads makes its joints.
+struct RSceneJoint {
+  std::string name;  // unique among the scene's joints
+  std::string path;  // "joints[3]", for messages
+  // The bodies it joins, by name: scene bodies (not bodies actions add). b empty: the world.
+  std::string a, b;
+  // Everything but the handles (def.a and def.b are left invalid: RSceneWorld fills them).
+  // def.axis_W is the file's axis made unit length; a distance joint's minDistance or
+  // maxDistance is -1 where the file leaves it out (the anchors' starting distance).
+  RJointDef def;
+};
+
 struct RScene {
   RWorldSettings settings;
   RScalar dt = RScalar(1) / 60;  // s
@@ -81,6 +97,8 @@ struct RScene {
   std::vector<RSceneAction> actions;
   // Sorted by step (stably: list order within a step); names unique among a step's rays.
   std::vector<RSceneRay> rays;
+  // In file order, which is the order RSceneWorld adds them in.
+  std::vector<RSceneJoint> joints;
   // The name the scene was loaded under, for CreateBodies' messages.
   std::string fileName;
 };
@@ -104,9 +122,11 @@ struct RSceneLimits {
   std::uint64_t maxActions = 1000000;       // entries of "actions"
   std::uint64_t maxRays = 1000000;          // entries of "rays"
   // Per mesh, vertices and triangles each: the tree builds in n log n, and a triangle costs
-  // about 100 bytes prepared. (Last, so the fields above keep their places in aggregate
-  // initialisation.)
+  // about 100 bytes prepared.
   std::uint64_t maxMeshTriangles = 4000000;
+  // Entries of "joints": an island's joints are solved as one block each pass. (New limits
+  // go last, so the fields above keep their places in aggregate initialisation.)
+  std::uint64_t maxJoints = 1000000;
 };
 
 // Reads and validates a scene file. Throws RSceneError (also when the file cannot be read).
@@ -132,8 +152,9 @@ std::vector<RRigidBody> CreateBodies(const RScene& scene);
 // (bodies in the scene) + k.
 class RSceneWorld {
  public:
-  // Makes the scene's bodies; throws RSceneError as CreateBodies does. The scene must
-  // outlive the world.
+  // Makes the scene's bodies, then its joints; throws RSceneError as CreateBodies does, and
+  // for a joint RBodies::AddJoint refuses (an RJointError, named "joints[i].<field>"). The
+  // scene must outlive the world. A body an action removes takes its joints with it.
   explicit RSceneWorld(const RScene& scene);
   // Applies the actions of step `stepsRun` (0 before the first step, then k after the k-th):
   // each must come at or after the last step applied. Throws RSceneError naming the action
