@@ -390,6 +390,13 @@ TEST(Joints, DefinitionsAreCheckedAndJointsGoWithTheirBodies) {
   EXPECT_EQ(field(d), "axis");
   d.axis_W = RVec3(0, 0, std::nan(""));
   EXPECT_EQ(field(d), "axis");
+  // Any length but 0: its norm's square overflows or underflows, the direction does not.
+  for (const RScalar length : {1e200, 1e-320}) {
+    d.axis_W = RVec3(length, 0, 0);
+    const RJointHandle huge = bodies.AddJoint(d);
+    EXPECT_EQ(bodies.Joint(huge).def.axis_W, RVec3(1, 0, 0));
+    bodies.RemoveJoint(huge);
+  }
   d.axis_W = RVec3::UnitZ(), d.hasLimits = true, d.lower = 1, d.upper = -1;
   EXPECT_EQ(field(d), "limits");
   d.lower = -4, d.upper = 0;

@@ -55,9 +55,11 @@ RJointHandle RBodies::AddJoint(const RJointDef& def) {
   const bool axial = def.type == RJointType::kHinge || def.type == RJointType::kSlider;
   RVec3 axis = RVec3::UnitX();
   if (axial) {
-    Require(def.axis_W.allFinite() && def.axis_W.norm() > 0, "axis", "must be finite and not zero");
-    axis = def.axis_W.normalized();
-    Require(axis.allFinite(), "axis", "must be finite and not zero");
+    const RScalar largest = def.axis_W.cwiseAbs().maxCoeff();
+    Require(def.axis_W.allFinite() && largest > 0, "axis", "must be finite and not zero");
+    // Scaled by its largest component first: the norm of [1e200, 0, 0] overflows, and of
+    // [1e-320, 0, 0] underflows.
+    axis = (def.axis_W / largest).normalized();
   }
   if (def.hasLimits) {
     Require(axial, "limits", "only a hinge or a slider has limits");

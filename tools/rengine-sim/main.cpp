@@ -286,14 +286,6 @@ int Run(int argc, char** argv) {
     if (maxSeconds->count()) budget = ParseStepSize(maxSecondsText, "--max-seconds");
     if (saveState->count()) stateSave = sim::ParseSaveState(saveStateText);
     scene = LoadScene(scenePath);
-    // A state (RWorldState.h) holds the bodies and the contacts' memory but not yet the joints'
-    // (their warm starts, which bodies they keep from colliding): a joint scene loaded from one
-    // would not continue as the run that never stopped. Refused rather than run differently.
-    if (!scene.joints.empty() && (stateSave || loadState->count())) {
-      throw UsageError{std::string(stateSave ? "--save-state" : "--load-state") + ": " + scenePath +
-                       " has joints, which a state does not hold yet: a run loaded from it would not "
-                       "continue as the run that never stopped"};
-    }
     if (stepsOverride) scene.steps = *stepsOverride;
     if (dtOverride) scene.dt = *dtOverride;
     CheckSceneLimits(scene, RSceneLimits{});  // --steps may have raised the work
