@@ -203,6 +203,9 @@ RScalar JointPass(RJointRow* rows, int nj, Body* bodies, RIslandScratch& sc, std
         const RScalar clamped = std::clamp(r.lambda, r.lo, r.hi);
         if (clamped == r.lambda) continue;
         apply(r, clamped - r.lambda);
+        // Exactly at the bound (lambda + (bound - lambda) may round off it, and a row just
+        // inside would join again at once: the set would swap back and forth).
+        r.lambda = clamped;
         sc.jointActive[i] = 0, changed = true;
       } else {
         const RScalar miss = r.target - RowSpeed(r, bodies);
