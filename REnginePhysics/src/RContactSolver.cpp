@@ -243,6 +243,12 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
 // fastest row's; half the threshold leaves room for rounding (with no threshold there is
 // no room: every island has its impact rows). Not a number: the impact phase decides.
 bool RWorldStep::MayImpact(std::size_t island) const {
+  // An island with joints has no impact phase: the impacts would be solved without the
+  // joints (a door hit by a ball would bounce as a free body, and the hinge open by
+  // millimetres; a ragdoll pile landing opened its joints by 6 cm), so its contacts meet
+  // inelastically, in the passes that solve the joints too. Restitution inside jointed
+  // islands is left for the impact phase to learn about joints.
+  if (IslandHasJoints(island)) return false;
   if (!(m_settings.restitutionThreshold > 0)) return true;
   const RScalar floor = RScalar(-0.5) * m_settings.restitutionThreshold;
   const auto [rowsFirst, rowsLast] = IslandRows(island);

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace REngine {
 
@@ -38,9 +39,11 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
       e.v.setZero(), e.w.setZero();
       if (atEnd) {
         // As the motion will leave them before these impulses: the second half-kick, the
-        // impacts' deferred change and the contacts' end impulses (their moments about the
-        // centre where the step ends), the end of the free flow.
-        e.v = p.vMid + Acceleration(b, m_settings.gravity_W) * halfDt + LinearKick(b, s.deferredImpulse + s.endLinear);
+        // contacts' end impulses (their moments about the centre where the step ends), the
+        // end of the free flow.
+        // (An impact's deferred change is in vMid: the body moves with vMid - deferV and
+        // gets deferV back at the end.)
+        e.v = p.vMid + Acceleration(b, m_settings.gravity_W) * halfDt + LinearKick(b, s.endLinear);
         const RVec3 h = s.endAngular - (p.x - b.m_x_W).cross(s.endLinear);
         e.w = p.wEnd_W + e.invI * (EndAngularKick_W(b, halfDt) + h);
       }
@@ -99,9 +102,12 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
       ClearJointMarks(sc);
       break;
     }
-    BeginJointBlocks(sc.endRows.data(), nj, sc);
+    BeginJointBlocks(sc.endRows.data(), sc.endRows.size(), sc);
     for (int it = 0; it < iterations; ++it) {
-      if (!(JointPass(sc.endRows.data(), nj, sc.endBodies.data(), sc, sc.endMark, kJointBlockRows) > kAtTarget)) break;
+      if (!(JointPass(sc.endRows.data(), sc.endRows.size(), sc.endBodies.data(), sc, sc.endMark, kJointBlockRows) >
+            kAtTarget)) {
+        break;
+      }
     }
     for (std::uint32_t i : sc.jointBodies) {
       const RIslandScratch::REndBody& e = sc.endBodies[sc.mark[i]];
@@ -121,7 +127,7 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
   for (std::uint32_t i : sc.jointBodies) {
     RSolverBody& s = m_solverBodies[i];
     const RJointPose& p = m_jointPoses[i];
-    s.vp = (p.x - bodies[i].m_x_W) / dt - p.vMid;
+    s.vp = (p.x - bodies[i].m_x_W) / dt - (p.vMid - s.deferV);
     s.wp = QuatLog(p.q * p.qFlow.conjugate()) / dt;
   }
   (void)world;
@@ -152,12 +158,65 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
       if (r.lambda != 0) RowPush(r, r.lambda, sc.endBodies.data());
     }
   }
-  BeginJointBlocks(sc.endRows.data(), nj, sc);
+  // The island's contacts closed at the end of the step between its joint bodies and static
+  // or kinematic ones (a chain lying on the ground), solved with the joints: projected alone,
+  // the joints' end velocities pushed the links into the ground (6 cm/s a step, and the chain
+  // never slept). Each may give back its own end impulse, never pull: lo = -lambdaE.
+  const auto [rowsFirst, rowsLast] = IslandRows(island);
+  sc.endContacts.clear();
+  for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) {
+    const RContactRow& c = m_rows[i];
+    if (c.endTarget != 0 || !(c.n.k > 0)) continue;
+    auto endIndex = [&](std::uint32_t body) -> std::uint32_t {
+      if (m_solverBodies[body].invM != 0) return sc.mark[body];  // kNone: not a joint body
+      RIslandScratch::REndBody e;
+      e.invI.setZero(), e.invM = 0, e.linMask = RVec3::Ones(), e.linLocked = false;
+      e.v = bodies[body].IsKinematic() ? bodies[body].m_v_W : RVec3::Zero();
+      e.w = bodies[body].IsKinematic() ? bodies[body].m_w_W : RVec3::Zero();
+      sc.endBodies.push_back(e);
+      return static_cast<std::uint32_t>(sc.endBodies.size() - 1);
+    };
+    if ((m_solverBodies[c.a].invM != 0 && sc.mark[c.a] == kNone) || (m_solverBodies[c.b].invM != 0 && sc.mark[c.b] == kNone)) {
+      continue;
+    }
+    RJointRow r;
+    r.a = endIndex(c.a), r.b = endIndex(c.b);
+    r.dir = c.n;
+    const RIslandScratch::REndBody& ea = sc.endBodies[r.a];
+    const RIslandScratch::REndBody& eb = sc.endBodies[r.b];
+    r.dir.iA = ea.invI * r.dir.rAxd, r.dir.iB = eb.invI * r.dir.rBxd;
+    r.dir.k = solver::LinearCoupling(ea, r.dir.d, r.dir.d, 1) + solver::LinearCoupling(eb, r.dir.d, r.dir.d, 1) +
+              r.dir.rAxd.dot(r.dir.iA) + r.dir.rBxd.dot(r.dir.iB);
+    r.kind = Kind::kLimit, r.target = 0, r.lo = -c.lambdaE, r.hi = std::numeric_limits<RScalar>::infinity();
+    r.lambda = 0;
+    sc.endRows.push_back(r);
+    sc.endContacts.push_back(i);
+  }
+  if (sc.endMark.size() < sc.endBodies.size()) sc.endMark.resize(sc.endBodies.size(), kNone);
+  BeginJointBlocks(sc.endRows.data(), sc.endRows.size(), sc);
   const int iterations = std::max(1, m_settings.solverIterations);
   for (int it = 0; it < iterations; ++it) {
-    if (!(JointPass(sc.endRows.data(), nj, sc.endBodies.data(), sc, sc.endMark, kJointBlockRows) > kAtTarget)) break;
+    if (!(JointPass(sc.endRows.data(), sc.endRows.size(), sc.endBodies.data(), sc, sc.endMark, kJointBlockRows) >
+          kAtTarget)) {
+      break;
+    }
   }
   ClearJointMarks(sc);
+  // What the contacts gave back or added, as their end impulses (at the point ReportIsland
+  // puts a contact's end impulse: moved with the lighter body), and in their report.
+  for (std::size_t k = 0; k < sc.endContacts.size(); ++k) {
+    const RJointRow& r = sc.endRows[std::size_t(nj) * kRows + k];
+    if (r.lambda == 0) continue;
+    const RContactRow& c = m_rows[sc.endContacts[k]];
+    RSolverBody& sa = m_solverBodies[c.a];
+    RSolverBody& sb = m_solverBodies[c.b];
+    const RVec3 J = r.lambda * c.n.d;
+    const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
+    const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
+    if (!bodies[c.a].Immovable()) sa.endLinear -= J, sa.endAngular -= (c.rA + shift).cross(J);
+    if (!bodies[c.b].Immovable()) sb.endLinear += J, sb.endAngular += (c.rB + shift).cross(J);
+    m_contacts[c.contact].normalImpulse[c.point] += r.lambda;
+  }
   // The end impulses to the motion, about the centres where the step starts (Integrate
   // moves their moments to where the centres end); what each joint did.
   for (int t = 0; t < nj; ++t) {

@@ -43,8 +43,11 @@ RJointGeometry Geometry(const RJoint& J, const RJointPoseIn& pa, const RJointPos
 // The hinge's angle about a's axis: b's turn relative to a since the joint was added, in
 // (-pi, pi].
 RScalar HingeAngle(const RJointGeometry& g) {
+  // q and -q are one rotation (a game may set either): the one with w >= 0, whose angle is
+  // in (-pi, pi].
+  const RScalar sign = g.error.w() < 0 ? RScalar(-1) : RScalar(1);
   const RVec3 v(g.error.x(), g.error.y(), g.error.z());
-  return 2 * std::atan2(v.dot(g.axisA), g.error.w());
+  return 2 * std::atan2(sign * v.dot(g.axisA), sign * g.error.w());
 }
 
 template <class Body>
@@ -220,7 +223,9 @@ RWorldStep::RJointPose RWorldStep::PredictPose(const RRigidBody& b, std::uint32_
   const RSolverBody& s = m_solverBodies[i];
   RJointPose p;
   p.vMid = s.v;
-  p.x = b.m_x_W + s.v * dt;
+  // A body an impact hit this step moves with its piecewise path's velocity, deferV less than
+  // the velocity after the impacts (ShiftArmsAfterImpacts), and gets deferV at the end.
+  p.x = b.m_x_W + (s.deferV.isZero(0) ? s.v : RVec3(s.v - s.deferV)) * dt;
   if (!s.vp.isZero(0)) p.x += s.vp * dt;
   RQuat q = b.m_q_WB;
   RVec3 w_B;

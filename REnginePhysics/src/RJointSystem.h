@@ -62,12 +62,12 @@ void RowPush(const RJointRow& r, RScalar lambda, Body* bodies) {
   solver::Push(r.dir, lambda, a, b, a.v, a.w, b.v, b.w);
 }
 
-// Which of the island's rows (rows[0 .. 8 nj)) are in the exact block: every equality row,
+// Which of the island's rows (rows[0 .. count): 8 a joint, then any others) are in the exact block: every equality row,
 // a limit that pushes, a motor within its force. Called once the rows are built; the block
 // is factored at the next pass.
-inline void BeginJointBlocks(const RJointRow* rows, int nj, RIslandScratch& sc) {
-  sc.jointActive.resize(std::size_t(nj) * kRows);
-  for (std::size_t i = 0; i < std::size_t(nj) * kRows; ++i) {
+inline void BeginJointBlocks(const RJointRow* rows, std::size_t count, RIslandScratch& sc) {
+  sc.jointActive.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
     const RJointRow& r = rows[i];
     sc.jointActive[i] = r.kind == Kind::kEquality || (r.kind == Kind::kLimit && r.lambda > 0) ||
                         (r.kind == Kind::kMotor && r.lambda > r.lo && r.lambda < r.hi);
@@ -79,11 +79,11 @@ inline void BeginJointBlocks(const RJointRow* rows, int nj, RIslandScratch& sc) 
 // factors in the scratch. One group when the island has at most blockRows of them, else
 // one a joint. mark: per body, kNone (left so on return).
 template <class Body>
-void FactorBlocks(const RJointRow* rows, int nj, const Body* bodies, RIslandScratch& sc,
+void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, RIslandScratch& sc,
                   std::vector<std::uint32_t>& mark, int blockRows) {
   sc.blockStale = false;
   sc.eq.clear(), sc.eqGroups.clear();
-  for (std::uint32_t i = 0; i < std::uint32_t(nj) * kRows; ++i) {
+  for (std::uint32_t i = 0; i < count; ++i) {
     if (sc.jointActive[i] && rows[i].dir.k > 0) sc.eq.push_back(i);
   }
   const std::uint32_t total = static_cast<std::uint32_t>(sc.eq.size());
@@ -149,7 +149,7 @@ void FactorBlocks(const RJointRow* rows, int nj, const Body* bodies, RIslandScra
 // Rows the factor could not take are solved one at a time within their bounds. Returns the
 // largest change of a row's relative velocity the pass made.
 template <class Body>
-RScalar JointPass(RJointRow* rows, int nj, Body* bodies, RIslandScratch& sc, std::vector<std::uint32_t>& mark,
+RScalar JointPass(RJointRow* rows, std::size_t count, Body* bodies, RIslandScratch& sc, std::vector<std::uint32_t>& mark,
                   int blockRows) {
   RScalar change = 0;
   auto apply = [&](RJointRow& r, RScalar d) {
@@ -160,7 +160,7 @@ RScalar JointPass(RJointRow* rows, int nj, Body* bodies, RIslandScratch& sc, std
   };
   constexpr int kActiveRounds = 8;
   for (int round = 0; round < kActiveRounds; ++round) {
-    if (sc.blockStale) FactorBlocks(rows, nj, bodies, sc, mark, blockRows);
+    if (sc.blockStale) FactorBlocks(rows, count, bodies, sc, mark, blockRows);
     for (std::size_t g = 0; g < sc.eqGroups.size(); ++g) {
       const auto [e0, e1] = sc.eqGroups[g];
       const int m = static_cast<int>(e1 - e0);
@@ -196,7 +196,7 @@ RScalar JointPass(RJointRow* rows, int nj, Body* bodies, RIslandScratch& sc, std
     }
     // The active set.
     bool changed = false;
-    for (std::size_t i = 0; i < std::size_t(nj) * kRows; ++i) {
+    for (std::size_t i = 0; i < count; ++i) {
       RJointRow& r = rows[i];
       if ((r.kind != Kind::kLimit && r.kind != Kind::kMotor) || !(r.dir.k > 0)) continue;
       if (sc.jointActive[i]) {

@@ -51,8 +51,13 @@ void RWorldStep::GatherJoints(const RStepBodies& bodies) {
   for (std::size_t k = 0; k < bodies.jointCount; ++k) {
     const RJointDef& def = bodies.joints[k].def;
     const std::uint32_t a = bodies.denseOfSlot[def.a.index];
-    const std::uint32_t b = def.b.IsValid() ? bodies.denseOfSlot[def.b.index] : world;
-    if (a >= bodies.size() || (b != world && b >= bodies.size())) continue;
+    if (a >= bodies.size()) continue;
+    // (A disabled body's dense index may be bodies.size() itself, the world's solver body.)
+    std::uint32_t b = world;
+    if (def.b.IsValid()) {
+      b = bodies.denseOfSlot[def.b.index];
+      if (b >= bodies.size()) continue;
+    }
     const RRigidBody& A = bodies[a];
     const bool movesA = !A.Immovable() && !A.m_sleeping;
     const bool movesB = b != world && !bodies[b].Immovable() && !bodies[b].m_sleeping;
@@ -101,7 +106,7 @@ void RWorldStep::BuildIslandJoints(const RStepBodies& bodies, std::size_t island
     }
   }
   for (std::uint32_t i : sc.jointBodies) sc.mark[i] = kNone;
-  BeginJointBlocks(rows, static_cast<int>(j1 - j0), sc);
+  BeginJointBlocks(rows, std::size_t(j1 - j0) * kRows, sc);
   sc.jointC.resize(std::size_t(j1 - j0) * kRows);
   PredictJoints(bodies, island, dt, sc);
   SetJointTargets(island, dt, sc);
@@ -189,8 +194,8 @@ void RWorldStep::JointRounds(const RStepBodies& bodies, std::size_t island, RSca
 
 RScalar RWorldStep::SolveJointsPass(std::size_t island, RIslandScratch& sc) {
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
-  return JointPass(m_jointRows.data() + std::size_t(j0) * kRows, static_cast<int>(j1 - j0), m_solverBodies.data(), sc,
-                   sc.mark, kJointBlockRows);
+  return JointPass(m_jointRows.data() + std::size_t(j0) * kRows, std::size_t(j1 - j0) * kRows, m_solverBodies.data(),
+                   sc, sc.mark, kJointBlockRows);
 }
 
 // The joints' impulses at the start of the step, added to the solver bodies' (which the

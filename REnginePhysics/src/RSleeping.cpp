@@ -109,18 +109,29 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
       }
     }
   }
-  // A joint between a sleeper and an awake body (added by the game, or a body enabled
-  // again) wakes the sleeper's island: joined bodies move as one island.
+  // A sleeper joined to something that moves wakes with its island: to an awake body (a
+  // joint the game added, a body enabled again), to a kinematic body its velocities move or a
+  // static or kinematic body the game moved or enabled (the sleeper may hang far from it,
+  // where no box sweep finds it), or to a body that is no longer stepped (disabled: the joint
+  // lets go).
+  // (The world: not an index, where a disabled body's dense index may be n itself.)
+  constexpr std::uint32_t world = 0xffffffffu;
+  auto moves = [&](std::uint32_t i) {
+    if (i == world) return false;  // the world
+    if (i >= n) return true;       // disabled
+    const RRigidBody& b = bodies[i];
+    if (b.Immovable()) return b.m_staticMoved || (b.m_isKinematic && !StillKinematic(b));
+    return !b.m_sleeping;
+  };
   for (std::size_t k = 0; k < bodies.jointCount; ++k) {
     const RJointDef& def = bodies.joints[k].def;
-    if (!def.b.IsValid()) continue;
-    const std::uint32_t a = bodies.denseOfSlot[def.a.index], b = bodies.denseOfSlot[def.b.index];
-    if (a >= n || b >= n) continue;
-    const RRigidBody& A = bodies[a];
-    const RRigidBody& B = bodies[b];
-    if (A.Immovable() || B.Immovable() || A.m_sleeping == B.m_sleeping) continue;
-    const RRigidBody& sleeper = A.m_sleeping ? A : B;
-    if (sleeper.m_sleepIsland < m_wakeMark.size()) m_wakeMark[sleeper.m_sleepIsland] = 1, any = true;
+    const std::uint32_t a = bodies.denseOfSlot[def.a.index];
+    const std::uint32_t b = def.b.IsValid() ? bodies.denseOfSlot[def.b.index] : world;
+    for (const auto& [sleeper, other] : {std::pair{a, b}, std::pair{b, a}}) {
+      if (sleeper >= n || !bodies[sleeper].m_sleeping || !moves(other)) continue;
+      const RRigidBody& s = bodies[sleeper];
+      if (s.m_sleepIsland < m_wakeMark.size()) m_wakeMark[s.m_sleepIsland] = 1, any = true;
+    }
   }
   if (any) WakeMarked(bodies);
 }

@@ -531,6 +531,7 @@ class RWorldStep {
     // Per solver body (mark) and per end body (endMark): scratch, kNone between uses.
     std::vector<std::uint32_t> mark, endMark;
     std::vector<RJointRow> endRows;
+    std::vector<std::uint32_t> endContacts;  // the contact rows solved with the joints at the end
     // Per row: its error at the start of the step, and as predicted at the end.
     std::vector<RScalar> startC, jointC;
     struct REndBody {
