@@ -109,6 +109,7 @@ void RBodies::Disable(RBodyHandle h) {
   const std::uint32_t dense = DenseIndex(h);
   if (dense >= m_enabled) return;
   WakeForDeparture(m_bodies[dense]);
+  WakeJointPartners(h);
   SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
   --m_enabled;
   LayoutChanged();
@@ -119,6 +120,7 @@ void RBodies::Enable(RBodyHandle h) {
   if (dense < m_enabled) return;
   RRigidBody& b = m_bodies[dense];
   if (b.Immovable()) b.m_staticMoved = true;
+  WakeJointPartners(h);
   SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
   ++m_enabled;
   LayoutChanged();

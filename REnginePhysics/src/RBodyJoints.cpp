@@ -168,6 +168,15 @@ void RBodies::RemoveJointsOf(RBodyHandle body) {
   }
 }
 
+// The bodies joined to this one: a sleeper hung from it (a hook far above, which no box
+// sweep finds) lets go or is held again.
+void RBodies::WakeJointPartners(RBodyHandle body) {
+  for (const RJoint& j : m_joints) {
+    const RBodyHandle other = j.def.a == body ? j.def.b : j.def.b == body ? j.def.a : RBodyHandle{};
+    if (RRigidBody* b = Find(other)) b->Wake();
+  }
+}
+
 void RBodies::SetNoCollideFlags(RBodyHandle body) {
   RRigidBody* b = Find(body);
   if (!b) return;

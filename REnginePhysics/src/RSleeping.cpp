@@ -112,13 +112,12 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   // A sleeper joined to something that moves wakes with its island: to an awake body (a
   // joint the game added, a body enabled again), to a kinematic body its velocities move or a
   // static or kinematic body the game moved or enabled (the sleeper may hang far from it,
-  // where no box sweep finds it), or to a body that is no longer stepped (disabled: the joint
-  // lets go).
+  // where no box sweep finds it). (A body disabled or enabled wakes its joints' partners
+  // itself: RBodies::Disable.)
   // (The world: not an index, where a disabled body's dense index may be n itself.)
   constexpr std::uint32_t world = 0xffffffffu;
   auto moves = [&](std::uint32_t i) {
-    if (i == world) return false;  // the world
-    if (i >= n) return true;       // disabled
+    if (i == world || i >= n) return false;  // the world; a disabled body
     const RRigidBody& b = bodies[i];
     if (b.Immovable()) return b.m_staticMoved || (b.m_isKinematic && !StillKinematic(b));
     return !b.m_sleeping;

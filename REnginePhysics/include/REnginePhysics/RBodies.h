@@ -168,6 +168,7 @@ class RBodies {
   void RemoveJointAt(std::uint32_t dense);
   void RemoveJointsOf(RBodyHandle body);
   void SetNoCollideFlags(RBodyHandle body);
+  void WakeJointPartners(RBodyHandle body);
   void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(); }
 };
 
