@@ -13,6 +13,7 @@
 #include <cstring>
 #include <vector>
 
+#include "support/Joints.h"
 #include "support/TestBodies.h"
 
 using namespace REngine;
@@ -29,31 +30,8 @@ RWorldSettings Gravity() {
   return s;
 }
 
-// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
-RScalar CompleteEllipticK(RScalar k) {
-  RScalar a = 1, b = std::sqrt(1 - k * k);
-  for (int i = 0; i < 40 && std::abs(a - b) > 1e-16 * a; ++i) {
-    const RScalar an = (a + b) / 2;
-    b = std::sqrt(a * b), a = an;
-  }
-  return kPi / (2 * a);
-}
 
-RJointDef Joint(RJointType type, RBodyHandle a, RBodyHandle b, const RVec3& anchor_W) {
-  RJointDef d;
-  d.type = type, d.a = a, d.b = b, d.anchor_W = anchor_W;
-  return d;
-}
 
-// Where a joint's anchors are now, on a and on b (world).
-std::pair<RVec3, RVec3> Anchors(const RBodies& bodies, RJointHandle h) {
-  const RJoint& j = bodies.Joint(h);
-  const RRigidBody& a = bodies[j.def.a];
-  const RVec3 pA = a.Position_W() + a.Orientation_WB() * j.anchorA_B;
-  if (!j.def.b.IsValid()) return {pA, j.anchorB_B};
-  const RRigidBody& b = bodies[j.def.b];
-  return {pA, b.Position_W() + b.Orientation_WB() * j.anchorB_B};
-}
 
 }  // namespace
 

@@ -39,6 +39,7 @@
 #include <REnginePhysics/RIntegrator.h>
 
 #include "BulletWorld.h"
+#include "support/Joints.h"
 #include "support/TestBodies.h"
 
 #include <algorithm>
@@ -107,21 +108,7 @@ Anchor AnchorOf(const RBodies& bodies, RJointHandle h) {
   return an;
 }
 
-RJointDef Joint(RJointType type, RBodyHandle a, RBodyHandle b, const RVec3& anchor_W) {
-  RJointDef d;
-  d.type = type, d.a = a, d.b = b, d.anchor_W = anchor_W;
-  return d;
-}
 
-// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
-RScalar CompleteEllipticK(RScalar k) {
-  RScalar a = 1, b = std::sqrt(1 - k * k);
-  for (int i = 0; i < 40 && std::abs(a - b) > 1e-16 * a; ++i) {
-    const RScalar an = (a + b) / 2;
-    b = std::sqrt(a * b), a = an;
-  }
-  return kPi / (2 * a);
-}
 
 // A scene: its bodies and joints (built in REngine; Bullet's twin is made from them), how
 // many steps, and what is measured. Begin is called before each run, Observe after each step
