@@ -79,7 +79,6 @@ void RWorldStep::ClearJointMarks(RIslandScratch& sc) {
 void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   const int nj = static_cast<int>(j1 - j0);
-  const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
   const int iterations = std::max(1, m_settings.solverIterations);
   constexpr int kProjections = 8;
   bool moved = false;
@@ -130,7 +129,6 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
     s.vp = (p.x - bodies[i].m_x_W) / dt - (p.vMid - s.deferV);
     s.wp = QuatLog(p.q * p.qFlow.conjugate()) / dt;
   }
-  (void)world;
 }
 
 // The second half of RATTLE: at the end poses, the end velocities (what the motion will

@@ -98,7 +98,7 @@ void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, 
     }
   }
   sc.eqFirst.resize(total), sc.eqOffset.resize(total + 1);
-  sc.eqInvDiag.resize(total), sc.eqRhs.resize(total), sc.eqX.resize(total);
+  sc.eqInvDiag.resize(total), sc.eqRhs.resize(total);
   // Each row's envelope: from the first row of the group that shares a movable body.
   std::size_t size = 0;
   for (const auto& [e0, e1] : sc.eqGroups) {

@@ -526,7 +526,7 @@ class RWorldStep {
     std::vector<char> eqGroupOk;  // factored (else its rows are solved one at a time)
     std::vector<char> jointActive;  // per row: in the block (equality, pushing limit, motor within its force)
     bool blockStale = true;         // the block's factor is not the active set's
-    std::vector<RScalar> eqL, eqInvDiag, eqRhs, eqX;
+    std::vector<RScalar> eqL, eqInvDiag, eqRhs;
     std::vector<std::uint32_t> jointBodies;  // the island's movable joint bodies
     // Per solver body (mark) and per end body (endMark): scratch, kNone between uses.
     std::vector<std::uint32_t> mark, endMark;
