@@ -46,6 +46,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   m_solverBodies.resize(n + 1);
   const RScalar halfDt = RScalar(0.5) * dt;
   GatherJoints(bodies);
+  GatherWelds(bodies);
   bool anyRow = !m_stepJoints.empty();
   for (const RContact& c : m_contacts) {
     const RRigidBody& a = bodies[c.a];

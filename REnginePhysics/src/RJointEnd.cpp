@@ -126,6 +126,13 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
   for (std::uint32_t i : sc.jointBodies) {
     RSolverBody& s = m_solverBodies[i];
     const RJointPose& p = m_jointPoses[i];
+    if (WeldOf(i)) {
+      // A weld's member does not move with its own velocity (its group turns it about the
+      // group's centre): the correction alone, on top of the pseudo-velocities predicted.
+      s.vp += (p.x - p.xPredicted) / dt;
+      s.wp += QuatLog(p.q * p.qPredicted.conjugate()) / dt;
+      continue;
+    }
     s.vp = (p.x - bodies[i].m_x_W) / dt - (p.vMid - s.deferV);
     s.wp = QuatLog(p.q * p.qFlow.conjugate()) / dt;
   }

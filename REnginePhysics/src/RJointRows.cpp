@@ -240,6 +240,7 @@ RWorldStep::RJointPose RWorldStep::PredictPose(const RRigidBody& b, std::uint32_
   if (!s.wp.isZero(0)) q = QuatExp(s.wp * dt) * q, q.normalize();
   p.q = q;
   p.wEnd_W = b.m_angularLocked ? s.w : RVec3(q * w_B);
+  p.xPredicted = p.x, p.qPredicted = p.q;
   return p;
 }
 

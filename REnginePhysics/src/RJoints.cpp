@@ -119,7 +119,14 @@ void RWorldStep::BuildIslandJoints(const RStepBodies& bodies, std::size_t island
 RScalar RWorldStep::PredictJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   const RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
-  for (std::uint32_t i : sc.jointBodies) m_jointPoses[i] = PredictPose(bodies[i], i, dt);
+  for (std::uint32_t i : sc.jointBodies) {
+    // A weld's members move as one body: predicted together, when its first is met.
+    if (const RWeldGroup* g = WeldOf(i)) {
+      if (m_weldMembers[g->first].body == i) PredictWeld(bodies, *g, dt);
+      continue;
+    }
+    m_jointPoses[i] = PredictPose(bodies[i], i, dt);
+  }
   RScalar worst = 0;
   for (std::uint32_t p = j0; p < j1; ++p) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
@@ -148,6 +155,20 @@ void RWorldStep::SetJointTargets(std::size_t island, RScalar dt, RIslandScratch&
     RJointRow& r = rows[i];
     if (r.kind != Kind::kEquality && r.kind != Kind::kLimit) continue;
     r.target = RowSpeed(r, m_solverBodies.data()) - sc.jointC[i] / dt;
+  }
+  // A joint inside a weld: the group moves as one body whatever its members' relative
+  // velocities, so its error is 0 at any prediction and the Newton step above says nothing.
+  // What its rows must do is make the members answer contacts and other joints as that one
+  // body: no relative velocity.
+  if (m_weldGroups.empty()) return;
+  for (std::uint32_t p = j0; p < j1; ++p) {
+    const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
+    const RWeldGroup* g = WeldOf(sj.a);
+    if (!g || g != WeldOf(sj.b)) continue;
+    for (int k = 0; k < kRows; ++k) {
+      RJointRow& r = rows[std::size_t(p - j0) * kRows + k];
+      if (r.kind == Kind::kEquality || r.kind == Kind::kLimit) r.target = 0;
+    }
   }
 }
 
