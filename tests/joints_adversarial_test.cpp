@@ -137,13 +137,10 @@ TEST(JointsAdversarial, SleeperFallsWhenTheHookItHangsFromIsDisabled) {
 // mass M = I / d^2 at the contact, d = 0.8 m out (I = m (a^2 + b^2) / 3 + m a^2 about its
 // edge); the ball's velocity after the impact is (m - e M) / (m + M) v, the door's turn
 // (1 + e) m v / ((m + M) d); the hinge's forces act on the axis, so the angular momentum
-// about it is conserved, and the hinge never opens.
-// KNOWN DEFECT, disabled until fixed: an island with joints has no impact phase (the
-// impacts were solved without the joints and opened them), so the ball and the door meet
-// inelastically: ball -0.80 m/s, door 1.005 rad/s against the closed form 1.294 m/s and
-// 1.507 rad/s (angular momentum exact, the hinge closed to 6e-12 m). Restitution in jointed
-// islands needs the impact phase to solve the joints.
-TEST(JointsAdversarial, DISABLED_DoorHitByABallBouncesAsTheHingedDoorDictates) {
+// about it is conserved, and the hinge never opens. (The joints act in the impact phase:
+// RJointImpacts.cpp. Without them the pair met inelastically, ball -0.80 m/s, door 1.005
+// rad/s.)
+TEST(JointsAdversarial, DoorHitByABallBouncesAsTheHingedDoorDictates) {
   RBodies bodies;
   const RScalar e = 0.5, md = 10, mb = 1, v = -5, dist = 0.8;
   const RBodyHandle door =

@@ -184,7 +184,7 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
     for (std::uint32_t k = first; k < last; ++k) BuildImpactRow(bodies, m_blockContact[k], k);
     JoinPairImpacts(bodies, first, last);
   }
-  SolveIslandImpacts(bodies, dt, island);
+  SolveIslandImpacts(bodies, dt, island, sc);
   if (m_islandImpacts[island]) ShiftArmsAfterImpacts(dt, island);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points
   // share two bodies, and solving them one after another favours the first, leaving a
@@ -194,7 +194,7 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   // once a step, the first time the block has something to solve; when its answer would
   // pull at a point, that manifold falls back to one point at a time.
   SolveIslandContacts(bodies, dt, island, sc);
-  if (joints) ReportJoints(island);
+  if (joints) ReportJoints(island, dt);
   ReportIsland(bodies, dt, island, warmBase, tally);
   if (joints) SolveJointsAtEnd(bodies, island, dt, sc);
 }
@@ -244,12 +244,6 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
 // fastest row's; half the threshold leaves room for rounding (with no threshold there is
 // no room: every island has its impact rows). Not a number: the impact phase decides.
 bool RWorldStep::MayImpact(std::size_t island) const {
-  // An island with joints has no impact phase: the impacts would be solved without the
-  // joints (a door hit by a ball would bounce as a free body, and the hinge open by
-  // millimetres; a ragdoll pile landing opened its joints by 6 cm), so its contacts meet
-  // inelastically, in the passes that solve the joints too. Restitution inside jointed
-  // islands is left for the impact phase to learn about joints.
-  if (IslandHasJoints(island)) return false;
   if (!(m_settings.restitutionThreshold > 0)) return true;
   const RScalar floor = RScalar(-0.5) * m_settings.restitutionThreshold;
   const auto [rowsFirst, rowsLast] = IslandRows(island);

@@ -116,7 +116,7 @@ bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolve
 // read and never written: its path is known (x + v t), so where it is at an impact's time
 // is worked out on a copy, and its impacts with one body do not order those with another
 // (only a movable body's impacts happen one after another).
-void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island) {
+void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc) {
   const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
   const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
   for (std::size_t k = 0; k < bodyCount; ++k) {
@@ -131,14 +131,64 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
     if (t <= s.tau) return;
     s.moved += s.v * (t - s.tau), s.tau = t;
   };
+  // The normal impulse dn at arms rA, rB (dir: normal and tangents), then friction at the
+  // same point, within mu times this row's normal impulse so far.
+  auto apply = [&](RImpactRow& r, const RDirection* dir, const RVec3& rA, const RVec3& rB, RScalar dn, RSolverBody& sa,
+                   RSolverBody& sb) {
+    r.lambdaN += dn;
+    Push(dir[0], dn, sa, sb, sa.v, sa.w, sb.v, sb.w);
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(dir[1], dir[2], Speed(dir[1], sa.v, sa.w, sb.v, sb.w),
+                                                          Speed(dir[2], sa.v, sa.w, sb.v, sb.w), sa, sb);
+    const RScalar lt1 = r.lambdaT1 + step.x(), lt2 = r.lambdaT2 + step.y();
+    const RScalar limit = r.friction * r.lambdaN;
+    const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
+    const RScalar scale = norm > limit ? limit / norm : RScalar(1);
+    const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
+    r.lambdaT1 += d1, r.lambdaT2 += d2;
+    if (d1 != 0) Push(dir[1], d1, sa, sb, sa.v, sa.w, sb.v, sb.w);
+    if (d2 != 0) Push(dir[2], d2, sa, sb, sa.v, sa.w, sb.v, sb.w);
+    const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
+    r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
+    r.frictionImpulse += d1 * dir[1].d + d2 * dir[2].d;
+    r.point_W = bodies[r.a].m_x_W + sa.moved + rA, r.normal_W = dir[0].d;
+  };
+  // A row that has bounced, in an island with joints: solved again towards its bounce at the
+  // point and normal it bounced at (the joints' pass moved the bodies' velocities since),
+  // its normal impulse never pulling. True when it moved.
+  auto bounceAgain = [&](RImpactRow& r, RSolverBody* pa, RSolverBody* pb) {
+    RSolverBody copyA, copyB;
+    if (pa->invM == 0) copyA = *pa, pa = &copyA;
+    if (pb->invM == 0) copyB = *pb, pb = &copyB;
+    RDirection dir[3];
+    RVec3 t1, t2;
+    OrthonormalBasis(r.hitN, t1, t2);
+    SetDirection(dir[0], r.hitN, r.hitA, r.hitB, *pa, *pb);
+    SetDirection(dir[1], t1, r.hitA, r.hitB, *pa, *pb);
+    SetDirection(dir[2], t2, r.hitA, r.hitB, *pa, *pb);
+    if (!(dir[0].k > 0)) return false;
+    const RScalar miss = r.bounce - Speed(dir[0], pa->v, pa->w, pb->v, pb->w);
+    if (!(std::abs(miss) > kImpactTolerance * std::max(RScalar(1), std::abs(r.bounce)))) return false;
+    apply(r, dir, r.hitA, r.hitB, std::max(-r.lambdaN, miss / dir[0].k), *pa, *pb);
+    return true;
+  };
   bool anyImpact = false;
+  // With joints (RJointImpacts.cpp): the joints hold through the impacts, solved after
+  // each pass; a row that has bounced is solved again towards its bounce.
+  // (Their rows hold the relative velocities of before the impacts: begun before them.)
+  const bool joints = count > 0 && IslandHasJoints(island);
+  if (joints) BeginImpactJoints(island, sc);
   const int passes = std::max(1, m_settings.solverIterations);
   for (int pass = 0; pass < passes && count > 0; ++pass) {
     bool any = false;
+    RScalar latest = 0;  // the pass's latest impact, s
     for (std::size_t ii = 0; ii < count; ++ii) {
       RImpactRow& r = m_impacts[first + ((pass % 2 == 0) ? ii : count - 1 - ii)];
       RSolverBody* pa = &m_solverBodies[r.a];
       RSolverBody* pb = &m_solverBodies[r.b];
+      if (r.bounced) {
+        if (bounceAgain(r, pa, pb)) any = true;
+        continue;
+      }
       const RScalar vn0 = Speed(r.normal, pa->v, pa->w, pb->v, pb->w);
       if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
       // A static or kinematic body on a copy, at the start of its path (see above).
@@ -168,32 +218,21 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
       const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
       if (vn >= 0 || !(dir[0].k > 0)) continue;  // (no effective mass: no impulse to find)
       any = anyImpact = true;
-      const RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
-      r.lambdaN += dn;
-      Push(dir[0], dn, sa, sb, sa.v, sa.w, sb.v, sb.w);
-      // Friction at the same point, within mu times this row's normal impulse so far.
-      const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(dir[1], dir[2], Speed(dir[1], sa.v, sa.w, sb.v, sb.w),
-                                     Speed(dir[2], sa.v, sa.w, sb.v, sb.w), sa, sb);
-      const RScalar lt1 = r.lambdaT1 + step.x(), lt2 = r.lambdaT2 + step.y();
-      const RScalar limit = r.friction * r.lambdaN;
-      const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
-      const RScalar scale = norm > limit ? limit / norm : RScalar(1);
-      const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
-      r.lambdaT1 += d1, r.lambdaT2 += d2;
-      if (d1 != 0) Push(dir[1], d1, sa, sb, sa.v, sa.w, sb.v, sb.w);
-      if (d2 != 0) Push(dir[2], d2, sa, sb, sa.v, sa.w, sb.v, sb.w);
-      const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
-      r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
-      r.frictionImpulse += d1 * dir[1].d + d2 * dir[2].d;
-      r.point_W = bodies[r.a].m_x_W + sa.moved + rA, r.normal_W = dir[0].d;
+      latest = std::max(latest, t);
+      if (joints) r.bounced = true, r.bounce = -r.restitution * vn, r.hitA = rA, r.hitB = rB, r.hitN = dir[0].d;
+      apply(r, dir, rA, rB, -(1 + r.restitution) * vn / dir[0].k, sa, sb);
     }
     if (!any) break;
+    if (joints) ImpactJointsPass(latest, sc);
   }
   for (std::size_t k = 0; k < bodyCount; ++k) {
     RSolverBody& s = m_solverBodies[islandBodies[k]];
     s.vImpacts = s.v;
   }
-  if (!anyImpact) return;
+  if (!anyImpact) {
+    if (joints) EndImpactJoints(bodies, island, dt, sc, false);
+    return;
+  }
   // The velocity each body moves with this step gives its piecewise path; the rest of the
   // change waits for the end of the step. The contact phase works on the velocities after
   // the impacts, the bodies' real ones, so that its impulses, inelastic there, cannot add
@@ -208,6 +247,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
     // impact for the whole step.
     s.deferV = s.v - s.moved / dt;
   }
+  if (joints) EndImpactJoints(bodies, island, dt, sc, true);
 }
 
 }  // namespace REngine

@@ -221,15 +221,23 @@ RScalar RWorldStep::SolveJointsPass(std::size_t island, RIslandScratch& sc) {
 
 // The joints' impulses at the start of the step, added to the solver bodies' (which the
 // report writes to the bodies, and the motion applies).
-void RWorldStep::ReportJoints(std::size_t island) {
+// (About the body's centre at the start: an arm shifted after an impact (ShiftJointArms) is
+// reported without its shift, whose moment ReportIsland adds for all the contact phase did.)
+void RWorldStep::ReportJoints(std::size_t island, RScalar dt) {
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   for (std::size_t i = std::size_t(j0) * kRows; i < std::size_t(j1) * kRows; ++i) {
     const RJointRow& r = m_jointRows[i];
     if (r.kind == Kind::kOff || r.lambda == 0) continue;
     RSolverBody& a = m_solverBodies[r.a];
     RSolverBody& b = m_solverBodies[r.b];
-    if (a.invM != 0) a.impulse -= r.lambda * r.dir.d, a.angularImpulse -= r.lambda * r.dir.rAxd;
-    if (b.invM != 0) b.impulse += r.lambda * r.dir.d, b.angularImpulse += r.lambda * r.dir.rBxd;
+    if (a.invM != 0) {
+      a.impulse -= r.lambda * r.dir.d;
+      a.angularImpulse -= r.lambda * RVec3(r.dir.rAxd - JointArmShift(a, r.dir.d, dt));
+    }
+    if (b.invM != 0) {
+      b.impulse += r.lambda * r.dir.d;
+      b.angularImpulse += r.lambda * RVec3(r.dir.rBxd - JointArmShift(b, r.dir.d, dt));
+    }
   }
 }
 

@@ -11,6 +11,7 @@
 //   RContactReport.cpp  ReportIsland
 //   RContactRows.cpp    BuildContactRows, BuildImpactRow, FindWarmStarts, LeadingPoints
 //   RImpactPhase.cpp    SolveIslandImpacts, ImpactGeometry
+//   RJointImpacts.cpp   BeginImpactJoints, ImpactJointsPass, EndImpactJoints
 //   RIslandSolver.cpp   LayOutIslands, SolveIslandDirect
 //   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
 //   RIntegration.cpp    Integrate (the motion)
@@ -320,6 +321,11 @@ class RWorldStep {
     // events: where a pair that met within the step touched).
     RVec3 point_W, normal_W;
     bool miss;                 // found, along the motion, not to meet within the step
+    // In an island with joints (RJointImpacts.cpp): whether it has bounced, and the normal
+    // speed it bounces to (-e vn, m/s) at the arms and normal it bounced with, world.
+    bool bounced;
+    RScalar bounce;
+    RVec3 hitA, hitB, hitN;
   };
   // Working state of a body during the solve: velocities that include every pending change.
   struct RSolverBody {
@@ -468,7 +474,25 @@ class RWorldStep {
   // restitution threshold: the impact phase has work, and the island gets impact rows.
   bool MayImpact(std::size_t island) const;
   // The island's impact phase (RImpactPhase.cpp), then its rows' arms after the impacts.
-  void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island);
+  void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
+  // An island's joints in its impacts (RJointImpacts.cpp): their equality rows hold the
+  // joined bodies' relative velocities through the impacts (sc.impactRows, a copy of the
+  // rows with impulses of their own), solved after each pass over the impact rows; then the
+  // impulses reported and the joints' prediction made again from the velocities after.
+  void BeginImpactJoints(std::size_t island, RIslandScratch& sc);
+  // How close to its bounce a row in a jointed island is taken to be there, relative to the
+  // bounce speed (or 1 m/s).
+  static constexpr RScalar kImpactTolerance = 1e-9;
+  void ImpactJointsPass(RScalar t, RIslandScratch& sc);
+  void EndImpactJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc, bool impacts);
+  void ShiftJointArms(RJointRow* rows, std::size_t count, RScalar dt);
+  // What the arm's moment of a linear joint row along d gains on a body an impact hit:
+  // (dt deferV) x d, of the free part of d on a body with linear locks (as the contacts').
+  static RVec3 JointArmShift(const RSolverBody& s, const RVec3& d, RScalar dt) {
+    if (s.deferV.isZero(0) || s.invM == 0) return RVec3::Zero();
+    const RVec3 shift = dt * s.deferV;
+    return s.linLocked ? RVec3(shift.cross(d.cwiseProduct(s.linMask))) : RVec3(shift.cross(d));
+  }
   void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
   template <class Advance>
   bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
@@ -532,6 +556,7 @@ class RWorldStep {
     // Per solver body (mark) and per end body (endMark): scratch, kNone between uses.
     std::vector<std::uint32_t> mark, endMark;
     std::vector<RJointRow> endRows;
+    std::vector<RJointRow> impactRows;  // the joints' rows in the impact phase
     std::vector<std::uint32_t> endContacts;  // the contact rows solved with the joints at the end
     // Per row: its error at the start of the step, and as predicted at the end.
     std::vector<RScalar> startC, jointC;
@@ -698,7 +723,7 @@ class RWorldStep {
   void JointRounds(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
   void ProjectJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
   RScalar SolveJointsPass(std::size_t island, RIslandScratch& sc);
-  void ReportJoints(std::size_t island);
+  void ReportJoints(std::size_t island, RScalar dt);
   void SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
   // The end bodies (RIslandScratch::endBodies) of the island's joints, each movable body
   // once (sc.mark: its index there; cleared by ClearJointMarks), each immovable end apart;
