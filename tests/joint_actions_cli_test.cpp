@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -27,36 +26,6 @@ namespace {
 
 constexpr double kG = 9.81;
 constexpr double kDt = 1.0 / 60;
-
-std::string Number(double x) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.17g", x);
-  return s;
-}
-
-std::string Vec(const RVec3& v) { return "[" + Number(v.x()) + ", " + Number(v.y()) + ", " + Number(v.z()) + "]"; }
-
-RVec3 Position(const Row& r) { return RVec3(r.state[0], r.state[1], r.state[2]); }
-RVec3 Velocity(const Row& r) { return RVec3(r.state[7], r.state[8], r.state[9]); }
-RVec3 AngularVelocity(const Row& r) { return RVec3(r.state[10], r.state[11], r.state[12]); }
-
-std::string Hash(const Result& r) {
-  const std::string line = r.LastErrLine();
-  const std::size_t at = line.find("hash=");
-  return at == std::string::npos ? "(no hash: " + line + ")" : line.substr(at);
-}
-
-// The CSV's lines of steps >= from (header left out), as text: rows compared bit for bit.
-std::vector<std::string> LinesFrom(const std::string& csv, std::uint64_t from) {
-  std::vector<std::string> out;
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    if (std::stoull(line.substr(0, line.find(','))) >= from) out.push_back(line);
-  }
-  return out;
-}
 
 // How far n steps of kick-drift-kick under constant gravity may stray from the closed form
 // x0 + v0 t + g t^2 / 2 by rounding alone (unit roundoff u = 2^-53): each step rounds the two
@@ -253,7 +222,7 @@ TEST_F(Cli, SaveAndLoadAcrossJointActionsContinueBitForBitOnAnyThreadCount) {
                               " --load-state " + state);
       ASSERT_EQ(load.code, 0) << load.err;
       EXPECT_EQ(Hash(load), Hash(whole)) << "loaded at step " << n << " on " << threads << " threads";
-      EXPECT_EQ(LinesFrom(ReadFile(Path("l.csv")), 0), LinesFrom(wholeCsv, n))
+      EXPECT_EQ(RowsFrom(ReadFile(Path("l.csv")), 0), RowsFrom(wholeCsv, n))
           << "loaded at step " << n << " on " << threads << " threads";
     }
   }
