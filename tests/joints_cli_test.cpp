@@ -291,8 +291,6 @@ TEST_F(Cli, BadJointsExitTwoNamingThePath) {
   }
 }
 
-// A state (--save-state, --load-state) does not hold joints yet: rengine-sim refuses the two
-// for a scene with joints (exit 2, before any output) rather than continue it differently.
 // A joint scene saved mid-run and loaded again ends with the hash of the run that never
 // stopped (the state holds the joints and their warm starts); a state of the same scene
 // without its joints is another world's, refused.
