@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "support/CliRunner.h"
+#include "support/Joints.h"
 
 using namespace REngine;
 using namespace REngine::test;
@@ -23,41 +24,11 @@ namespace {
 constexpr double kG = 9.81;
 constexpr double kDt = 1.0 / 60;
 
-// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
-double CompleteEllipticK(double k) {
-  double a = 1, b = std::sqrt(1 - k * k);
-  for (int i = 0; i < 40 && std::abs(a - b) > 1e-16 * a; ++i) {
-    const double an = (a + b) / 2;
-    b = std::sqrt(a * b), a = an;
-  }
-  return kPi / (2 * a);
-}
-
-std::string Number(double x) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.17g", x);
-  return s;
-}
-
-std::string Vec(double x, double y, double z) {
-  return "[" + Number(x) + ", " + Number(y) + ", " + Number(z) + "]";
-}
-
-RVec3 Position(const Row& r) { return RVec3(r.state[0], r.state[1], r.state[2]); }
-RVec3 Velocity(const Row& r) { return RVec3(r.state[7], r.state[8], r.state[9]); }
-RVec3 AngularVelocity(const Row& r) { return RVec3(r.state[10], r.state[11], r.state[12]); }
-
 // The rows of one body, in step order.
 std::vector<Row> RowsOf(const std::vector<Row>& rows, const std::string& body) {
   std::vector<Row> out;
   std::copy_if(rows.begin(), rows.end(), std::back_inserter(out), [&](const Row& r) { return r.body == body; });
   return out;
-}
-
-std::string Hash(const Result& r) {
-  const std::string line = r.LastErrLine();
-  const std::size_t at = line.find("hash=");
-  return at == std::string::npos ? "(no hash: " + line + ")" : line.substr(at);
 }
 
 }  // namespace
@@ -78,7 +49,7 @@ TEST_F(Cli, BallJointPendulumSwingsWithThePhysicalPendulumsPeriod) {
   const std::string scene = R"({"gravity": [0, -9.81, 0], "dt": )" + Number(kDt) + R"(, "steps": )" +
                             std::to_string(steps) + R"(, "bodies": [
       {"name": "bob", "shape": {"type": "sphere", "radius": 0.2}, "mass": 2, "position": )" +
-                            Vec(start.x(), start.y(), start.z()) + R"(}],
+                            Vec(start) + R"(}],
     "joints": [{"name": "pivot", "type": "ball", "a": "bob", "anchor": [0, 2, 0]}]})";
   const Result r = Run(Quote(Write("pendulum.json", scene)) + " --out " + Quote(Path("t.csv")));
   ASSERT_EQ(r.code, 0) << r.err;
@@ -254,10 +225,10 @@ TEST_F(Cli, JointSceneHashesAlikeOnAnyThreadCount) {
     const std::string name = "link" + std::to_string(k);
     bodies += std::string(k ? ", " : "") + R"({"name": ")" + name +
               R"(", "shape": {"type": "capsule", "radius": 0.05, "half_height": 0.2}, "position": )" +
-              Vec(0.5 * k + 0.25, 10, 0) + R"(, "orientation": [0.7071067811865476, 0, 0, 0.7071067811865476]})";
+              Vec(RVec3(0.5 * k + 0.25, 10, 0)) + R"(, "orientation": [0.7071067811865476, 0, 0, 0.7071067811865476]})";
     joints += std::string(k ? ", " : "") + R"({"name": "j)" + std::to_string(k) + R"(", "type": "ball", "a": ")" +
               name + "\"" + (k ? R"(, "b": "link)" + std::to_string(k - 1) + "\"" : "") +
-              R"(, "anchor": )" + Vec(0.5 * k, 10, 0) + "}";
+              R"(, "anchor": )" + Vec(RVec3(0.5 * k, 10, 0)) + "}";
   }
   const std::string scene = R"({"gravity": [0, -9.81, 0], "steps": 120, "bodies": [)" + bodies +
                             R"(, {"name": "ground", "static": true, "shape": {"type": "box", "half_extents": [10, 0.5, 10]},
@@ -320,8 +291,6 @@ TEST_F(Cli, BadJointsExitTwoNamingThePath) {
   }
 }
 
-// A state (--save-state, --load-state) does not hold joints yet: rengine-sim refuses the two
-// for a scene with joints (exit 2, before any output) rather than continue it differently.
 // A joint scene saved mid-run and loaded again ends with the hash of the run that never
 // stopped (the state holds the joints and their warm starts); a state of the same scene
 // without its joints is another world's, refused.

@@ -16,24 +16,6 @@ using namespace REngine::test;
 
 namespace {
 
-std::string Hash(const Result& r) {
-  const std::string line = r.LastErrLine();
-  const std::size_t at = line.find("hash=");
-  return at == std::string::npos ? "(no hash: " + line + ")" : line.substr(at);
-}
-
-// The lines of a CSV whose first field (the step) is at least `from`, header excluded.
-std::vector<std::string> RowsFrom(const std::string& csv, std::uint64_t from) {
-  std::vector<std::string> rows;
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    if (std::stoull(line.substr(0, line.find(','))) >= from) rows.push_back(line);
-  }
-  return rows;
-}
-
 // A game in a file: a stack the drops wake, spawns and removals before and after the save,
 // an impulse and a velocity set after it, a kinematic turntable carrying a box, a satellite
 // tumbling near its intermediate axis, a sensor (events without response).

@@ -101,15 +101,25 @@ RSceneError::RSceneError(std::string file, std::string jsonPath, std::string pro
       m_problem(std::move(problem)) {}
 
 void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits) {
-  // Every body the run may hold: the scene's and those its actions add.
-  std::size_t adds = 0;
-  for (const RSceneAction& a : scene.actions) adds += a.verb == RSceneAction::Verb::kAdd;
+  // Every body and joint the run may hold: the scene's and those its actions add.
+  std::size_t adds = 0, jointAdds = 0;
+  for (const RSceneAction& a : scene.actions) {
+    adds += a.verb == RSceneAction::Verb::kAdd;
+    jointAdds += a.verb == RSceneAction::Verb::kAddJoint;
+  }
   const std::size_t bodies = scene.bodies.size() + adds;
   if (bodies > limits.maxBodies) {
     throw RSceneError(scene.fileName, adds ? "actions" : "bodies",
                       "has " + std::to_string(bodies) + " bodies" +
                           (adds ? " with those the actions add" : "") + "; at most " +
                           std::to_string(limits.maxBodies) + " are allowed");
+  }
+  const std::size_t joints = scene.joints.size() + jointAdds;
+  if (joints > limits.maxJoints) {
+    throw RSceneError(scene.fileName, jointAdds ? "actions" : "joints",
+                      "has " + std::to_string(joints) + " joints" +
+                          (jointAdds ? " with those the actions add" : "") + "; at most " +
+                          std::to_string(limits.maxJoints) + " are allowed");
   }
   if (scene.steps > limits.maxSteps) {
     throw RSceneError(scene.fileName, "steps",

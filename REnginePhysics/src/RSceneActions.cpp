@@ -1,26 +1,30 @@
-// A scene's actions (SCENE_FORMAT.md, "Actions"): read, checked against the bodies that exist
-// at each step, and sorted by step.
+// A scene's actions (SCENE_FORMAT.md, "Actions", and this project's add_joint and
+// remove_joint): read, checked against the bodies and joints that exist at each step, and
+// sorted by step.
 #include "RSceneJson.h"
 
 #include <algorithm>
-#include <map>
-#include <set>
-#include <tuple>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace REngine::scenejson {
 
 namespace {
 
 RSceneAction ReadAction(const json& j, const std::string& path, const RSceneLimits& limits) {
-  const Object action(j, path, {"step", "add", "remove", "impulse", "set_velocity"});
+  const Object action(j, path, {"step", "add", "remove", "impulse", "set_velocity", "add_joint", "remove_joint"});
   RSceneAction a;
   a.path = path;
   a.step = ReadSteps(action.Required("step"), action.PathOf("step"));
   int verbs = 0;
-  for (const char* verb : {"add", "remove", "impulse", "set_velocity"}) verbs += action.Has(verb);
+  for (const char* verb : {"add", "remove", "impulse", "set_velocity", "add_joint", "remove_joint"}) {
+    verbs += action.Has(verb);
+  }
   if (verbs != 1) {
-    Fail(path, "must have exactly one of the verbs add, remove, impulse, set_velocity (has " +
-                   std::to_string(verbs) + ")");
+    Fail(path, "must have exactly one of the verbs add, remove, impulse, set_velocity, add_joint, "
+               "remove_joint (has " + std::to_string(verbs) + ")");
   }
   if (action.Has("add")) {
     a.verb = RSceneAction::Verb::kAdd;
@@ -29,6 +33,14 @@ RSceneAction ReadAction(const json& j, const std::string& path, const RSceneLimi
   } else if (action.Has("remove")) {
     a.verb = RSceneAction::Verb::kRemove;
     a.body = ReadName(action.Required("remove"), action.PathOf("remove"));
+  } else if (action.Has("add_joint")) {
+    // Its bodies are checked in the replay, against those that exist at its step.
+    a.verb = RSceneAction::Verb::kAddJoint;
+    a.joint = ReadJoint(action.Required("add_joint"), action.PathOf("add_joint"), "when the action applies");
+  } else if (action.Has("remove_joint")) {
+    a.verb = RSceneAction::Verb::kRemoveJoint;
+    a.joint.name = ReadName(action.Required("remove_joint"), action.PathOf("remove_joint"));
+    a.joint.path = action.PathOf("remove_joint");
   } else if (action.Has("impulse")) {
     a.verb = RSceneAction::Verb::kImpulse;
     const Object impulse(action.Required("impulse"), action.PathOf("impulse"),
@@ -49,6 +61,60 @@ RSceneAction ReadAction(const json& j, const std::string& path, const RSceneLimi
   return a;
 }
 
+// The joints that exist at each step of the loader's replay, by name, with their bodies. A body
+// removed takes its joints along, as RBodies::Remove does, so that a later remove_joint of one
+// of them is refused, and an add_joint may take its name again, as the run will find them.
+class LiveJoints {
+ public:
+  explicit LiveJoints(const std::vector<RSceneJoint>& sceneJoints) {
+    for (const RSceneJoint& j : sceneJoints) Insert(j);
+  }
+
+  void Add(const RSceneJoint& j, std::uint64_t step) {
+    if (m_joints.count(j.name)) {
+      Fail(Field(j.path, "name"), "\"" + j.name + "\" is already the name of a joint at step " + std::to_string(step));
+    }
+    Insert(j);
+  }
+
+  void Remove(const RSceneAction& a) {
+    const auto it = m_joints.find(a.joint.name);
+    if (it == m_joints.end()) {
+      // Where it went, when it was there once: the usual mistake is a joint its body took along.
+      const auto gone = m_gone.find(a.joint.name);
+      Fail(a.joint.path, "no joint is named \"" + a.joint.name + "\" at step " + std::to_string(a.step) +
+                             (gone == m_gone.end() ? "" : " (" + gone->second + ")"));
+    }
+    m_joints.erase(it);
+    m_gone[a.joint.name] = "removed by " + a.path + " at step " + std::to_string(a.step);
+  }
+
+  // Each name in m_ofBody[body] was a joint of the body once; it goes if it still is.
+  void RemoveBody(const RSceneAction& a) {
+    const auto of = m_ofBody.find(a.body);
+    if (of == m_ofBody.end()) return;
+    for (const std::string& name : of->second) {
+      const auto it = m_joints.find(name);
+      if (it == m_joints.end() || (it->second.first != a.body && it->second.second != a.body)) continue;
+      m_joints.erase(it);
+      m_gone[name] = "it went with body \"" + a.body + "\", removed by " + a.path + " at step " + std::to_string(a.step);
+    }
+    m_ofBody.erase(of);
+  }
+
+ private:
+  void Insert(const RSceneJoint& j) {
+    m_joints.emplace(j.name, std::make_pair(j.a, j.b));
+    m_gone.erase(j.name);
+    m_ofBody[j.a].push_back(j.name);
+    if (!j.b.empty()) m_ofBody[j.b].push_back(j.name);
+  }
+
+  std::unordered_map<std::string, std::pair<std::string, std::string>> m_joints;  // name -> a, b
+  std::unordered_map<std::string, std::vector<std::string>> m_ofBody;
+  std::unordered_map<std::string, std::string> m_gone;  // name -> how it went
+};
+
 }  // namespace
 
 void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits) {
@@ -65,11 +131,25 @@ void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits) {
                    [](const RSceneAction& x, const RSceneAction& y) { return x.step < y.step; });
 
   // Replay the names: every action names a body that exists at its step, an added body's
-  // name is new among them, and an added body's ignore list names bodies that exist.
-  std::set<std::string> live;
-  for (const RBodyDef& b : scene.bodies) live.insert(b.name);
+  // name is new among them, and an added body's ignore list names bodies that exist; an added
+  // joint's name is new among the joints, its bodies exist and can be joined, and a removed
+  // joint exists.
+  JointBodies live;
+  for (const RBodyDef& b : scene.bodies) live.emplace(b.name, Immovable(b));
+  LiveJoints joints(scene.joints);
   ShapeCache shapes;
   for (RSceneAction& a : scene.actions) {
+    if (a.verb == RSceneAction::Verb::kAddJoint) {
+      CheckJointBodies(a.joint, live, [&a](const std::string& name) {
+        return "no body is named \"" + name + "\" at step " + std::to_string(a.step);
+      });
+      joints.Add(a.joint, a.step);
+      continue;
+    }
+    if (a.verb == RSceneAction::Verb::kRemoveJoint) {
+      joints.Remove(a);
+      continue;
+    }
     if (a.verb == RSceneAction::Verb::kAdd) {
       const std::string field = Field(a.path, "add");
       if (live.count(a.body)) {
@@ -91,7 +171,7 @@ void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits) {
       } catch (const RBodyError& e) {
         Fail(Field(field, e.Field()), e.Problem());
       }
-      live.insert(a.body);
+      live.emplace(a.body, Immovable(a.def));
       continue;
     }
     const char* verb = a.verb == RSceneAction::Verb::kRemove     ? "remove"
@@ -100,7 +180,10 @@ void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits) {
     if (!live.count(a.body)) {
       Fail(Field(a.path, verb), "no body is named \"" + a.body + "\" at step " + std::to_string(a.step));
     }
-    if (a.verb == RSceneAction::Verb::kRemove) live.erase(a.body);
+    if (a.verb == RSceneAction::Verb::kRemove) {
+      live.erase(a.body);
+      joints.RemoveBody(a);
+    }
   }
 }
 

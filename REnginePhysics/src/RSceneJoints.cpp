@@ -1,6 +1,7 @@
-// A scene's joints (SCENE_FORMAT.md, "Joints"): read and checked at the door, every check
-// RBodies::AddJoint makes included, so that a scene that loads makes its joints and a bad one
-// is refused naming the JSON path rather than the engine's field.
+// A scene's joints (SCENE_FORMAT.md, "Joints") and the joint objects of its add_joint actions:
+// read and checked at the door, every check RBodies::AddJoint makes included, so that a scene
+// that loads makes its joints and a bad one is refused naming the JSON path rather than the
+// engine's field.
 #include "RSceneJson.h"
 
 #include <cmath>
@@ -27,17 +28,6 @@ const char* TypeName(RJointType t) {
   return "?";
 }
 
-// A joint needs a body it can move: RRigidBody's rule (static, kinematic, or dynamic with all
-// six axes locked, which it treats as kinematic).
-bool Immovable(const RBodyDef& def) {
-  const RBodyKind kind = def.kind.value_or(def.isStatic ? RBodyKind::kStatic : RBodyKind::kDynamic);
-  if (kind != RBodyKind::kDynamic) return true;
-  for (int k = 0; k < 3; ++k) {
-    if (!def.locks.linear[k] || !def.locks.angular[k]) return false;
-  }
-  return true;
-}
-
 // A world point RBodies accepts: bodies are limited to 1e12 m in size, so coordinates beyond
 // 1e15 m are not a place.
 RVec3 ReadPoint(const json& j, const std::string& path) {
@@ -56,14 +46,18 @@ RVec3 ReadAxis(const json& j, const std::string& path) {
   return (v / largest).normalized();
 }
 
-// Names of the scene's bodies, with what a joint needs to know of each.
-struct SceneBody {
-  std::size_t index;
-  bool immovable;
-};
+}  // namespace
 
-RSceneJoint ReadJoint(const json& j, const std::string& path,
-                      const std::unordered_map<std::string, SceneBody>& bodies) {
+bool Immovable(const RBodyDef& def) {
+  const RBodyKind kind = def.kind.value_or(def.isStatic ? RBodyKind::kStatic : RBodyKind::kDynamic);
+  if (kind != RBodyKind::kDynamic) return true;
+  for (int k = 0; k < 3; ++k) {
+    if (!def.locks.linear[k] || !def.locks.angular[k]) return false;
+  }
+  return true;
+}
+
+RSceneJoint ReadJoint(const json& j, const std::string& path, const char* when) {
   const Object joint(j, path,
                      {"name", "type", "a", "b", "anchor", "axis", "anchor_b", "limits", "motor",
                       "min_distance", "max_distance", "collide_connected"});
@@ -91,27 +85,10 @@ RSceneJoint ReadJoint(const json& j, const std::string& path,
     }
   }
 
-  // The bodies: scene bodies, two different ones (or one and the world), one of them movable.
-  auto body = [&](const char* field, std::string& name) -> const SceneBody& {
-    name = ReadName(joint.Required(field), joint.PathOf(field));
-    const auto it = bodies.find(name);
-    if (it == bodies.end()) {
-      Fail(joint.PathOf(field), "no body of the scene is named \"" + name +
-                                    "\" (a joint joins bodies the scene starts with)");
-    }
-    return it->second;
-  };
-  const SceneBody& a = body("a", out.a);
-  const SceneBody* b = joint.Has("b") ? &body("b", out.b) : nullptr;
-  if (b && b->index == a.index) {
-    Fail(joint.PathOf("b"), "must be another body than a (\"" + out.a + "\")");
-  }
-  if (a.immovable && (!b || b->immovable)) {
-    const std::string what =
-        b ? "\"" + out.a + "\" and \"" + out.b + "\" are both static or kinematic"
-          : "\"" + out.a + "\" is static or kinematic and b is the world";
-    Fail(joint.PathOf("a"), what + ": a joint needs a dynamic body");
-  }
+  // The bodies' names: whether they exist, and can be joined, depends on where the joint is
+  // made (CheckJointBodies).
+  out.a = ReadName(joint.Required("a"), joint.PathOf("a"));
+  if (joint.Has("b")) out.b = ReadName(joint.Required("b"), joint.PathOf("b"));
 
   def.anchor_W = ReadPoint(joint.Required("anchor"), joint.PathOf("anchor"));
   if (Axial(def.type)) def.axis_W = ReadAxis(joint.Required("axis"), joint.PathOf("axis"));
@@ -138,7 +115,7 @@ RSceneJoint ReadJoint(const json& j, const std::string& path,
     }
     def.minDistance = joint.Get("min_distance", RScalar(-1), ReadNonNegative);
     def.maxDistance = joint.Get("max_distance", RScalar(-1), ReadNonNegative);
-    // A range left out is the anchors' distance as the scene starts, as RJointDef's is.
+    // A range left out is the anchors' distance when the joint is made, as RJointDef's is.
     const RScalar now = ((def.hasAnchorB ? def.anchorB_W : def.anchor_W) - def.anchor_W).norm();
     const RScalar lo = def.minDistance < 0 ? now : def.minDistance;
     const RScalar hi = def.maxDistance < 0 ? now : def.maxDistance;
@@ -150,7 +127,7 @@ RSceneJoint ReadJoint(const json& j, const std::string& path,
     if (lo > hi) {
       if (def.minDistance < 0) {
         Fail(joint.PathOf("max_distance"),
-             "is less than the anchors' distance as the scene starts (" + text(now) +
+             "is less than the anchors' distance " + std::string(when) + " (" + text(now) +
                  " m), which min_distance is when left out" + Got(joint.Required("max_distance")));
       }
       Fail(joint.PathOf("min_distance"), "must not exceed max_distance (" + text(hi) + " m)" +
@@ -166,7 +143,24 @@ RSceneJoint ReadJoint(const json& j, const std::string& path,
   return out;
 }
 
-}  // namespace
+void CheckJointBodies(const RSceneJoint& joint, const JointBodies& bodies,
+                      const std::function<std::string(const std::string&)>& noBodyNamed) {
+  // Two different bodies (or one and the world) that exist here, one of them movable.
+  const auto find = [&](const std::string& name, const char* field) {
+    const auto it = bodies.find(name);
+    if (it == bodies.end()) Fail(Field(joint.path, field), noBodyNamed(name));
+    return it->second;
+  };
+  const bool aImmovable = find(joint.a, "a");
+  const bool bImmovable = joint.b.empty() || find(joint.b, "b");
+  if (joint.b == joint.a) Fail(Field(joint.path, "b"), "must be another body than a (\"" + joint.a + "\")");
+  if (aImmovable && bImmovable) {
+    const std::string what =
+        joint.b.empty() ? "\"" + joint.a + "\" is static or kinematic and b is the world"
+                        : "\"" + joint.a + "\" and \"" + joint.b + "\" are both static or kinematic";
+    Fail(Field(joint.path, "a"), what + ": a joint needs a dynamic body");
+  }
+}
 
 void ReadJoints(const json& j, RScene& scene, const RSceneLimits& limits) {
   if (!j.is_array()) Fail("joints", "must be an array of joints" + Got(j));
@@ -174,14 +168,18 @@ void ReadJoints(const json& j, RScene& scene, const RSceneLimits& limits) {
     Fail("joints", "has " + std::to_string(j.size()) + " joints; at most " +
                        std::to_string(limits.maxJoints) + " are allowed");
   }
-  std::unordered_map<std::string, SceneBody> bodies;
-  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-    bodies.emplace(scene.bodies[i].name, SceneBody{i, Immovable(scene.bodies[i])});
-  }
+  JointBodies bodies;
+  for (const RBodyDef& b : scene.bodies) bodies.emplace(b.name, Immovable(b));
+  const auto noBodyNamed = [](const std::string& name) {
+    return "no body of the scene is named \"" + name +
+           "\" (a joint joins bodies the scene starts with; add_joint actions join bodies that exist at "
+           "their step)";
+  };
   std::unordered_map<std::string, std::size_t> indexOf;
   scene.joints.reserve(j.size());
   for (std::size_t i = 0; i < j.size(); ++i) {
-    RSceneJoint joint = ReadJoint(j[i], Element("joints", i), bodies);
+    RSceneJoint joint = ReadJoint(j[i], Element("joints", i), "as the scene starts");
+    CheckJointBodies(joint, bodies, noBodyNamed);
     const auto [it, isNew] = indexOf.emplace(joint.name, i);
     if (!isNew) {
       Fail(Field(joint.path, "name"), "\"" + joint.name + "\" is already the name of " +

@@ -1,7 +1,8 @@
 // Private to REngine::Scene: reading a scene's JSON, value by value, each reader given the
 // value and its JSON path and failing with both (Invalid, turned into an RSceneError with
 // the file name at the API boundary). Used by RScene.cpp (the world and its bodies),
-// RSceneActions.cpp (what the game does between steps), RSceneRays.cpp and RSceneJoints.cpp.
+// RSceneActions.cpp (what the game does between steps), RSceneRays.cpp and RSceneJoints.cpp
+// (the scene's joints and the joints its actions add).
 #pragma once
 
 #include <REngineMath/RMath.h>
@@ -12,12 +13,14 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <initializer_list>
 #include <limits>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -158,6 +161,22 @@ void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
 // The scene's "joints" (RSceneJoints.cpp): read and checked against the scene's bodies
 // (scene.bodies must be read already), in file order.
 void ReadJoints(const json& j, RScene& scene, const RSceneLimits& limits);
+
+// A joint object (RSceneJoints.cpp), as in "joints" and in an add_joint action, at `path`:
+// every field read and checked as RBodies::AddJoint would, but for its bodies, whose names are
+// kept (a, b) for CheckJointBodies: which bodies exist depends on where the joint is made.
+// `when` completes the message of a max_distance below the anchors' distance ("as the scene
+// starts").
+RSceneJoint ReadJoint(const json& j, const std::string& path, const char* when);
+// The bodies a joint may name where it is made: name -> whether the body is immovable.
+using JointBodies = std::unordered_map<std::string, bool>;
+// RRigidBody's rule: static, kinematic, or dynamic with all six axes locked (which it treats
+// as kinematic). A joint needs a body that is not.
+bool Immovable(const RBodyDef& def);
+// Fails at joint.path's "a" or "b" with noBodyNamed(name) for a body not in `bodies`, and as
+// AddJoint refuses for the same body twice or two immovable ones.
+void CheckJointBodies(const RSceneJoint& joint, const JointBodies& bodies,
+                      const std::function<std::string(const std::string&)>& noBodyNamed);
 
 // Equal shapes share one prepared shape: a scene of a thousand equal boxes, or one that
 // spawns a thousand missiles, builds their hull once, and its bodies share one copy of it

@@ -3,7 +3,8 @@
 
 Each target's directory gets a few ordinary inputs and every reproducer of issue #11 that
 its encoding can express (see each fuzz_*.cpp for the encoding):
-  fuzz_scene: the format's example, small shared-style scenes (one with joints), a value nested 100k deep,
+  fuzz_scene: the format's example, small shared-style scenes (one with joints, one with joint actions and
+              one refused for an add_joint to a removed body), a value nested 100k deep,
               hull points of 1e300, a name with a NUL and one with an escape sequence;
   fuzz_hull:  a cube, points of 1e300, a needle (three points within 1e-9 m, one 10 m off);
   fuzz_narrowphase: every mode, and the 26 m box touching the 4 km box (exact doubles);
@@ -80,6 +81,31 @@ write("fuzz_scene", "hull_1e300.json", json.dumps({"bodies": [{"name": "big", "s
 write("fuzz_scene", "steps_2e63.json", '{"steps": 9223372036854775807, "bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 1}}]}')
 write("fuzz_scene", "name_nul.json", '{"bodies": [{"name": "a\\u0000b", "shape": {"type": "sphere", "radius": 1}}]}')
 write("fuzz_scene", "name_escape.json", '{"bodies": [{"name": "\\u001b[2J", "shape": {"type": "sphere", "radius": 1}}]}')
+# Joint actions: a ball caught by an add_joint, a rope cut by remove_joint, a joint added to a
+# body an action adds, a name taken again after its joint went with its body.
+write("fuzz_scene", "joint_actions.json", json.dumps({"gravity": [0, -9.81, 0], "steps": 12, "bodies": [
+    {"name": "hook", "shape": {"type": "box", "half_extents": [0.1, 0.1, 0.1]}, "static": True, "position": [0, 5, 0]},
+    {"name": "bob", "shape": {"type": "sphere", "radius": 0.2}, "position": [1, 4, 0], "velocity": [0, 1, 0]},
+    {"name": "weight", "shape": {"type": "sphere", "radius": 0.1}, "position": [3, 3, 0]}],
+    "joints": [{"name": "rope", "type": "distance", "a": "weight", "anchor": [3, 3.1, 0], "anchor_b": [3, 5, 0],
+                "min_distance": 0}],
+    "actions": [
+        {"step": 2, "add_joint": {"name": "catch", "type": "ball", "a": "bob", "b": "hook", "anchor": [0, 5, 0]}},
+        {"step": 4, "remove_joint": "rope"},
+        {"step": 5, "add": {"name": "car", "shape": {"type": "box", "half_extents": [0.5, 0.2, 0.3]},
+                            "position": [0, 1, 0]}},
+        {"step": 5, "add_joint": {"name": "rail", "type": "slider", "a": "car", "anchor": [0, 1, 0],
+                                  "axis": [1, 0, 0], "limits": [-1, 1], "motor": {"speed": 1, "max_force": 3}}},
+        {"step": 7, "remove": "car"},
+        {"step": 8, "add_joint": {"name": "rail", "type": "hinge", "a": "weight", "b": "bob", "anchor": [2, 3, 0],
+                                  "axis": [0, 0, 1]}},
+        {"step": 9, "remove_joint": "catch"}]}))
+# An add_joint refused: its body went at an earlier step.
+write("fuzz_scene", "joint_action_gone_body.json", json.dumps({"steps": 4, "bodies": [
+    {"name": "a", "shape": {"type": "sphere", "radius": 1}},
+    {"name": "b", "shape": {"type": "sphere", "radius": 1}, "position": [3, 0, 0]}],
+    "actions": [{"step": 1, "remove": "b"},
+                {"step": 2, "add_joint": {"name": "j", "type": "fixed", "a": "a", "b": "b", "anchor": [1.5, 0, 0]}}]}))
 
 # --- fuzz_hull: mode byte, count byte, then points
 write("fuzz_hull", "cube", bytes([0, 8]) + b"".join(raw(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)))

@@ -1,7 +1,11 @@
 // rengine-sim run through the shell, for the CLI tests: its exit code and output, the
-// trajectory CSV parsed, and a scratch directory per test (the Cli fixture). Shared by
-// cli_test.cpp and body_kinds_cli_test.cpp. Needs RENGINE_SIM (the binary) at build time.
+// trajectory CSV parsed, and a scratch directory per test (the Cli fixture); numbers and
+// vectors written into scene JSON exactly, a row's state as vectors, the run's hash= and the
+// CSV's lines from a step on. Shared by the cli_tests suites. Needs RENGINE_SIM (the binary)
+// at build time.
 #pragma once
+
+#include <REngineMath/RMath.h>
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -9,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -75,6 +80,35 @@ inline std::vector<Row> ParseCsv(const std::string& text) {
   return rows;
 }
 
+// A row's state, world frame: the shape frame's position (m), the centre of mass's velocity
+// (m/s), the angular velocity (rad/s).
+inline RVec3 Position(const Row& r) { return RVec3(r.state[0], r.state[1], r.state[2]); }
+inline RVec3 Velocity(const Row& r) { return RVec3(r.state[7], r.state[8], r.state[9]); }
+inline RVec3 AngularVelocity(const Row& r) { return RVec3(r.state[10], r.state[11], r.state[12]); }
+
+// The lines of a CSV whose first field (the step) is at least `from`, header excluded: rows
+// compared as text, bit for bit.
+inline std::vector<std::string> RowsFrom(const std::string& csv, std::uint64_t from) {
+  std::vector<std::string> rows;
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    if (std::stoull(line.substr(0, line.find(','))) >= from) rows.push_back(line);
+  }
+  return rows;
+}
+
+// A number for scene JSON that reads back as the same double; a vector of three.
+inline std::string Number(double x) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.17g", x);
+  return s;
+}
+inline std::string Vec(const RVec3& v) {
+  return "[" + Number(v.x()) + ", " + Number(v.y()) + ", " + Number(v.z()) + "]";
+}
+
 inline std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
 
 // Each test gets its own scratch directory, removed afterwards.
@@ -108,6 +142,13 @@ class Cli : public testing::Test {
 
   fs::path m_dir;
 };
+
+// "hash=<16 hex digits>" from a run's summary line, or what the line was instead.
+inline std::string Hash(const Result& r) {
+  const std::string line = r.LastErrLine();
+  const std::size_t at = line.find("hash=");
+  return at == std::string::npos ? "(no hash: " + line + ")" : line.substr(at);
+}
 
 // One body per entry; `fields` are the body's fields after its name.
 inline std::string SceneOf(const std::vector<std::pair<std::string, std::string>>& bodies,

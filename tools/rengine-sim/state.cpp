@@ -106,6 +106,10 @@ std::uint64_t LoadSceneState(const std::string& path, const RScene& scene, std::
   if (!same) {
     throw StateError{path + ": its bodies are not the scene's bodies at step " + std::to_string(info.stepCount)};
   }
+  // The joints likewise: those the scene's joints and actions leave at that step, by name.
+  if (!world.HoldsExactlyItsJoints()) {
+    throw StateError{path + ": its joints are not the scene's joints at step " + std::to_string(info.stepCount)};
+  }
   return info.stepCount;
 }
 

@@ -37,15 +37,32 @@ class RSceneError : public std::runtime_error {
   std::string m_file, m_jsonPath, m_problem;
 };
 
-// What the game does between steps (SCENE_FORMAT.md, "Actions"), so that its spawning and
-// despawning can be replayed from a file: applied when `step` steps have run, before the
-// next one, in list order among actions of the same step.
+// A joint of the scene (SCENE_FORMAT.md, "Joints"), added by RSceneWorld after the scene's
+// bodies and before the actions of step 0, or by an add_joint action at its step. Its anchors
+// and axis are world values as the bodies stand when it is added (as the scene starts, or at
+// the action's step); every check RBodies::AddJoint makes is made at load, so a scene that
+// loads makes its joints.
+struct RSceneJoint {
+  std::string name;  // unique among the joints that exist when it is added
+  std::string path;  // "joints[3]" or "actions[5].add_joint", for messages
+  // The bodies it joins, by name: for the scene's joints, bodies the scene starts with; for an
+  // add_joint, bodies that exist at its step. b empty: the world.
+  std::string a, b;
+  // Everything but the handles (def.a and def.b are left invalid: RSceneWorld fills them).
+  // def.axis_W is the file's axis made unit length; a distance joint's minDistance or
+  // maxDistance is -1 where the file leaves it out (the anchors' distance when it is added).
+  RJointDef def;
+};
+
+// What the game does between steps (SCENE_FORMAT.md, "Actions", and this project's joint
+// verbs), so that its spawning and despawning can be replayed from a file: applied when
+// `step` steps have run, before the next one, in list order among actions of the same step.
 struct RSceneAction {
-  enum class Verb : std::uint8_t { kAdd, kRemove, kImpulse, kSetVelocity };
+  enum class Verb : std::uint8_t { kAdd, kRemove, kImpulse, kSetVelocity, kAddJoint, kRemoveJoint };
   std::uint64_t step = 0;
   Verb verb = Verb::kAdd;
   std::string path;              // "actions[3]", for messages
-  std::string body;              // the body acted on (kAdd: the new body's name)
+  std::string body;              // the body acted on (kAdd: the new body's name); joint verbs: ""
   // kAdd: the new body (its shape prepared at load, shared by every add of an equal shape,
   // so spawning builds no hull), and the names of bodies it never collides with.
   RBodyDef def;
@@ -55,6 +72,9 @@ struct RSceneAction {
   std::optional<RVec3> point_W;
   // kSetVelocity: either may be absent (left as it is).
   std::optional<RVec3> velocity_W, angularVelocity_W;
+  // kAddJoint: the joint (this project's addition to the format; see the README's
+  // "rengine-sim"). kRemoveJoint: joint.name alone, a joint that exists at the step.
+  RSceneJoint joint;
 };
 
 // A ray the scene asks after a step (SCENE_FORMAT.md, "Rays"), answered by rengine-sim into
@@ -70,21 +90,6 @@ struct RSceneRay {
   bool all = false;                   // every body hit, nearest first; false: the nearest
 };
 
-// A joint of the scene (SCENE_FORMAT.md, "Joints"), added by RSceneWorld after the scene's
-// bodies and before the actions of step 0. Its anchors and axis are world values as the
-// scene starts; every check RBodies::AddJoint makes is made at load (ReadJoints), so a scene
-// that loads makes its joints.
-struct RSceneJoint {
-  std::string name;  // unique among the scene's joints
-  std::string path;  // "joints[3]", for messages
-  // The bodies it joins, by name: scene bodies (not bodies actions add). b empty: the world.
-  std::string a, b;
-  // Everything but the handles (def.a and def.b are left invalid: RSceneWorld fills them).
-  // def.axis_W is the file's axis made unit length; a distance joint's minDistance or
-  // maxDistance is -1 where the file leaves it out (the anchors' starting distance).
-  RJointDef def;
-};
-
 struct RScene {
   RWorldSettings settings;
   RScalar dt = RScalar(1) / 60;  // s
@@ -93,7 +98,7 @@ struct RScene {
   // Per body: indices of the bodies it never collides with; symmetric, sorted, unique.
   std::vector<std::vector<std::size_t>> ignore;
   // Sorted by step (stably: list order within a step). Every name they use is checked at
-  // load against the bodies that exist at that step.
+  // load against the bodies and joints that exist at that step.
   std::vector<RSceneAction> actions;
   // Sorted by step (stably: list order within a step); names unique among a step's rays.
   std::vector<RSceneRay> rays;
@@ -124,8 +129,9 @@ struct RSceneLimits {
   // Per mesh, vertices and triangles each: the tree builds in n log n, and a triangle costs
   // about 100 bytes prepared.
   std::uint64_t maxMeshTriangles = 4000000;
-  // Entries of "joints": an island's joints are solved as one block each pass. (New limits
-  // go last, so the fields above keep their places in aggregate initialisation.)
+  // Joints in the scene plus those its actions add: an island's joints are solved as one
+  // block each pass. (New limits go last, so the fields above keep their places in aggregate
+  // initialisation.)
   std::uint64_t maxJoints = 1000000;
 };
 
@@ -137,8 +143,9 @@ RScene ParseScene(const std::string& jsonText, const std::string& fileNameForMes
                   const RSceneLimits& limits = {});
 
 // Checks a scene's size against the limits (ParseScene does; call it again after changing
-// steps or bodies). Throws RSceneError naming "steps" or "bodies", or a ray asked after the
-// last step (it would never be answered: "rays[3].step").
+// steps or bodies). Throws RSceneError naming "steps", "bodies" or "joints" ("actions" when
+// the bodies or joints the actions add go beyond the limit), or a ray asked after the last
+// step (it would never be answered: "rays[3].step").
 void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits);
 
 // The scene's bodies, in scene order. A definition that parses but has no valid mass
@@ -153,8 +160,9 @@ std::vector<RRigidBody> CreateBodies(const RScene& scene);
 class RSceneWorld {
  public:
   // Makes the scene's bodies, then its joints; throws RSceneError as CreateBodies does, and
-  // for a joint RBodies::AddJoint refuses (an RJointError, named "joints[i].<field>"). The
-  // scene must outlive the world. A body an action removes takes its joints with it.
+  // for a joint RBodies::AddJoint refuses (an RJointError, named "joints[i].<field>"; an
+  // add_joint's "actions[i].add_joint.<field>" when it is applied). The scene must outlive the
+  // world. A body an action removes takes its joints with it.
   explicit RSceneWorld(const RScene& scene);
   // Applies the actions of step `stepsRun` (0 before the first step, then k after the k-th):
   // each must come at or after the last step applied. Throws RSceneError naming the action
@@ -165,13 +173,27 @@ class RSceneWorld {
   const std::vector<RBodyHandle>& Live() const { return m_live; }
   // The live body of that name, or an invalid handle.
   RBodyHandle Find(const std::string& name) const;
+  // The joint of that name (the scene's, or an add_joint's) while it exists, or an invalid
+  // handle.
+  RJointHandle FindJoint(const std::string& name) const;
+  // Whether the bodies hold exactly the joints named so far: true unless something other than
+  // the scene's joints and actions added or removed joints (a state loaded from elsewhere).
+  bool HoldsExactlyItsJoints() const;
 
  private:
+  // A joint of the scene or an add_joint; `when` ends a refusal's message.
+  void AddJoint(const RSceneJoint& j, const std::string& when);
+  void RemoveBody(RBodyHandle h);
+
   const RScene* m_scene;
   RBodies m_bodies;
   std::vector<RBodyHandle> m_live;
   std::unordered_map<std::string, RBodyHandle> m_byName;
   std::unordered_map<std::string, std::uint32_t> m_idByName;
+  std::unordered_map<std::string, RJointHandle> m_jointByName;
+  // Per joint slot (RJointHandle::index), the name of the joint in it: a removed body's
+  // joints are forgotten by name.
+  std::vector<std::string> m_jointNameOfSlot;
   std::size_t m_nextAction = 0;
   std::uint32_t m_nextId = 0;
 };
