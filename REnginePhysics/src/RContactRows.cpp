@@ -82,7 +82,6 @@ void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std
   r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
   r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
   r.miss = false;
-  r.bounced = false, r.bounce = 0;
 }
 
 // Asks for what BuildContactRows reads of contact ci: the contact and its pair's warm starts

@@ -152,43 +152,18 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
     r.frictionImpulse += d1 * dir[1].d + d2 * dir[2].d;
     r.point_W = bodies[r.a].m_x_W + sa.moved + rA, r.normal_W = dir[0].d;
   };
-  // A row that has bounced, in an island with joints: solved again towards its bounce at the
-  // point and normal it bounced at (the joints' pass moved the bodies' velocities since),
-  // its normal impulse never pulling. True when it moved.
-  auto bounceAgain = [&](RImpactRow& r, RSolverBody* pa, RSolverBody* pb) {
-    RSolverBody copyA, copyB;
-    if (pa->invM == 0) copyA = *pa, pa = &copyA;
-    if (pb->invM == 0) copyB = *pb, pb = &copyB;
-    RDirection dir[3];
-    RVec3 t1, t2;
-    OrthonormalBasis(r.hitN, t1, t2);
-    SetDirection(dir[0], r.hitN, r.hitA, r.hitB, *pa, *pb);
-    SetDirection(dir[1], t1, r.hitA, r.hitB, *pa, *pb);
-    SetDirection(dir[2], t2, r.hitA, r.hitB, *pa, *pb);
-    if (!(dir[0].k > 0)) return false;
-    const RScalar miss = r.bounce - Speed(dir[0], pa->v, pa->w, pb->v, pb->w);
-    if (!(std::abs(miss) > kImpactTolerance * std::max(RScalar(1), std::abs(r.bounce)))) return false;
-    apply(r, dir, r.hitA, r.hitB, std::max(-r.lambdaN, miss / dir[0].k), *pa, *pb);
-    return true;
-  };
   bool anyImpact = false;
-  // With joints (RJointImpacts.cpp): the joints hold through the impacts, solved after
-  // each pass; a row that has bounced is solved again towards its bounce.
-  // (Their rows hold the relative velocities of before the impacts: begun before them.)
+  // With joints (RJointImpacts.cpp): each impact bounces through the joints' reaction
+  // (their rows hold the relative velocities of before the impacts: begun before them).
   const bool joints = count > 0 && IslandHasJoints(island);
   if (joints) BeginImpactJoints(island, sc);
   const int passes = std::max(1, m_settings.solverIterations);
   for (int pass = 0; pass < passes && count > 0; ++pass) {
     bool any = false;
-    RScalar latest = 0;  // the pass's latest impact, s
     for (std::size_t ii = 0; ii < count; ++ii) {
       RImpactRow& r = m_impacts[first + ((pass % 2 == 0) ? ii : count - 1 - ii)];
       RSolverBody* pa = &m_solverBodies[r.a];
       RSolverBody* pb = &m_solverBodies[r.b];
-      if (r.bounced) {
-        if (bounceAgain(r, pa, pb)) any = true;
-        continue;
-      }
       const RScalar vn0 = Speed(r.normal, pa->v, pa->w, pb->v, pb->w);
       if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
       // A static or kinematic body on a copy, at the start of its path (see above).
@@ -218,12 +193,26 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
       const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
       if (vn >= 0 || !(dir[0].k > 0)) continue;  // (no effective mass: no impulse to find)
       any = anyImpact = true;
-      latest = std::max(latest, t);
-      if (joints) r.bounced = true, r.bounce = -r.restitution * vn, r.hitA = rA, r.hitB = rB, r.hitN = dir[0].d;
-      apply(r, dir, rA, rB, -(1 + r.restitution) * vn / dir[0].k, sa, sb);
+      RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
+      if (joints) {
+        // The joints react within the impact: the approach changes per unit impulse by less
+        // than the free bodies' k (a door turns about its hinge). That rate, measured by
+        // the free bodies' impulse and the joints' answer to it (their response is linear),
+        // gives the impulse that turns vn into -e vn through the joints; the rest of it and
+        // friction, and the joints' answer again.
+        const RScalar probe = dn;
+        Push(dir[0], probe, sa, sb, sa.v, sa.w, sb.v, sb.w);
+        r.lambdaN += probe;
+        const RVec3 J = probe * dir[0].d;
+        r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
+        ImpactJointsPass(t, sc);
+        const RScalar k = (Speed(dir[0], sa.v, sa.w, sb.v, sb.w) - vn) / probe;
+        dn = k > 0 ? std::max(-(1 + r.restitution) * vn / k - probe, -r.lambdaN) : 0;
+      }
+      apply(r, dir, rA, rB, dn, sa, sb);
+      if (joints) ImpactJointsPass(t, sc);
     }
     if (!any) break;
-    if (joints) ImpactJointsPass(latest, sc);
   }
   for (std::size_t k = 0; k < bodyCount; ++k) {
     RSolverBody& s = m_solverBodies[islandBodies[k]];

@@ -9,11 +9,12 @@
 // How. The joints act in the impact as impulses too: their equality rows (a copy of the
 // step's rows, with impulses of their own) hold the joined bodies' relative velocities at
 // what they were before the impacts, solved as the contact phase solves them (the exact
-// block), after each pass over the impact rows. In a jointed island an impact row, once it
-// has bounced, keeps its target (-e times the approach speed it met) and is solved again in
-// later passes towards it, its impulse never pulling: block Gauss-Seidel between the
-// impacts and the joints, which ends on the joints (they hold exactly after the phase) and
-// on each impact's restitution to the passes' tolerance. The joints' impulses are the
+// block). Each impact is one bounce, as in an island without joints (so that a cradle of
+// pendulums passes the impulse down the row, the striker stopping and the last ball leaving,
+// instead of sharing it out as a block): its impulse turns the approach speed vn into
+// -e vn with the joints' reaction included. That reaction is linear in the impulse, so its
+// rate is measured by applying the free bodies' impulse and solving the joints; the rest of
+// the impulse and friction follow, and the joints again. The joints' impulses are the
 // bodies' like any other (reported with the impacts'), and the joints' end-of-step
 // prediction is made again from the velocities after the impacts.
 //
@@ -45,9 +46,9 @@ void RWorldStep::BeginImpactJoints(std::size_t island, RIslandScratch& sc) {
   BeginJointBlocks(sc.impactRows.data(), count, sc);
 }
 
-// One pass of the joints at time t of the step: the island's joint bodies moved along their
-// paths up to t first (the joints' impulses act at the impacts' instant), as the impact
-// phase moves a body it hits.
+// The joints' answer to an impact at time t of the step: the island's joint bodies moved
+// along their paths up to t first (the joints' impulses act at the impact's instant), as the
+// impact phase moves a body it hits.
 void RWorldStep::ImpactJointsPass(RScalar t, RIslandScratch& sc) {
   for (std::uint32_t i : sc.jointBodies) {
     RSolverBody& s = m_solverBodies[i];

@@ -321,11 +321,6 @@ class RWorldStep {
     // events: where a pair that met within the step touched).
     RVec3 point_W, normal_W;
     bool miss;                 // found, along the motion, not to meet within the step
-    // In an island with joints (RJointImpacts.cpp): whether it has bounced, and the normal
-    // speed it bounces to (-e vn, m/s) at the arms and normal it bounced with, world.
-    bool bounced;
-    RScalar bounce;
-    RVec3 hitA, hitB, hitN;
   };
   // Working state of a body during the solve: velocities that include every pending change.
   struct RSolverBody {
@@ -477,12 +472,9 @@ class RWorldStep {
   void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
   // An island's joints in its impacts (RJointImpacts.cpp): their equality rows hold the
   // joined bodies' relative velocities through the impacts (sc.impactRows, a copy of the
-  // rows with impulses of their own), solved after each pass over the impact rows; then the
+  // rows with impulses of their own), solved with each impact (at its time t); then the
   // impulses reported and the joints' prediction made again from the velocities after.
   void BeginImpactJoints(std::size_t island, RIslandScratch& sc);
-  // How close to its bounce a row in a jointed island is taken to be there, relative to the
-  // bounce speed (or 1 m/s).
-  static constexpr RScalar kImpactTolerance = 1e-9;
   void ImpactJointsPass(RScalar t, RIslandScratch& sc);
   void EndImpactJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc, bool impacts);
   void ShiftJointArms(RJointRow* rows, std::size_t count, RScalar dt);
