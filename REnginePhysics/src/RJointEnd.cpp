@@ -5,6 +5,7 @@
 
 #include "RJointRows.h"
 #include "RJointSystem.h"
+#include "RSolverRows.h"
 
 #include <REngineMath/RQuaternion.h>
 
@@ -197,6 +198,38 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
     sc.endRows.push_back(r);
     sc.endContacts.push_back(i);
   }
+  // Their manifolds' friction, at the patch (the manifold's centroid, its tangents): what
+  // the normal impulses of the step leave of the friction cone, each way. Without it the
+  // joints' projection slid a chain lying on the ground by 1 cm/s at the end of every step,
+  // and it never slept.
+  const std::size_t normalRows = sc.endRows.size();
+  sc.endPatches.clear();
+  for (std::size_t e = 0; e < sc.endContacts.size(); ++e) {
+    const RContactRow& c = m_rows[sc.endContacts[e]];
+    if (!sc.endPatches.empty() && sc.endPatches.back() == c.block) continue;
+    const RBlock& blk = m_blocks[c.block];
+    if (!(blk.friction > 0)) continue;
+    RScalar normal = 0;
+    for (int k = 0; k < blk.count; ++k) normal += m_rows[blk.first + k].lambdaN + m_rows[blk.first + k].lambdaE;
+    const RScalar used = std::hypot(blk.lambdaT1[0] + blk.lambdaT1[1], blk.lambdaT2[0] + blk.lambdaT2[1]);
+    const RScalar left = blk.friction * normal - used;
+    if (!(left > 0)) continue;
+    const RJointRow& n = sc.endRows[std::size_t(nj) * kRows + e];
+    for (int t = 0; t < 2; ++t) {
+      RJointRow r;
+      r.a = n.a, r.b = n.b;
+      r.dir = blk.t[t];
+      const RIslandScratch::REndBody& ea = sc.endBodies[r.a];
+      const RIslandScratch::REndBody& eb = sc.endBodies[r.b];
+      r.dir.iA = ea.invI * r.dir.rAxd, r.dir.iB = eb.invI * r.dir.rBxd;
+      r.dir.k = solver::LinearCoupling(ea, r.dir.d, r.dir.d, 1) + solver::LinearCoupling(eb, r.dir.d, r.dir.d, 1) +
+                r.dir.rAxd.dot(r.dir.iA) + r.dir.rBxd.dot(r.dir.iB);
+      // (A motor's kind: bounded both ways, in the exact block while within its bounds.)
+      r.kind = Kind::kMotor, r.target = blk.targetT[1][t], r.lo = -left, r.hi = left, r.lambda = 0;
+      sc.endRows.push_back(r);
+    }
+    sc.endPatches.push_back(c.block);
+  }
   if (sc.endMark.size() < sc.endBodies.size()) sc.endMark.resize(sc.endBodies.size(), kNone);
   BeginJointBlocks(sc.endRows.data(), sc.endRows.size(), sc);
   const int iterations = std::max(1, m_settings.solverIterations);
@@ -207,6 +240,22 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
     }
   }
   ClearJointMarks(sc);
+  // The patches' friction, as the manifolds' end friction (at the centroid, moved with the
+  // lighter body as ReportIsland moves a contact's end impulse), and in their report.
+  for (std::size_t p = 0; p < sc.endPatches.size(); ++p) {
+    const RBlock& blk = m_blocks[sc.endPatches[p]];
+    const RContactRow& c = m_rows[blk.first];
+    RVec3 J = RVec3::Zero();
+    for (int t = 0; t < 2; ++t) J += sc.endRows[normalRows + 2 * p + t].lambda * blk.t[t].d;
+    if (J.isZero(0)) continue;
+    RSolverBody& sa = m_solverBodies[c.a];
+    RSolverBody& sb = m_solverBodies[c.b];
+    const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
+    const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
+    if (!bodies[c.a].Immovable()) sa.endLinear -= J, sa.endAngular -= (blk.rA + shift).cross(J);
+    if (!bodies[c.b].Immovable()) sb.endLinear += J, sb.endAngular += (blk.rB + shift).cross(J);
+    m_contacts[c.contact].frictionImpulse_W += J;
+  }
   // What the contacts gave back or added, as their end impulses (at the point ReportIsland
   // puts a contact's end impulse: moved with the lighter body), and in their report.
   for (std::size_t k = 0; k < sc.endContacts.size(); ++k) {

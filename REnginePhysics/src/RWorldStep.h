@@ -550,6 +550,7 @@ class RWorldStep {
     std::vector<RJointRow> endRows;
     std::vector<RJointRow> impactRows;  // the joints' rows in the impact phase
     std::vector<std::uint32_t> endContacts;  // the contact rows solved with the joints at the end
+    std::vector<std::uint32_t> endPatches;   // their manifolds (blocks) whose friction is solved with them
     // Per row: its error at the start of the step, and as predicted at the end.
     std::vector<RScalar> startC, jointC;
     struct REndBody {
