@@ -1,0 +1,260 @@
+// rengine-spacegame's logic (#17), without a display: what the game does, asserted against
+// the physics. A missile leaves through its own launcher's hull without touching it, and
+// goes off on its first contact with anything else; a laser gives the rock it names exactly
+// the beam's impulse (linear and angular); the dock's weld holds the ship on the spinning
+// station; debris comes to rest in the cargo bay and sleeps; the autoplay repeats to the bit;
+// and all of it 1e6 m from the origin.
+#include "Autoplay.h"
+#include "Game.h"
+#include "StateHash.h"
+
+#include <REnginePhysics/RContactEvents.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace spacegame;
+using namespace REngine;
+
+namespace {
+
+bool Touches(const RContactEvent& e, RBodyHandle a, RBodyHandle b) {
+  return (e.handleA == a && e.handleB == b) || (e.handleA == b && e.handleB == a);
+}
+
+// A rock of a size class placed `ahead` m along the ship's nose line, `side` m off it
+// (along the ship's x), at rest.
+RBodyHandle RockAhead(SpaceWorld& world, int size, double ahead, double side = 0) {
+  const RRigidBody& ship = world.Bodies()[world.Ship()];
+  const RQuat q = ship.ShapeOrientation_WS();
+  const RVec3 p = ShipNose_W(world) + ahead * (q * RVec3::UnitZ()) + side * (q * RVec3::UnitX());
+  return world.AddAsteroid(size, 0, p, RQuat::Identity(), RVec3::Zero(), RVec3::Zero());
+}
+
+}  // namespace
+
+TEST(SpaceGame, TheWorldLivesNearAMillionMetres) {
+  SpaceWorld world;
+  for (const RRigidBody& b : world.Bodies()) EXPECT_GT(b.Position_W().norm(), 1e6);
+  EXPECT_GT(world.Bodies().EnabledCount(), std::size_t(40));
+}
+
+// The missile starts at the ship's centre, deep inside its hull, and drifts out at 1 m/s:
+// for 2 s no event and no contact names the pair, and the missile does not go off. The same
+// capsule put there without the ignore (the control) reports a begin in the first step.
+TEST(SpaceGame, AMissileSpawnedInsideItsLauncherNeverTouchesIt) {
+  SpaceWorld world;
+  MissileTuning slow;
+  slow.launchSpeed = 1, slow.motorForce = 0;
+  Missiles missiles(world, 2, 8, slow);
+  const RBodyHandle ship = world.Ship();
+  const RVec3 centre = world.Bodies()[ship].Position_W();
+  const RBodyHandle missile = missiles.Fire(ship, centre, ShipForward_W(world));
+  ASSERT_TRUE(missile.IsValid());
+
+  RBodyDef control;
+  control.prepared = world.Shapes().missile;
+  control.mass = 200;
+  control.responds = false;
+  control.gravityScale = 0;
+  control.position_W = centre + RVec3(0, 0.2, 0);
+  control.id = world.NextId();
+  control.ignore = {world.Bodies()[missile].Id()};  // it is there to touch the ship alone
+  const RBodyHandle unguarded = world.Bodies().Add(control);
+
+  int missileEvents = 0, controlEvents = 0, missileContacts = 0;
+  for (int s = 0; s < 120; ++s) {
+    missiles.BeforeStep();
+    world.Step();
+    for (const RContactEvent& e : world.Integrator().Events()) {
+      missileEvents += Touches(e, missile, ship);
+      controlEvents += Touches(e, unguarded, ship);
+    }
+    for (const RContact& c : world.Integrator().Contacts())
+      missileContacts += (c.handleA == missile && c.handleB == ship) || (c.handleA == ship && c.handleB == missile);
+    missiles.AfterStep();
+    if (s == 0) world.Bodies().Remove(unguarded);  // the control has made its point
+  }
+  EXPECT_GT(controlEvents, 0) << "the control capsule inside the hull must report a contact";
+  EXPECT_EQ(missileEvents, 0);
+  EXPECT_EQ(missileContacts, 0);
+  EXPECT_EQ(missiles.ExplosionCount(), 0u);
+  EXPECT_TRUE(world.Bodies().IsEnabled(missile));
+  // It did leave the hull: 2 s at 1 m/s, beyond the hull's nose from the centre.
+  EXPECT_GT((world.Bodies()[missile].Position_W() - centre).norm(), 1.9);
+}
+
+// Fired from inside the ship at a rock 60 m ahead: it goes off in the very step whose events
+// hold its first begin with the rock, and with nothing before; it is parked, the rock is
+// pushed away from the blast, and debris flies out from it.
+TEST(SpaceGame, AMissileExplodesOnItsFirstContactWithSomethingElse) {
+  SpaceWorld world;
+  Missiles missiles(world);
+  const RBodyHandle rock = RockAhead(world, 1, 60);
+  const RVec3 fwd = ShipForward_W(world);
+  const RBodyHandle missile = missiles.Fire(world.Ship(), ShipNose_W(world) - 2 * fwd, fwd);
+  ASSERT_TRUE(missile.IsValid());
+  const RVec3 rockV0 = world.Bodies()[rock].Velocity_W();
+
+  std::uint64_t firstBegin = 0;
+  for (int s = 0; s < 300 && missiles.ExplosionCount() == 0; ++s) {
+    missiles.BeforeStep();
+    world.Step();
+    for (const RContactEvent& e : world.Integrator().Events()) {
+      const bool withMissile = e.handleA == missile || e.handleB == missile;
+      if (withMissile && e.type == RContactEventType::kBegin && firstBegin == 0) {
+        firstBegin = world.Integrator().StepCount();
+        EXPECT_TRUE(Touches(e, missile, rock)) << "its first contact is the rock";
+      }
+    }
+    missiles.AfterStep();
+  }
+  ASSERT_EQ(missiles.ExplosionCount(), 1u);
+  const Explosion& x = missiles.LastExplosions().at(0);
+  EXPECT_EQ(x.step, firstBegin);
+  EXPECT_EQ(x.hit, rock);
+  EXPECT_FALSE(world.Bodies().IsEnabled(missile));
+  // The blast reaches the rock in the next step: away from the point it went off at.
+  world.Step();
+  const RRigidBody& r = world.Bodies()[rock];
+  const RVec3 away = (r.Position_W() - x.point_W).normalized();
+  EXPECT_GT((r.Velocity_W() - rockV0).dot(away), 0.1);
+  int debris = 0;
+  for (const RRigidBody& b : world.Bodies())
+    debris += RoleOf(b) == Role::kDebris && (b.Position_W() - x.point_W).norm() < 30;
+  EXPECT_EQ(debris, missiles.Tuning().debrisPerBlast);
+}
+
+// The beam plays on a small rock 100 m ahead, 1.5 m off its centre: after the step the rock's
+// velocity has changed by J/m and its angular momentum about its centre by (p - x) x J, to
+// rounding (nothing else touches it, and free motion keeps both).
+TEST(SpaceGame, ALaserHitGivesTheRockItNamesTheBeamsImpulse) {
+  SpaceWorld world;
+  Lasers lasers(world);
+  const RBodyHandle rock = RockAhead(world, 0, 100, 1.5);
+  const RRigidBody& r = world.Bodies()[rock];
+  const RVec3 x0 = r.Position_W(), v0 = r.Velocity_W(), L0 = r.AngularMomentum_W();
+
+  const std::optional<LaserHit> hit = lasers.FireFromShip();
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(hit->body, rock);
+  const RVec3 J = hit->impulse_W;
+  EXPECT_NEAR(J.norm(), lasers.Tuning().force * world.StepDt(), 1e-9);
+  world.Step();
+
+  const RVec3 dv = r.Velocity_W() - v0, dvWant = J / r.Mass();
+  const RVec3 dL = r.AngularMomentum_W() - L0, dLWant = (hit->point_W - x0).cross(J);
+  std::printf("laser: |dv| %.6e m/s, error %.2e; |dL| %.6e kg m^2/s, error %.2e\n", dv.norm(),
+              (dv - dvWant).norm(), dL.norm(), (dL - dLWant).norm());
+  EXPECT_LT((dv - dvWant).norm(), 1e-12 * dvWant.norm());
+  EXPECT_GT(dLWant.norm(), 0.5 * J.norm());  // a real lever arm
+  EXPECT_LT((dL - dLWant).norm(), 1e-9 * dLWant.norm());
+}
+
+// A big rock under the beam long enough splits into two of the next size down.
+TEST(SpaceGame, ALaserSplitsABigRock) {
+  SpaceWorld world;
+  Lasers lasers(world);
+  const RBodyHandle rock = RockAhead(world, 2, 120);
+  const std::size_t before = world.Bodies().EnabledCount();
+  bool split = false;
+  for (int s = 0; s < 240 && !split; ++s) {
+    const std::optional<LaserHit> hit = lasers.FireFromShip();
+    ASSERT_TRUE(hit.has_value());
+    split = hit->split;
+    world.Step();
+  }
+  EXPECT_TRUE(split);
+  EXPECT_FALSE(world.Bodies().Contains(rock));
+  EXPECT_EQ(world.Bodies().EnabledCount(), before + 1);
+  EXPECT_EQ(lasers.Splits(), 1u);
+}
+
+// Welded at a port on the ring (45 m out, carried at 4.5 m/s round the axis) for 20 s, two
+// radians of the station's turn: the ship stays on the port's pose.
+TEST(SpaceGame, DockingHoldsTheShipOnTheSpinningStation) {
+  SpaceWorld world;
+  Docking dock(world);
+  EXPECT_FALSE(dock.TryDock()) << "the ship starts beyond the capture distance";
+  dock.DockAt(1);
+  ASSERT_TRUE(dock.IsDocked());
+  const RRigidBody& ship = world.Bodies()[world.Ship()];
+  double worstPosition = 0, worstAngle = 0;
+  for (int s = 0; s < 1200; ++s) {
+    world.Step();
+    worstPosition = std::max(worstPosition, (ship.ShapePosition_W() - dock.PortPosition_W(1)).norm());
+    worstAngle = std::max(worstAngle, ship.ShapeOrientation_WS().angularDistance(dock.PortOrientation_W(1)));
+  }
+  const RRigidBody& station = world.Bodies()[world.Station()];
+  const double turned = 2 * std::atan2(station.ShapeOrientation_WS().vec().norm(), station.ShapeOrientation_WS().w());
+  std::printf("docked 20 s: station turned %.4f rad; ship off its port by at most %.2e m, %.2e rad\n",
+              turned, worstPosition, worstAngle);
+  EXPECT_NEAR(turned, 2.0, 1e-9);
+  EXPECT_LT(worstPosition, 1e-3);
+  EXPECT_LT(worstAngle, 1e-4);
+  // Undocked, it leaves the port.
+  dock.Undock();
+  for (int s = 0; s < 60; ++s) world.Step();
+  EXPECT_GT((ship.ShapePosition_W() - dock.PortPosition_W(1)).norm(), 1.0);
+}
+
+// Close to the hub's port and slow, the clamp takes the ship; far, it does not.
+TEST(SpaceGame, TheClampTakesAShipOnlyWithinReach) {
+  SpaceWorld world;
+  Docking dock(world);
+  RRigidBody& ship = world.Bodies()[world.Ship()];
+  ship.SetShapePose(dock.PortPosition_W(0) + RVec3(0, 10, 3), RQuat::Identity());
+  ship.SetVelocity_W(RVec3(0, -8, 0));
+  EXPECT_FALSE(dock.TryDock()) << "too fast";
+  ship.SetVelocity_W(RVec3(0, -2, 0));
+  EXPECT_TRUE(dock.TryDock());
+  EXPECT_EQ(dock.DockedPort(), 0);
+}
+
+// A missile fired down into the cargo bay goes off on a crate; the debris that stays in the
+// bay falls to its floor (the bay's gravity) and sleeps there.
+TEST(SpaceGame, DebrisComesToRestInTheBayAndSleeps) {
+  SpaceWorld world;
+  Missiles missiles(world);
+  const RVec3 O = world.Config().origin_W;
+  const RVec3 above = O + RVec3(-6, GameShapes::kBayY + 12, -4);  // over the first crate
+  ASSERT_TRUE(missiles.Fire(world.Station(), above, RVec3(0, -1, 0)).IsValid());
+  for (int s = 0; s < 600; ++s) {
+    missiles.BeforeStep();
+    world.Step();
+    missiles.AfterStep();
+    world.UpdateBayGravity();
+  }
+  EXPECT_EQ(missiles.ExplosionCount(), 1u);
+  int inBay = 0, asleep = 0;
+  for (const RRigidBody& b : world.Bodies()) {
+    if (RoleOf(b) != Role::kDebris || !world.InBay(b.Position_W())) continue;
+    ++inBay;
+    asleep += b.IsSleeping();
+  }
+  std::printf("bay: %d pieces of debris in the bay, %d asleep\n", inBay, asleep);
+  EXPECT_GE(inBay, 3);
+  EXPECT_EQ(asleep, inBay);
+}
+
+// The autoplay twice in one process: the same hash, and the state did change.
+TEST(SpaceGame, TheAutoplayRepeatsToTheBit) {
+  std::uint64_t hashes[2];
+  std::uint64_t start = 0;
+  for (std::uint64_t& h : hashes) {
+    Game game;
+    start = HashState(game.World().Bodies());
+    Autoplay script(game);
+    for (int f = 0; f < 240; ++f) game.Frame(Autoplay::kFrameSeconds, script.Input(f, game));
+    h = HashState(game.World().Bodies());
+    std::printf("autoplay 240 frames: steps %llu, explosions %llu, splits %llu, hash=%s\n",
+                static_cast<unsigned long long>(game.Timing().steps),
+                static_cast<unsigned long long>(game.MissileSystem().ExplosionCount()),
+                static_cast<unsigned long long>(game.LaserSystem().Splits()), HashHex(h).c_str());
+    EXPECT_EQ(game.Timing().steps, 240u);
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+  EXPECT_NE(hashes[0], start);
+}
