@@ -239,6 +239,55 @@ TEST(SpaceGame, DebrisComesToRestInTheBayAndSleeps) {
   EXPECT_EQ(asleep, inBay);
 }
 
+// The yaw thrusters are a couple, forces at the nose and the tail: one step of them leaves
+// the ship's momentum as it was and adds the couple's angular impulse, 2 arm F dt about the
+// ship's up axis (free motion keeps the world angular momentum between the half kicks).
+TEST(SpaceGame, TheAttitudeThrustersTurnTheShipWithoutPushingIt) {
+  SpaceWorld world;
+  const RRigidBody& ship = world.Bodies()[world.Ship()];
+  const RVec3 p0 = ship.Mass() * ship.Velocity_W(), L0 = ship.AngularMomentum_W();
+  const RVec3 up = ship.ShapeOrientation_WS() * RVec3::UnitY();
+  ShipInput yaw;
+  yaw.yaw = 1;
+  const ShipTuning t;
+  ApplyShipControl(world, yaw, t);
+  world.Step();
+  const RVec3 dp = ship.Mass() * ship.Velocity_W() - p0, dL = ship.AngularMomentum_W() - L0;
+  const RVec3 want = 2 * t.rcsArm * t.rcsThrust * world.StepDt() * up;
+  std::printf("yaw couple: |dp| %.2e kg m/s, |dL - 2 a F dt| %.2e of %.4e kg m^2/s\n", dp.norm(),
+              (dL - want).norm(), want.norm());
+  EXPECT_LT(dp.norm(), 1e-9 * ship.Mass());
+  EXPECT_LT((dL - want).norm(), 1e-9 * want.norm());
+}
+
+// The loop: frames of 1/144 s for one second take 60 fixed steps, and between steps the
+// ship is drawn part-way from its pose before the last step to its pose after it.
+TEST(SpaceGame, TheLoopStepsAtTheFixedDtAndDrawsBetweenSteps) {
+  Game game;
+  ShipInput in;
+  in.thrust = 1;
+  std::size_t shipDense = 0;
+  const RBodies& bodies = game.World().Bodies();
+  while (bodies.HandleAt(shipDense) != game.World().Ship()) ++shipDense;
+  RVec3 before = bodies[game.World().Ship()].ShapePosition_W();
+  int checked = 0;
+  for (int f = 0; f < 144; ++f) {
+    const std::uint64_t steps = game.Timing().steps;
+    const RVec3 last = bodies[game.World().Ship()].ShapePosition_W();
+    game.Frame(1.0 / 144, in);
+    if (game.Timing().steps != steps) before = last;
+    RVec3 drawn;
+    RQuat q;
+    game.DrawPose(shipDense, drawn, q);
+    const RVec3 now = bodies[game.World().Ship()].ShapePosition_W();
+    const RVec3 between = before + game.Alpha() * (now - before);
+    EXPECT_LT((drawn - between).norm(), 1e-6);
+    checked += game.Alpha() > 0.1 && (now - before).norm() > 1e-3;
+  }
+  EXPECT_EQ(game.Timing().steps, 60u);
+  EXPECT_GT(checked, 50);
+}
+
 // The autoplay twice in one process: the same hash, and the state did change.
 TEST(SpaceGame, TheAutoplayRepeatsToTheBit) {
   std::uint64_t hashes[2];

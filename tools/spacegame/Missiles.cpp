@@ -96,11 +96,12 @@ void Missiles::BeforeStep() {
       f = push;
       // Nose along the velocity: a spin about axis x v at the rate that turns it in a step.
       const RVec3 turn = axis.cross(v.normalized());
+      m_world.NoteDespawn(m);  // the ledger takes the spin the game sets
       m.SetAngularVelocity_W(std::asin(std::min(1.0, turn.norm())) / m_world.StepDt() *
                              (turn.norm() > 1e-9 ? RVec3(turn.normalized()) : RVec3::Zero()));
+      m_world.NoteSpawn(m);
     }
-    m.AddForce_W(f);
-    m_world.AddExternalImpulse(f * m_world.StepDt(), m.Position_W());
+    m_world.AddExternalForce(s.body, f, m.Position_W());
   }
 }
 

@@ -19,14 +19,12 @@ RVec3 ShipNose_W(const SpaceWorld& world) {
 }
 
 void ApplyShipControl(SpaceWorld& world, const ShipInput& in, const ShipTuning& t) {
-  RRigidBody& ship = world.Bodies()[world.Ship()];
+  const RRigidBody& ship = world.Bodies()[world.Ship()];
   const RQuat q = ship.ShapeOrientation_WS();
   const RVec3 c = ship.Position_W();  // centre of mass: translation thrusters act through it
   const RVec3 x = q * RVec3::UnitX(), y = q * RVec3::UnitY(), z = q * RVec3::UnitZ();
   auto fire = [&](const RVec3& f, const RVec3& at) {
-    if (f.isZero(0)) return;
-    ship.AddForceAtPoint_W(f, at);
-    world.AddExternalImpulse(f * world.StepDt(), at);
+    if (!f.isZero(0)) world.AddExternalForce(world.Ship(), f, at);
   };
   const double thrust = Clamp1(in.thrust);
   fire((thrust > 0 ? t.mainThrust : t.retroThrust) * thrust * z, c);

@@ -44,6 +44,7 @@ RBodyHandle SpaceWorld::AddAsteroid(int sizeClass, int variant, const RVec3& pos
 void SpaceWorld::BuildScene() {
   const RVec3 O = m_config.origin_W;
   m_bodies.Reserve(512);
+  m_forces.reserve(64);
 
   RBodyDef station;
   station.prepared = m_shapes.station;
@@ -124,6 +125,25 @@ void SpaceWorld::UpdateBayGravity() {
 void SpaceWorld::AddExternalImpulse(const RVec3& j_W, const RVec3& at_W) {
   m_external.momentum_W += j_W;
   m_external.angularMomentum_W += (at_W - m_config.origin_W).cross(j_W);
+}
+
+void SpaceWorld::AddExternalForce(RBodyHandle body, const RVec3& f_W, const RVec3& at_W) {
+  RRigidBody& b = m_bodies[body];
+  b.AddForceAtPoint_W(f_W, at_W);
+  m_forces.push_back({body, f_W, at_W - b.Position_W(), b.Position_W()});
+}
+
+void SpaceWorld::Step() {
+  m_integrator.Update(m_bodies, m_config.dt);
+  const double dt = m_config.dt;
+  for (const PendingForce& f : m_forces) {
+    const RRigidBody* b = m_bodies.Find(f.body);
+    const RVec3 x1 = b ? b->Position_W() : f.x0_W;
+    m_external.momentum_W += f.f_W * dt;
+    m_external.angularMomentum_W += (0.5 * (f.x0_W + x1) - m_config.origin_W).cross(f.f_W * dt) +
+                                    f.arm_W.cross(f.f_W * dt);
+  }
+  m_forces.clear();
 }
 
 void SpaceWorld::NoteBody(const RRigidBody& b, double sign) {

@@ -96,15 +96,21 @@ class SpaceWorld {
   // Momentum the game added from outside (thrust, lasers, blasts, spawns less despawns),
   // so the HUD can tell the solver's share of a change from the game's.
   void AddExternalImpulse(const RVec3& j_W, const RVec3& at_W);
+  // A force on a body at a world point for the next step: applied (AddForceAtPoint_W) and
+  // put in the ledger when the step is taken. Its angular impulse about the origin is
+  // taken about the body's centre midway between its start and end (kick-drift-kick moves
+  // x by v0 dt + a dt^2/2, and for that motion the midpoint gives x1 x m v1 - x0 x m v0
+  // exactly), plus the force's own torque about the centre (held over the step).
+  void AddExternalForce(RBodyHandle body, const RVec3& f_W, const RVec3& at_W);
   // A body the game brings in or takes out brings or takes its momentum and spin.
   void NoteSpawn(const REngine::RRigidBody& b) { NoteBody(b, 1); }
   void NoteDespawn(const REngine::RRigidBody& b) { NoteBody(b, -1); }
   const Conservation& External() const { return m_external; }
   Conservation Measure() const;
 
-  // One fixed step of the engine (WorldConfig::dt).
+  // One fixed step of the engine (WorldConfig::dt), and the ledger of the forces it applied.
   RScalar StepDt() const { return m_config.dt; }
-  void Step() { m_integrator.Update(m_bodies, m_config.dt); }
+  void Step();
 
   static constexpr std::uint32_t kShipId = 1;
 
@@ -120,6 +126,11 @@ class SpaceWorld {
   RBodyHandle m_ship, m_station, m_bay;
   std::uint32_t m_nextId = 100;
   Conservation m_external;
+  struct PendingForce {
+    RBodyHandle body;
+    RVec3 f_W, arm_W, x0_W;  // force; from the centre to its point; the centre before the step
+  };
+  std::vector<PendingForce> m_forces;  // this step's; reserved, cleared each step
 };
 
 }  // namespace spacegame

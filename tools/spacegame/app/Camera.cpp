@@ -2,6 +2,7 @@
 
 #include "Game.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace spacegame {
@@ -25,11 +26,13 @@ void Camera::Follow(CameraMode mode, const Game& game, const RVec3& shipPosition
     q_WC = LookAt(eye_W, shipPosition_W + 40.0 * fwd, up);
     return;
   }
-  // Wide: from beyond the station's rim, looking at a point between the station and the
-  // ship, so the station, the ship and the rocks behind it share the frame.
+  // Wide: from above and behind the station's rim, looking at a point between the station
+  // and the ship, so the station, the ship and the rocks beyond share the frame; the eye
+  // comes in as the ship does, so the ship never shrinks to a dot.
   const RVec3 O = game.World().Config().origin_W;
   const RVec3 target = 0.5 * (O + shipPosition_W);
-  eye_W = O + RVec3(-60, 55, -95);
+  const double reach = std::clamp((shipPosition_W - O).norm() / 100, 0.8, 1.6);
+  eye_W = O + reach * RVec3(-60, 55, -95);
   q_WC = LookAt(eye_W, target, RVec3::UnitY());
 }
 

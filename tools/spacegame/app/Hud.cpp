@@ -43,8 +43,11 @@ void DrawHud(const Game& game, const HudState& s, DebugDraw& debug) {
   }
   ImGui::Separator();
   // Momentum and angular momentum change only by what the game applies (thrust, beams,
-  // blasts, bodies in and out) and by touching the kinematic station or the static bay;
-  // the residual is the rest: the solver's own error while nothing touches the station.
+  // blasts, bodies in and out: SpaceWorld's ledger) and by touching the kinematic station
+  // or the static bay (and the bay's gravity); the residual is the rest. In open space
+  // momentum's is rounding; angular momentum's also holds the split-impulse position
+  // correction's drift (it moves overlapping bodies without changing their velocities, so
+  // x cross m v changes: debris thrown out of a rock shows it).
   const Conservation now = world.Measure(), r = game.Residual();
   ImGui::Text("conservation (dynamic bodies)");
   ImGui::Text("  |P| %.4e kg m/s    residual %.2e", now.momentum_W.norm(), r.momentum_W.norm());

@@ -46,7 +46,7 @@ void main() {
   float fill = max(dot(n, normalize(vec3(-0.5, -0.3, -0.6))), 0.0);
   float sky = 0.5 + 0.5 * n.y;
   float spec = pow(max(dot(n, normalize(uSunDir + v)), 0.0), 40.0);
-  vec3 light = vec3(1.0, 0.95, 0.85) * 1.15 * sun + vec3(0.35, 0.45, 0.65) * 0.45 * fill +
+  vec3 light = vec3(1.0, 0.95, 0.85) * 0.95 * sun + vec3(0.35, 0.45, 0.65) * 0.45 * fill +
                vec3(0.10, 0.12, 0.16) * sky + vec3(0.05);
   vec3 c = uColour * light + vec3(0.35) * spec * sun;
   c = mix(c, uColour, uEmissive);
@@ -115,7 +115,7 @@ Eigen::Vector3f Colour(float r, float g, float b) { return {r, g, b}; }
 Eigen::Vector3f BodyColour(const RRigidBody& b, RBodyHandle h) {
   switch (RoleOf(b)) {
     case Role::kShip: return Colour(0.75f, 0.80f, 0.88f);
-    case Role::kStation: return Colour(0.62f, 0.64f, 0.68f);
+    case Role::kStation: return Colour(0.50f, 0.54f, 0.60f);
     case Role::kBay: return Colour(0.38f, 0.40f, 0.44f);
     case Role::kCrate: return Colour(0.90f, 0.55f, 0.15f);
     case Role::kMissile: return Colour(0.95f, 0.25f, 0.20f);

@@ -39,7 +39,8 @@ struct Options {
   std::string screenshot;
   int width = 1280, height = 720;
   bool hud = true;
-  bool wide = false;         // the wide camera instead of the chase camera
+  bool wide = false;         // the wide camera instead of the chase camera (autoplay: the default)
+  bool chase = false;        // the chase camera in the autoplay
   bool debug = false;        // contacts and joints drawn
   spacegame::WorldConfig world;
 };
@@ -48,7 +49,7 @@ struct Options {
   if (problem) std::fprintf(stderr, "rengine-spacegame: %s\n", problem);
   std::fprintf(stderr,
                "usage: rengine-spacegame [--autoplay] [--frames N] [--screenshot FILE.png]\n"
-               "         [--width W] [--height H] [--no-hud] [--wide] [--debug]\n"
+               "         [--width W] [--height H] [--no-hud] [--wide | --chase] [--debug]\n"
                "         [--asteroids N] [--seed S] [--origin X]\n");
   std::exit(problem ? 2 : 0);
 }
@@ -76,6 +77,7 @@ Options Parse(int argc, char** argv) {
     else if (a == "--height") o.height = int(number(i, 64, 8192));
     else if (a == "--no-hud") o.hud = false;
     else if (a == "--wide") o.wide = true;
+    else if (a == "--chase") o.chase = true;
     else if (a == "--debug") o.debug = true;
     else if (a == "--asteroids") o.world.asteroids = int(number(i, 0, 2000));
     else if (a == "--seed") o.world.seed = std::uint64_t(number(i, 0, 1L << 40));
@@ -86,6 +88,8 @@ Options Parse(int argc, char** argv) {
     else Usage(("unknown option " + a).c_str());
   }
   if (!o.screenshot.empty() && !o.autoplay) Usage("--screenshot needs --autoplay");
+  // The autoplay is watched from the wide camera (station, ship and rocks in one frame).
+  if (o.autoplay && !o.chase) o.wide = true;
   return o;
 }
 
