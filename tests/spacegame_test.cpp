@@ -4,16 +4,15 @@
 // the beam's impulse (linear and angular); the dock's weld holds the ship on the spinning
 // station; debris comes to rest in the cargo bay and sleeps; the autoplay repeats to the bit;
 // and all of it 1e6 m from the origin.
-#include "Autoplay.h"
-#include "Game.h"
-#include "StateHash.h"
-
 #include <REnginePhysics/RContactEvents.h>
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+
+#include "Autoplay.h"
+#include "Game.h"
+#include "StateHash.h"
 
 using namespace spacegame;
 using namespace REngine;
@@ -73,7 +72,8 @@ TEST(SpaceGame, AMissileSpawnedInsideItsLauncherNeverTouchesIt) {
       controlEvents += Touches(e, unguarded, ship);
     }
     for (const RContact& c : world.Integrator().Contacts())
-      missileContacts += (c.handleA == missile && c.handleB == ship) || (c.handleA == ship && c.handleB == missile);
+      missileContacts += (c.handleA == missile && c.handleB == ship) ||
+                         (c.handleA == ship && c.handleB == missile);
     missiles.AfterStep();
     if (s == 0) world.Bodies().Remove(unguarded);  // the control has made its point
   }
@@ -184,13 +184,17 @@ TEST(SpaceGame, DockingHoldsTheShipOnTheSpinningStation) {
   double worstPosition = 0, worstAngle = 0;
   for (int s = 0; s < 1200; ++s) {
     world.Step();
-    worstPosition = std::max(worstPosition, (ship.ShapePosition_W() - dock.PortPosition_W(1)).norm());
-    worstAngle = std::max(worstAngle, ship.ShapeOrientation_WS().angularDistance(dock.PortOrientation_W(1)));
+    worstPosition =
+        std::max(worstPosition, (ship.ShapePosition_W() - dock.PortPosition_W(1)).norm());
+    worstAngle =
+        std::max(worstAngle, ship.ShapeOrientation_WS().angularDistance(dock.PortOrientation_W(1)));
   }
   const RRigidBody& station = world.Bodies()[world.Station()];
-  const double turned = 2 * std::atan2(station.ShapeOrientation_WS().vec().norm(), station.ShapeOrientation_WS().w());
-  std::printf("docked 20 s: station turned %.4f rad; ship off its port by at most %.2e m, %.2e rad\n",
-              turned, worstPosition, worstAngle);
+  const double turned =
+      2 * std::atan2(station.ShapeOrientation_WS().vec().norm(), station.ShapeOrientation_WS().w());
+  std::printf(
+      "docked 20 s: station turned %.4f rad; ship off its port by at most %.2e m, %.2e rad\n",
+      turned, worstPosition, worstAngle);
   EXPECT_NEAR(turned, 2.0, 1e-9);
   EXPECT_LT(worstPosition, 1e-3);
   EXPECT_LT(worstAngle, 1e-4);

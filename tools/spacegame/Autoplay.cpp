@@ -36,8 +36,9 @@ void Autoplay::Steer(const Game& game, const RVec3& dir_W, ShipInput& in) {
   // it that slows as the error shrinks, and let the thrusters chase that velocity.
   const RVec3 axis_S = q.conjugate() * f.cross(d);
   const double angle = std::atan2(axis_S.norm(), f.dot(d));
-  const RVec3 want_S = axis_S.norm() > 1e-12 ? RVec3(std::min(0.8, 1.5 * angle) * axis_S.normalized())
-                                             : RVec3::Zero();
+  const RVec3 want_S = axis_S.norm() > 1e-12
+                           ? RVec3(std::min(0.8, 1.5 * angle) * axis_S.normalized())
+                           : RVec3::Zero();
   const RVec3 w_S = q.conjugate() * ship.AngularVelocity_W();
   const RVec3 e = 3.0 * (want_S - w_S);
   // Ship.cpp: yaw turns about +y, pitch about -x (nose up), roll about +z.
@@ -68,7 +69,9 @@ ShipInput Autoplay::Input(int frame, const Game& game) {
     // The beam holds fire while a missile is on its way: a rock split under it would leave
     // the missile nothing to home on.
     in.laser = frame >= 15 && aim < 0.05 && game.MissileSystem().InFlight() == 0;
-    const int nextMissile = m_missilesFired == 0 ? kFirstMissile : m_missilesFired == 1 ? kSecondMissile : -1;
+    const int nextMissile = m_missilesFired == 0   ? kFirstMissile
+                            : m_missilesFired == 1 ? kSecondMissile
+                                                   : -1;
     if (nextMissile >= 0 && frame >= nextMissile && aim < 0.05) {
       in.fireMissile = true;
       ++m_missilesFired;

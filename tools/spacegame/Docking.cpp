@@ -72,7 +72,8 @@ void Docking::DockAt(int port) {
   ship.SetShapePose(PortPosition_W(port), PortOrientation_W(port));
   // Moving with the port: the velocity of the station's point under the ship's centre of
   // mass and the station's spin, so the weld starts satisfied at the velocity level too.
-  ship.SetVelocity_W(st.Velocity_W() + st.AngularVelocity_W().cross(ship.Position_W() - st.Position_W()));
+  ship.SetVelocity_W(st.Velocity_W() +
+                     st.AngularVelocity_W().cross(ship.Position_W() - st.Position_W()));
   ship.SetAngularVelocity_W(st.AngularVelocity_W());
   m_world.NoteSpawn(ship);
   RJointDef weld;

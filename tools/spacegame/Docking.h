@@ -9,17 +9,17 @@
 // (RJointDef::collideConnected is false), so the ship may sit snug against the hull.
 #pragma once
 
-#include "World.h"
-
 #include <REnginePhysics/RJoint.h>
 
 #include <vector>
 
+#include "World.h"
+
 namespace spacegame {
 
 struct DockPort {
-  RVec3 p_SP = RVec3::Zero();          // ship's origin in the station's frame, m
-  RQuat q_SP = RQuat::Identity();      // ship's orientation in the station's frame
+  RVec3 p_SP = RVec3::Zero();      // ship's origin in the station's frame, m
+  RQuat q_SP = RQuat::Identity();  // ship's orientation in the station's frame
 };
 
 struct DockTuning {

@@ -10,21 +10,21 @@
 // contact events; the bay's gravity.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "Docking.h"
 #include "Lasers.h"
 #include "Missiles.h"
 #include "Ship.h"
 #include "World.h"
 
-#include <cstdint>
-#include <vector>
-
 namespace spacegame {
 
 // What the HUD shows about the run's steps.
 struct StepTiming {
   std::uint64_t steps = 0;
-  double totalMs = 0;          // wall-clock time inside RIntegrator::Update, summed
+  double totalMs = 0;  // wall-clock time inside RIntegrator::Update, summed
   double MsPerStep() const { return steps ? totalMs / double(steps) : 0; }
 };
 

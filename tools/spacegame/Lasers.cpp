@@ -74,8 +74,8 @@ void Lasers::Split(RBodyHandle rock, const RVec3& beam_W) {
   OrthonormalBasis(beam_W, across, other);
   const double gap = kRockRadius[size] * 1.05;
   for (int side = -1; side <= 1; side += 2) {
-    m_world.AddAsteroid(size, (variant + side + kRockVariants) % kRockVariants, x + side * gap * across,
-                        q, v + side * m_tuning.splitSpeed * across, w);
+    m_world.AddAsteroid(size, (variant + side + kRockVariants) % kRockVariants,
+                        x + side * gap * across, q, v + side * m_tuning.splitSpeed * across, w);
   }
   ++m_splits;
 }

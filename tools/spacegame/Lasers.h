@@ -4,10 +4,10 @@
 // taken enough of it splits into two of the next size down.
 #pragma once
 
-#include "World.h"
-
 #include <optional>
 #include <vector>
+
+#include "World.h"
 
 namespace spacegame {
 

@@ -89,7 +89,8 @@ void Missiles::BeforeStep() {
     RVec3 f = m_tuning.motorForce * axis;
     if (const RRigidBody* t = bodies.Find(s.target); t && bodies.IsEnabled(s.target)) {
       const RVec3 v = m.Velocity_W();
-      const RVec3 want = std::max(v.norm(), m_tuning.launchSpeed) * (t->Position_W() - m.Position_W()).normalized();
+      const RVec3 want = std::max(v.norm(), m_tuning.launchSpeed) *
+                         (t->Position_W() - m.Position_W()).normalized();
       RVec3 push = m.Mass() * (want - v) / m_tuning.homingTime;
       push += m_tuning.motorForce * want.normalized();  // and keep accelerating along it
       if (push.norm() > m_tuning.motorForce) push *= m_tuning.motorForce / push.norm();
@@ -154,8 +155,10 @@ void Missiles::Explode(Slot& s, const RVec3& point_W, const RVec3& outward_W, RB
     m_world.AddExternalImpulse(impulse, b.Position_W());
   }
   const RRigidBody* target = bodies.Find(hit);
-  const RVec3 base = target && target->Kind() == RBodyKind::kDynamic ? target->Velocity_W() : RVec3::Zero();
-  SpawnDebris(point_W + 2.0 * outward_W.normalized(), base + 0.2 * missileVelocity, outward_W.normalized());
+  const RVec3 base =
+      target && target->Kind() == RBodyKind::kDynamic ? target->Velocity_W() : RVec3::Zero();
+  SpawnDebris(point_W + 2.0 * outward_W.normalized(), base + 0.2 * missileVelocity,
+              outward_W.normalized());
   m_lastExplosions.push_back({point_W, s.body, hit, m_world.Integrator().StepCount()});
   ++m_explosionCount;
 }

@@ -9,30 +9,30 @@
 // and exploding enable, place and disable them, and allocate nothing.
 #pragma once
 
-#include "World.h"
-
 #include <vector>
+
+#include "World.h"
 
 namespace spacegame {
 
 struct MissileTuning {
-  double launchSpeed = 40;     // m/s, added to the launcher's velocity
-  double motorForce = 3.0e4;   // N along the missile's axis while it burns
-  double homingTime = 0.25;    // s: how fast a homing missile turns its velocity onto the target
-  double burnTime = 4.0;       // s
-  double lifetime = 8.0;       // s, then it explodes where it is
-  double blastRadius = 20;     // m
-  double blastImpulse = 4.0e5; // N s at the centre, falling linearly to 0 at the radius
-  double maxBlastSpeed = 25;   // m/s: the most a blast changes a body's speed by
+  double launchSpeed = 40;      // m/s, added to the launcher's velocity
+  double motorForce = 3.0e4;    // N along the missile's axis while it burns
+  double homingTime = 0.25;     // s: how fast a homing missile turns its velocity onto the target
+  double burnTime = 4.0;        // s
+  double lifetime = 8.0;        // s, then it explodes where it is
+  double blastRadius = 20;      // m
+  double blastImpulse = 4.0e5;  // N s at the centre, falling linearly to 0 at the radius
+  double maxBlastSpeed = 25;    // m/s: the most a blast changes a body's speed by
   int debrisPerBlast = 8;
-  double debrisSpeed = 9;      // m/s, outward
+  double debrisSpeed = 9;  // m/s, outward
 };
 
 struct Explosion {
   RVec3 point_W = RVec3::Zero();
   RBodyHandle missile;
-  RBodyHandle hit;             // what it touched (invalid: its lifetime ran out)
-  std::uint64_t step = 0;      // the integrator's step count when it went off
+  RBodyHandle hit;         // what it touched (invalid: its lifetime ran out)
+  std::uint64_t step = 0;  // the integrator's step count when it went off
 };
 
 class Missiles {

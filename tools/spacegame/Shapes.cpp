@@ -54,18 +54,39 @@ RShape Ship() {
     ship.children.push_back(std::move(c));
   };
   const double nose = GameShapes::kShipNose;
-  add(Hull({{0, 0, nose}, {-1.4, -0.9, 1}, {1.4, -0.9, 1}, {-1.6, 0.3, 1}, {1.6, 0.3, 1},
-            {0, 1.2, 1}, {-1.4, -1.0, -5}, {1.4, -1.0, -5}, {-1.6, 0.5, -5}, {1.6, 0.5, -5},
-            {0, 1.3, -5}, {0, -1.2, -5}}),
+  add(Hull({{0, 0, nose},
+            {-1.4, -0.9, 1},
+            {1.4, -0.9, 1},
+            {-1.6, 0.3, 1},
+            {1.6, 0.3, 1},
+            {0, 1.2, 1},
+            {-1.4, -1.0, -5},
+            {1.4, -1.0, -5},
+            {-1.6, 0.5, -5},
+            {1.6, 0.5, -5},
+            {0, 1.3, -5},
+            {0, -1.2, -5}}),
       600);
-  add(Hull({{1.4, -0.3, 1.5}, {1.4, 0.2, 1.5}, {7, -0.1, -3.5}, {7, 0.1, -3.5}, {1.4, -0.3, -4},
+  add(Hull({{1.4, -0.3, 1.5},
+            {1.4, 0.2, 1.5},
+            {7, -0.1, -3.5},
+            {7, 0.1, -3.5},
+            {1.4, -0.3, -4},
             {1.4, 0.2, -4}}),
       300);
-  add(Hull({{-1.4, -0.3, 1.5}, {-1.4, 0.2, 1.5}, {-7, -0.1, -3.5}, {-7, 0.1, -3.5},
-            {-1.4, -0.3, -4}, {-1.4, 0.2, -4}}),
+  add(Hull({{-1.4, -0.3, 1.5},
+            {-1.4, 0.2, 1.5},
+            {-7, -0.1, -3.5},
+            {-7, 0.1, -3.5},
+            {-1.4, -0.3, -4},
+            {-1.4, 0.2, -4}}),
       300);
-  add(Hull({{-0.15, 1.0, -1}, {0.15, 1.0, -1}, {-0.1, 3.2, -4.5}, {0.1, 3.2, -4.5},
-            {-0.15, 1.1, -5}, {0.15, 1.1, -5}}),
+  add(Hull({{-0.15, 1.0, -1},
+            {0.15, 1.0, -1},
+            {-0.1, 3.2, -4.5},
+            {0.1, 3.2, -4.5},
+            {-0.15, 1.1, -5},
+            {0.15, 1.1, -5}}),
       300);
   return ship;
 }
@@ -112,12 +133,12 @@ RShape Bay() {
   RShape bay;
   bay.type = RShapeType::kMesh;
   const double w = GameShapes::kBayHalfWidth, h = GameShapes::kBayWallHeight;
-  bay.points = {{-w, 0, -w}, {w, 0, -w}, {w, 0, w}, {-w, 0, w},      // floor 0..3
-                {-w, h, -w}, {w, h, -w}, {w, h, w}, {-w, h, w}};     // wall tops 4..7
-  bay.triangles = {{0, 2, 1}, {0, 3, 2},                             // floor
-                   {0, 1, 5}, {0, 5, 4},                             // back wall (z = -w)
-                   {1, 2, 6}, {1, 6, 5},                             // +x wall
-                   {3, 0, 4}, {3, 4, 7}};                            // -x wall
+  bay.points = {{-w, 0, -w}, {w, 0, -w}, {w, 0, w}, {-w, 0, w},   // floor 0..3
+                {-w, h, -w}, {w, h, -w}, {w, h, w}, {-w, h, w}};  // wall tops 4..7
+  bay.triangles = {{0, 2, 1}, {0, 3, 2},                          // floor
+                   {0, 1, 5}, {0, 5, 4},                          // back wall (z = -w)
+                   {1, 2, 6}, {1, 6, 5},                          // +x wall
+                   {3, 0, 4}, {3, 4, 7}};                         // -x wall
   return bay;
 }
 
@@ -127,7 +148,8 @@ GameShapes MakeGameShapes(std::uint64_t seed) {
   GameShapes s;
   Rng rng(seed);
   for (int size = 0; size < kRockSizes; ++size)
-    for (int v = 0; v < kRockVariants; ++v) s.rocks[size][v] = PrepareShape(Rock(kRockRadius[size], v, rng));
+    for (int v = 0; v < kRockVariants; ++v)
+      s.rocks[size][v] = PrepareShape(Rock(kRockRadius[size], v, rng));
   s.ship = PrepareShape(Ship());
   s.station = PrepareShape(Station());
   s.bay = PrepareShape(Bay());

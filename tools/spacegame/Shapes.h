@@ -44,18 +44,18 @@ class Rng {
 struct GameShapes {
   // rocks[size][variant]: hulls of 28 points on a lumpy sphere of kRockRadius[size].
   std::array<std::array<Prepared, kRockVariants>, kRockSizes> rocks;
-  Prepared ship;       // a compound of four hulls: fuselage, two wings, a fin
-  Prepared station;    // a compound: hub cylinder, four spokes, a ring of twelve boxes
-  Prepared bay;        // the cargo bay: a static triangle mesh, floor and three walls
-  Prepared crate;      // a box, 1 m half extents
-  Prepared missile;    // a capsule along S's y
-  Prepared debris;     // a small box
+  Prepared ship;     // a compound of four hulls: fuselage, two wings, a fin
+  Prepared station;  // a compound: hub cylinder, four spokes, a ring of twelve boxes
+  Prepared bay;      // the cargo bay: a static triangle mesh, floor and three walls
+  Prepared crate;    // a box, 1 m half extents
+  Prepared missile;  // a capsule along S's y
+  Prepared debris;   // a small box
 
   // Geometry the game logic needs beside the shapes (station frame S, m).
   static constexpr double kStationRingRadius = 45;
   static constexpr double kStationRingHalfAxial = 4;
   static constexpr double kStationHubHalfHeight = 8;
-  static constexpr double kBayY = -30;        // the bay floor's height below the station
+  static constexpr double kBayY = -30;  // the bay floor's height below the station
   static constexpr double kBayHalfWidth = 15;
   static constexpr double kBayWallHeight = 6;
   static constexpr double kShipHalfHeight = 1.2;  // belly to the centre of the hull frame

@@ -34,10 +34,10 @@ void ApplyShipControl(SpaceWorld& world, const ShipInput& in, const ShipTuning& 
   const RVec3 nose = c + t.rcsArm * z, tail = c - t.rcsArm * z;
   const RVec3 pitchF = t.rcsThrust * Clamp1(in.pitch) * y;  // nose up
   fire(pitchF, nose), fire(-pitchF, tail);
-  const RVec3 yawF = t.rcsThrust * Clamp1(in.yaw) * x;      // nose towards +x (left)
+  const RVec3 yawF = t.rcsThrust * Clamp1(in.yaw) * x;  // nose towards +x (left)
   fire(yawF, nose), fire(-yawF, tail);
   const RVec3 left = c + t.rcsArm * x, right = c - t.rcsArm * x;
-  const RVec3 rollF = t.rcsThrust * Clamp1(in.roll) * y;    // +x wing up, -x wing down
+  const RVec3 rollF = t.rcsThrust * Clamp1(in.roll) * y;  // +x wing up, -x wing down
   fire(rollF, left), fire(-rollF, right);
 }
 

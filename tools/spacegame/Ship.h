@@ -22,10 +22,10 @@ struct ShipInput {
 };
 
 struct ShipTuning {
-  double mainThrust = 4.0e5;     // N
-  double retroThrust = 2.0e5;    // N
-  double rcsThrust = 6.0e4;      // N, each attitude thruster
-  double rcsArm = 6.0;           // m: thrusters at the nose and tail, this far from the centre
+  double mainThrust = 4.0e5;   // N
+  double retroThrust = 2.0e5;  // N
+  double rcsThrust = 6.0e4;    // N, each attitude thruster
+  double rcsArm = 6.0;         // m: thrusters at the nose and tail, this far from the centre
 };
 
 // Adds the thrusters' forces for the next step. Call before every step the input holds for.

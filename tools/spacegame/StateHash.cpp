@@ -16,7 +16,9 @@ struct Fnv1a {
   // Doubles by their bits: -0.0 and 0.0 differ, which a bit-for-bit check wants.
   void Vec(const RVec3& v) { Bytes(v.data(), 3 * sizeof(double)); }
   template <class T>
-  void Pod(const T& v) { Bytes(&v, sizeof v); }
+  void Pod(const T& v) {
+    Bytes(&v, sizeof v);
+  }
 };
 }  // namespace
 

@@ -95,8 +95,10 @@ void SpaceWorld::BuildScene() {
   const RVec3 field = O + RVec3(110, 0, 230);
   for (int k = 0; k < m_config.asteroids; ++k) {
     const int size = k % 7 == 0 ? 2 : k % 3 == 0 ? 1 : 0;
-    const RVec3 p = field + RVec3(rng.Uniform(-130, 130), rng.Uniform(-45, 45), rng.Uniform(-90, 90));
-    const RVec3 axis = RVec3(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1)).normalized();
+    const RVec3 p =
+        field + RVec3(rng.Uniform(-130, 130), rng.Uniform(-45, 45), rng.Uniform(-90, 90));
+    const RVec3 axis =
+        RVec3(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1)).normalized();
     const RQuat q(Eigen::AngleAxis<double>(rng.Uniform(0, 2 * kPi), axis));
     const RVec3 v(rng.Uniform(-1, 1), rng.Uniform(-0.5, 0.5), rng.Uniform(-1, 1));
     const RVec3 w = rng.Uniform(0.05, 0.4) * axis.cross(RVec3(0.3, 1, 0.2)).normalized();
@@ -140,8 +142,8 @@ void SpaceWorld::Step() {
     const RRigidBody* b = m_bodies.Find(f.body);
     const RVec3 x1 = b ? b->Position_W() : f.x0_W;
     m_external.momentum_W += f.f_W * dt;
-    m_external.angularMomentum_W += (0.5 * (f.x0_W + x1) - m_config.origin_W).cross(f.f_W * dt) +
-                                    f.arm_W.cross(f.f_W * dt);
+    m_external.angularMomentum_W +=
+        (0.5 * (f.x0_W + x1) - m_config.origin_W).cross(f.f_W * dt) + f.arm_W.cross(f.f_W * dt);
   }
   m_forces.clear();
 }

@@ -9,14 +9,14 @@
 // lookup table. Collision categories keep lasers off the ship that fires them.
 #pragma once
 
-#include "Shapes.h"
-
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RQueries.h>
 
 #include <cstdint>
 #include <vector>
+
+#include "Shapes.h"
 
 namespace spacegame {
 
@@ -25,7 +25,16 @@ using REngine::RQuat;
 using REngine::RScalar;
 using REngine::RVec3;
 
-enum class Role : std::uint8_t { kNone, kShip, kAsteroid, kStation, kBay, kCrate, kMissile, kDebris };
+enum class Role : std::uint8_t {
+  kNone,
+  kShip,
+  kAsteroid,
+  kStation,
+  kBay,
+  kCrate,
+  kMissile,
+  kDebris
+};
 
 // Collision categories (RBodyDef::category).
 namespace category {
@@ -48,18 +57,18 @@ struct WorldConfig {
   RVec3 origin_W = RVec3(1e6, 1e6, 1e6);  // where the station is, world, m
   std::uint64_t seed = 17;
   int asteroids = 40;
-  double stationSpin = 0.1;       // rad/s about the station's axis (world y)
-  double bayGravity = 9.81;       // m/s^2 towards the bay floor, inside the bay only
-  int threads = 1;                // the step's threads (results are the same for any count)
-  double dt = 1.0 / 60;           // the fixed step, s
+  double stationSpin = 0.1;  // rad/s about the station's axis (world y)
+  double bayGravity = 9.81;  // m/s^2 towards the bay floor, inside the bay only
+  int threads = 1;           // the step's threads (results are the same for any count)
+  double dt = 1.0 / 60;      // the fixed step, s
 };
 
 // Total momentum, angular momentum about the station's centre and kinetic energy of the
 // dynamic bodies: the run's conservation figures.
 struct Conservation {
-  RVec3 momentum_W = RVec3::Zero();          // kg m/s
-  RVec3 angularMomentum_W = RVec3::Zero();   // kg m^2/s, about WorldConfig::origin_W
-  double kineticEnergy = 0;                  // J
+  RVec3 momentum_W = RVec3::Zero();         // kg m/s
+  RVec3 angularMomentum_W = RVec3::Zero();  // kg m^2/s, about WorldConfig::origin_W
+  double kineticEnergy = 0;                 // J
 };
 
 class SpaceWorld {

@@ -1,9 +1,9 @@
 #include "Camera.h"
 
-#include "Game.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "Game.h"
 
 namespace spacegame {
 using namespace REngine;
@@ -19,7 +19,8 @@ RQuat LookAt(const RVec3& eye, const RVec3& target, const RVec3& up) {
 }
 }  // namespace
 
-void Camera::Follow(CameraMode mode, const Game& game, const RVec3& shipPosition_W, const RQuat& shipQ_WS) {
+void Camera::Follow(CameraMode mode, const Game& game, const RVec3& shipPosition_W,
+                    const RQuat& shipQ_WS) {
   if (mode == CameraMode::kChase) {
     const RVec3 up = shipQ_WS * RVec3::UnitY(), fwd = shipQ_WS * RVec3::UnitZ();
     eye_W = shipPosition_W - 32.0 * fwd + 11.0 * up + 6.0 * (shipQ_WS * RVec3::UnitX());

@@ -23,7 +23,7 @@ struct Camera {
   // the ship and the field (wide). `shipPosition_W`, `shipQ_WS`: the ship as drawn.
   void Follow(CameraMode mode, const Game& game, const REngine::RVec3& shipPosition_W,
               const REngine::RQuat& shipQ_WS);
-  Eigen::Matrix4f View() const;                     // rotation only
+  Eigen::Matrix4f View() const;  // rotation only
   Eigen::Matrix4f Projection(float aspect) const;
 };
 

@@ -14,11 +14,13 @@ void DrawHud(const Game& game, const HudState& s, DebugDraw& debug) {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.55f);
   ImGui::Begin("REngine", nullptr,
-               ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoFocusOnAppearing);
+               ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
+                   ImGuiWindowFlags_NoFocusOnAppearing);
   ImGui::Text("frame %llu  %.0f fps%s", static_cast<unsigned long long>(s.frame), s.framesPerSecond,
               s.autoplay ? "  (autoplay)" : "");
-  ImGui::Text("steps %llu at %.1f Hz, physics %.3f ms/step", static_cast<unsigned long long>(game.Timing().steps),
-              1.0 / world.StepDt(), game.Timing().MsPerStep());
+  ImGui::Text("steps %llu at %.1f Hz, physics %.3f ms/step",
+              static_cast<unsigned long long>(game.Timing().steps), 1.0 / world.StepDt(),
+              game.Timing().MsPerStep());
   ImGui::Separator();
   ImGui::Text("last step, ms");
   ImGui::Text("  collision detection %.3f", p.collisionDetection);
@@ -51,7 +53,8 @@ void DrawHud(const Game& game, const HudState& s, DebugDraw& debug) {
   const Conservation now = world.Measure(), r = game.Residual();
   ImGui::Text("conservation (dynamic bodies)");
   ImGui::Text("  |P| %.4e kg m/s    residual %.2e", now.momentum_W.norm(), r.momentum_W.norm());
-  ImGui::Text("  |L| %.4e kg m2/s   residual %.2e", now.angularMomentum_W.norm(), r.angularMomentum_W.norm());
+  ImGui::Text("  |L| %.4e kg m2/s   residual %.2e", now.angularMomentum_W.norm(),
+              r.angularMomentum_W.norm());
   ImGui::Text("  E   %.4e J         change   %+.2e", now.kineticEnergy, r.kineticEnergy);
   ImGui::Separator();
   ImGui::Checkbox("contacts", &debug.contacts);

@@ -1,7 +1,5 @@
 #include "Renderer.h"
 
-#include "ShapeMeshes.h"
-
 #include <REnginePhysics/RJoint.h>
 
 #include <algorithm>
@@ -9,6 +7,8 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+
+#include "ShapeMeshes.h"
 
 namespace spacegame {
 using namespace REngine;
@@ -114,18 +114,26 @@ Eigen::Vector3f Colour(float r, float g, float b) { return {r, g, b}; }
 // colour.
 Eigen::Vector3f BodyColour(const RRigidBody& b, RBodyHandle h) {
   switch (RoleOf(b)) {
-    case Role::kShip: return Colour(0.75f, 0.80f, 0.88f);
-    case Role::kStation: return Colour(0.50f, 0.54f, 0.60f);
-    case Role::kBay: return Colour(0.38f, 0.40f, 0.44f);
-    case Role::kCrate: return Colour(0.90f, 0.55f, 0.15f);
-    case Role::kMissile: return Colour(0.95f, 0.25f, 0.20f);
-    case Role::kDebris: return Colour(0.95f, 0.80f, 0.35f);
+    case Role::kShip:
+      return Colour(0.75f, 0.80f, 0.88f);
+    case Role::kStation:
+      return Colour(0.50f, 0.54f, 0.60f);
+    case Role::kBay:
+      return Colour(0.38f, 0.40f, 0.44f);
+    case Role::kCrate:
+      return Colour(0.90f, 0.55f, 0.15f);
+    case Role::kMissile:
+      return Colour(0.95f, 0.25f, 0.20f);
+    case Role::kDebris:
+      return Colour(0.95f, 0.80f, 0.35f);
     case Role::kAsteroid: {
-      static const Eigen::Vector3f shades[4] = {Colour(0.55f, 0.47f, 0.40f), Colour(0.47f, 0.44f, 0.42f),
-                                                Colour(0.60f, 0.52f, 0.42f), Colour(0.42f, 0.38f, 0.36f)};
+      static const Eigen::Vector3f shades[4] = {
+          Colour(0.55f, 0.47f, 0.40f), Colour(0.47f, 0.44f, 0.42f), Colour(0.60f, 0.52f, 0.42f),
+          Colour(0.42f, 0.38f, 0.36f)};
       return shades[h.index % 4];
     }
-    default: return Colour(0.7f, 0.7f, 0.7f);
+    default:
+      return Colour(0.7f, 0.7f, 0.7f);
   }
 }
 
@@ -158,7 +166,8 @@ Renderer::Renderer() {
   glGenBuffers(1, &m_starVbo);
   glBindVertexArray(m_starVao);
   glBindBuffer(GL_ARRAY_BUFFER, m_starVbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(stars.size() * sizeof(float)), stars.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(stars.size() * sizeof(float)), stars.data(),
+               GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
 
@@ -183,7 +192,8 @@ Renderer::Renderer() {
   glGenBuffers(1, &m_flashMesh.vbo);
   glBindVertexArray(m_flashMesh.vao);
   glBindBuffer(GL_ARRAY_BUFFER, m_flashMesh.vbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(MeshVertex)), v.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(MeshVertex)), v.data(),
+               GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex), nullptr);
   glEnableVertexAttribArray(1);
@@ -194,7 +204,8 @@ Renderer::Renderer() {
 }
 
 Renderer::~Renderer() {
-  for (auto& [shape, mesh] : m_meshes) glDeleteVertexArrays(1, &mesh.vao), glDeleteBuffers(1, &mesh.vbo);
+  for (auto& [shape, mesh] : m_meshes)
+    glDeleteVertexArrays(1, &mesh.vao), glDeleteBuffers(1, &mesh.vbo);
   glDeleteVertexArrays(1, &m_flashMesh.vao), glDeleteBuffers(1, &m_flashMesh.vbo);
   glDeleteVertexArrays(1, &m_starVao), glDeleteBuffers(1, &m_starVbo);
   glDeleteVertexArrays(1, &m_lineVao), glDeleteBuffers(1, &m_lineVbo);
@@ -212,7 +223,8 @@ const Renderer::GpuMesh& Renderer::MeshFor(const RPreparedShape* shape) {
   glGenBuffers(1, &m.vbo);
   glBindVertexArray(m.vao);
   glBindBuffer(GL_ARRAY_BUFFER, m.vbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(MeshVertex)), v.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(MeshVertex)), v.data(),
+               GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex), nullptr);
   glEnableVertexAttribArray(1);
@@ -224,7 +236,8 @@ const Renderer::GpuMesh& Renderer::MeshFor(const RPreparedShape* shape) {
 }
 
 void Renderer::DrawMesh(const GpuMesh& mesh, const Camera& camera, const RVec3& position_W,
-                        const RQuat& q_WS, float scale, const Eigen::Vector3f& colour, float emissive) {
+                        const RQuat& q_WS, float scale, const Eigen::Vector3f& colour,
+                        float emissive) {
   Eigen::Matrix4f M = Eigen::Matrix4f::Identity();
   M.topLeftCorner<3, 3>() = scale * q_WS.toRotationMatrix().cast<float>();
   M.topRightCorner<3, 1>() = (position_W - camera.eye_W).cast<float>();  // double, then float
@@ -235,12 +248,16 @@ void Renderer::DrawMesh(const GpuMesh& mesh, const Camera& camera, const RVec3& 
   glDrawArrays(GL_TRIANGLES, 0, mesh.count);
 }
 
-void Renderer::Line(const Camera& camera, const RVec3& a_W, const RVec3& b_W, const Eigen::Vector3f& c) {
-  const Eigen::Vector3f a = (a_W - camera.eye_W).cast<float>(), b = (b_W - camera.eye_W).cast<float>();
-  m_lines.insert(m_lines.end(), {a.x(), a.y(), a.z(), c.x(), c.y(), c.z(), b.x(), b.y(), b.z(), c.x(), c.y(), c.z()});
+void Renderer::Line(const Camera& camera, const RVec3& a_W, const RVec3& b_W,
+                    const Eigen::Vector3f& c) {
+  const Eigen::Vector3f a = (a_W - camera.eye_W).cast<float>(),
+                        b = (b_W - camera.eye_W).cast<float>();
+  m_lines.insert(m_lines.end(), {a.x(), a.y(), a.z(), c.x(), c.y(), c.z(), b.x(), b.y(), b.z(),
+                                 c.x(), c.y(), c.z()});
 }
 
-void Renderer::Box(const Camera& camera, const RVec3& lo, const RVec3& hi, const Eigen::Vector3f& c) {
+void Renderer::Box(const Camera& camera, const RVec3& lo, const RVec3& hi,
+                   const Eigen::Vector3f& c) {
   for (int axis = 0; axis < 3; ++axis) {
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
     for (int k = 0; k < 4; ++k) {
@@ -253,7 +270,8 @@ void Renderer::Box(const Camera& camera, const RVec3& lo, const RVec3& hi, const
   }
 }
 
-void Renderer::Draw(const Game& game, const Camera& camera, int width, int height, const DebugDraw& debug) {
+void Renderer::Draw(const Game& game, const Camera& camera, int width, int height,
+                    const DebugDraw& debug) {
   glViewport(0, 0, width, height);
   glClearColor(0.008f, 0.010f, 0.022f, 1.0f);  // space: near black, a touch of blue
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -274,7 +292,8 @@ void Renderer::Draw(const Game& game, const Camera& camera, int width, int heigh
     RQuat q;
     game.DrawPose(i, p, q);
     Eigen::Vector3f colour = BodyColour(b, bodies.HandleAt(i));
-    if (debug.sleeping && b.IsSleeping()) colour = 0.45f * colour + Eigen::Vector3f(0.10f, 0.22f, 0.55f);
+    if (debug.sleeping && b.IsSleeping())
+      colour = 0.45f * colour + Eigen::Vector3f(0.10f, 0.22f, 0.55f);
     DrawMesh(MeshFor(b.PreparedShape().get()), camera, p, q, 1.0f, colour, 0.0f);
   }
 
@@ -285,10 +304,12 @@ void Renderer::Draw(const Game& game, const Camera& camera, int width, int heigh
     const double elapsed = double(step - std::min(step, m_lastStep)) * world.StepDt();
     for (Flash& f : m_flashes) f.age += elapsed;
     // The last step's explosions (those of earlier steps in the same frame were not seen).
-    for (const Explosion& x : game.MissileSystem().LastExplosions()) m_flashes.push_back({x.point_W, 0});
+    for (const Explosion& x : game.MissileSystem().LastExplosions())
+      m_flashes.push_back({x.point_W, 0});
     m_lastStep = step;
   }
-  m_flashes.erase(std::remove_if(m_flashes.begin(), m_flashes.end(), [](const Flash& f) { return f.age > 0.6; }),
+  m_flashes.erase(std::remove_if(m_flashes.begin(), m_flashes.end(),
+                                 [](const Flash& f) { return f.age > 0.6; }),
                   m_flashes.end());
   for (const Flash& f : m_flashes) {
     const float t = float(f.age / 0.6);
@@ -326,7 +347,8 @@ void Renderer::Draw(const Game& game, const Camera& camera, int width, int heigh
       const RVec3 other = joint.def.b.IsValid() ? bodies[joint.def.b].Position_W() : anchor;
       Line(camera, a.Position_W(), anchor, Colour(0.2f, 0.9f, 1.0f));
       Line(camera, anchor, other, Colour(0.2f, 0.9f, 1.0f));
-      Box(camera, anchor - RVec3::Constant(0.3), anchor + RVec3::Constant(0.3), Colour(0.2f, 0.9f, 1.0f));
+      Box(camera, anchor - RVec3::Constant(0.3), anchor + RVec3::Constant(0.3),
+          Colour(0.2f, 0.9f, 1.0f));
     }
   }
   DrawLines(m_viewProj);
@@ -350,7 +372,8 @@ void Renderer::DrawLines(const Eigen::Matrix4f& viewProj) {
   glBindVertexArray(m_lineVao);
   glBindBuffer(GL_ARRAY_BUFFER, m_lineVbo);
   // Orphan and refill: one upload a frame, the buffer's storage reused by the driver.
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_lines.size() * sizeof(float)), m_lines.data(), GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_lines.size() * sizeof(float)), m_lines.data(),
+               GL_STREAM_DRAW);
   glDrawArrays(GL_LINES, 0, GLsizei(m_lines.size() / 6));
 }
 

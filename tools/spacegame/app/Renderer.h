@@ -8,21 +8,21 @@
 // gets is a distance from the eye, exact to float's precision at that distance.
 #pragma once
 
-#include "Camera.h"
-#include "Game.h"
-
 #include <epoxy/gl.h>
 
 #include <unordered_map>
 #include <vector>
 
+#include "Camera.h"
+#include "Game.h"
+
 namespace spacegame {
 
 struct DebugDraw {
-  bool contacts = false;   // manifold points and their normals
-  bool bounds = false;     // world bounding boxes
-  bool sleeping = true;    // sleeping bodies tinted blue
-  bool joints = true;      // joints as lines between the bodies' centres
+  bool contacts = false;  // manifold points and their normals
+  bool bounds = false;    // world bounding boxes
+  bool sleeping = true;   // sleeping bodies tinted blue
+  bool joints = true;     // joints as lines between the bodies' centres
 };
 
 class Renderer {

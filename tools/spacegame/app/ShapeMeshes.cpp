@@ -70,8 +70,10 @@ void Revolve(Tris& out, const std::vector<Ring>& profile, int segments) {
       at(profile[i], k, p[0], n[0]), at(profile[i], k + 1, p[1], n[1]);
       at(profile[i + 1], k, p[2], n[2]), at(profile[i + 1], k + 1, p[3], n[3]);
       // Top ring to the next one down, outward-facing: (0, 1, 2) and (1, 3, 2).
-      out.push_back(Vertex(p[0], n[0])), out.push_back(Vertex(p[1], n[1])), out.push_back(Vertex(p[2], n[2]));
-      out.push_back(Vertex(p[1], n[1])), out.push_back(Vertex(p[3], n[3])), out.push_back(Vertex(p[2], n[2]));
+      out.push_back(Vertex(p[0], n[0])), out.push_back(Vertex(p[1], n[1])),
+          out.push_back(Vertex(p[2], n[2]));
+      out.push_back(Vertex(p[1], n[1])), out.push_back(Vertex(p[3], n[3])),
+          out.push_back(Vertex(p[2], n[2]));
     }
   }
 }
@@ -101,11 +103,21 @@ void Cylinder(Tris& out, double r, double h) {
 
 void Shape(Tris& out, const RShape& s) {
   switch (s.type) {
-    case RShapeType::kSphere: Capsule(out, s.radius, 0); break;
-    case RShapeType::kCapsule: Capsule(out, s.radius, s.halfHeight); break;
-    case RShapeType::kCylinder: Cylinder(out, s.radius, s.halfHeight); break;
-    case RShapeType::kBox: Box(out, s.halfExtents); break;
-    case RShapeType::kHull: Polyhedron(out, RConvexPolyhedron::Hull(s.points)); break;
+    case RShapeType::kSphere:
+      Capsule(out, s.radius, 0);
+      break;
+    case RShapeType::kCapsule:
+      Capsule(out, s.radius, s.halfHeight);
+      break;
+    case RShapeType::kCylinder:
+      Cylinder(out, s.radius, s.halfHeight);
+      break;
+    case RShapeType::kBox:
+      Box(out, s.halfExtents);
+      break;
+    case RShapeType::kHull:
+      Polyhedron(out, RConvexPolyhedron::Hull(s.points));
+      break;
     case RShapeType::kCompound:
       for (const RCompoundChild& c : s.children) {
         const std::size_t first = out.size();

@@ -1,7 +1,7 @@
 // rengine-spacegame: REngine's showcase, a space game on the engine's public API (#17).
 //
 //   rengine-spacegame                       play (keys on the HUD)
-//   rengine-spacegame --autoplay --frames 600 --screenshot shot.png
+//   rengine-spacegame --autoplay --frames 900 --screenshot shot.png
 //
 // The autoplay feeds scripted input (Autoplay.h) for N frames of exactly 1/60 s, writes the
 // last frame as a PNG, and ends with one line on stderr:
@@ -11,14 +11,6 @@
 //
 // This file is the thin front end: SDL2 for the window and input, OpenGL (epoxy) through
 // Renderer, Dear ImGui for the HUD. Everything the game does is in the logic library.
-#include "Autoplay.h"
-#include "Camera.h"
-#include "Game.h"
-#include "Hud.h"
-#include "Renderer.h"
-#include "Screenshot.h"
-#include "StateHash.h"
-
 #include <SDL.h>
 #include <imgui.h>
 #include <imgui_impl_opengl3.h>
@@ -31,17 +23,25 @@
 #include <exception>
 #include <string>
 
+#include "Autoplay.h"
+#include "Camera.h"
+#include "Game.h"
+#include "Hud.h"
+#include "Renderer.h"
+#include "Screenshot.h"
+#include "StateHash.h"
+
 namespace {
 
 struct Options {
   bool autoplay = false;
-  int frames = 600;          // autoplay frames (interactive: 0, until closed)
+  int frames = 900;  // autoplay frames (the script docks near frame 870); play: until closed
   std::string screenshot;
   int width = 1280, height = 720;
   bool hud = true;
-  bool wide = false;         // the wide camera instead of the chase camera (autoplay: the default)
-  bool chase = false;        // the chase camera in the autoplay
-  bool debug = false;        // contacts and joints drawn
+  bool wide = false;   // the wide camera instead of the chase camera (autoplay: the default)
+  bool chase = false;  // the chase camera in the autoplay
+  bool debug = false;  // contacts and joints drawn
   spacegame::WorldConfig world;
 };
 
@@ -70,22 +70,35 @@ Options Parse(int argc, char** argv) {
   };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--autoplay") o.autoplay = true;
-    else if (a == "--frames") o.frames = int(number(i, 1, 10000000));
-    else if (a == "--screenshot") o.screenshot = value(i);
-    else if (a == "--width") o.width = int(number(i, 64, 8192));
-    else if (a == "--height") o.height = int(number(i, 64, 8192));
-    else if (a == "--no-hud") o.hud = false;
-    else if (a == "--wide") o.wide = true;
-    else if (a == "--chase") o.chase = true;
-    else if (a == "--debug") o.debug = true;
-    else if (a == "--asteroids") o.world.asteroids = int(number(i, 0, 2000));
-    else if (a == "--seed") o.world.seed = std::uint64_t(number(i, 0, 1L << 40));
+    if (a == "--autoplay")
+      o.autoplay = true;
+    else if (a == "--frames")
+      o.frames = int(number(i, 1, 10000000));
+    else if (a == "--screenshot")
+      o.screenshot = value(i);
+    else if (a == "--width")
+      o.width = int(number(i, 64, 8192));
+    else if (a == "--height")
+      o.height = int(number(i, 64, 8192));
+    else if (a == "--no-hud")
+      o.hud = false;
+    else if (a == "--wide")
+      o.wide = true;
+    else if (a == "--chase")
+      o.chase = true;
+    else if (a == "--debug")
+      o.debug = true;
+    else if (a == "--asteroids")
+      o.world.asteroids = int(number(i, 0, 2000));
+    else if (a == "--seed")
+      o.world.seed = std::uint64_t(number(i, 0, 1L << 40));
     else if (a == "--origin") {
       const double x = std::strtod(value(i), nullptr);
       o.world.origin_W = REngine::RVec3(x, x, x);
-    } else if (a == "--help" || a == "-h") Usage(nullptr);
-    else Usage(("unknown option " + a).c_str());
+    } else if (a == "--help" || a == "-h")
+      Usage(nullptr);
+    else
+      Usage(("unknown option " + a).c_str());
   }
   if (!o.screenshot.empty() && !o.autoplay) Usage("--screenshot needs --autoplay");
   // The autoplay is watched from the wide camera (station, ship and rocks in one frame).
@@ -96,7 +109,9 @@ Options Parse(int argc, char** argv) {
 // The pilot's keys, held and pressed.
 spacegame::ShipInput Keyboard(bool fire, bool dock) {
   const Uint8* k = SDL_GetKeyboardState(nullptr);
-  auto axis = [k](SDL_Scancode plus, SDL_Scancode minus) { return double(k[plus]) - double(k[minus]); };
+  auto axis = [k](SDL_Scancode plus, SDL_Scancode minus) {
+    return double(k[plus]) - double(k[minus]);
+  };
   spacegame::ShipInput in;
   in.thrust = axis(SDL_SCANCODE_W, SDL_SCANCODE_S);
   in.yaw = axis(SDL_SCANCODE_A, SDL_SCANCODE_D);
@@ -120,8 +135,9 @@ int Run(const Options& o) {
   SDL_GL_SetAttribute(SDL_GL_CONTEXT_PROFILE_MASK, SDL_GL_CONTEXT_PROFILE_CORE);
   SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
   SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
-  SDL_Window* window = SDL_CreateWindow("REngine space game", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
-                                        o.width, o.height, SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE);
+  SDL_Window* window =
+      SDL_CreateWindow("REngine space game", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
+                       o.width, o.height, SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE);
   if (!window) {
     std::fprintf(stderr, "rengine-spacegame: SDL_CreateWindow: %s\n", SDL_GetError());
     return 1;
@@ -162,15 +178,32 @@ int Run(const Options& o) {
         if (e.type == SDL_QUIT) running = false;
         if (e.type == SDL_KEYDOWN && !e.key.repeat) {
           switch (e.key.keysym.sym) {
-            case SDLK_ESCAPE: running = false; break;
-            case SDLK_f: fire = true; break;
-            case SDLK_g: dock = true; break;
-            case SDLK_c: hud.wideCamera = !hud.wideCamera; break;
-            case SDLK_1: debug.contacts = !debug.contacts; break;
-            case SDLK_2: debug.bounds = !debug.bounds; break;
-            case SDLK_3: debug.sleeping = !debug.sleeping; break;
-            case SDLK_4: debug.joints = !debug.joints; break;
-            default: break;
+            case SDLK_ESCAPE:
+              running = false;
+              break;
+            case SDLK_f:
+              fire = true;
+              break;
+            case SDLK_g:
+              dock = true;
+              break;
+            case SDLK_c:
+              hud.wideCamera = !hud.wideCamera;
+              break;
+            case SDLK_1:
+              debug.contacts = !debug.contacts;
+              break;
+            case SDLK_2:
+              debug.bounds = !debug.bounds;
+              break;
+            case SDLK_3:
+              debug.sleeping = !debug.sleeping;
+              break;
+            case SDLK_4:
+              debug.joints = !debug.joints;
+              break;
+            default:
+              break;
           }
         }
       }
@@ -194,8 +227,8 @@ int Run(const Options& o) {
       const REngine::RBodies& bodies = game.World().Bodies();
       for (std::size_t i = 0; i < bodies.EnabledCount(); ++i)
         if (bodies.HandleAt(i) == game.World().Ship()) game.DrawPose(i, shipP, shipQ);
-      camera.Follow(hud.wideCamera ? spacegame::CameraMode::kWide : spacegame::CameraMode::kChase, game, shipP,
-                    shipQ);
+      camera.Follow(hud.wideCamera ? spacegame::CameraMode::kWide : spacegame::CameraMode::kChase,
+                    game, shipP, shipQ);
       renderer.Draw(game, camera, w, h, debug);
       if (o.hud) {
         ImGui_ImplOpenGL3_NewFrame();
@@ -211,7 +244,8 @@ int Run(const Options& o) {
       if (lastFrame) {
         running = false;
         std::fprintf(stderr, "frames=%d steps=%llu physics_ms_per_step=%.4f hash=%s\n", frame + 1,
-                     static_cast<unsigned long long>(game.Timing().steps), game.Timing().MsPerStep(),
+                     static_cast<unsigned long long>(game.Timing().steps),
+                     game.Timing().MsPerStep(),
                      spacegame::HashHex(spacegame::HashState(game.World().Bodies())).c_str());
       }
     }
