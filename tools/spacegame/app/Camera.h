@@ -9,20 +9,14 @@
 
 namespace spacegame {
 
-class Game;
-
-enum class CameraMode { kChase, kWide };
-
 struct Camera {
   REngine::RVec3 eye_W = REngine::RVec3::Zero();
   REngine::RQuat q_WC = REngine::RQuat::Identity();  // camera frame: -z looks, +y up
   float fovY = 1.0f;                                 // rad
   float nearPlane = 0.5f, farPlane = 20000.0f;       // m
 
-  // Behind and above the ship, looking past it (chase); or a fixed view over the station,
-  // the ship and the field (wide). `shipPosition_W`, `shipQ_WS`: the ship as drawn.
-  void Follow(CameraMode mode, const Game& game, const REngine::RVec3& shipPosition_W,
-              const REngine::RQuat& shipQ_WS);
+  // At `eye`, looking at `target`, turned so that `up` is as near its +y as it goes (world).
+  void LookAt(const REngine::RVec3& eye, const REngine::RVec3& target, const REngine::RVec3& up);
   Eigen::Matrix4f View() const;  // rotation only
   Eigen::Matrix4f Projection(float aspect) const;
 };

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "Game.h"
-#include "Renderer.h"
+#include "GameView.h"
 
 namespace spacegame {
 

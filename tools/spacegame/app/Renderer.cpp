@@ -1,9 +1,8 @@
 #include "Renderer.h"
 
-#include <REnginePhysics/RJoint.h>
-
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -108,35 +107,6 @@ GLuint Program(const char* vertex, const char* fragment) {
   return p;
 }
 
-Eigen::Vector3f Colour(float r, float g, float b) { return {r, g, b}; }
-
-// What a body looks like: by role, rocks in a few shades by handle so the field is not one
-// colour.
-Eigen::Vector3f BodyColour(const RRigidBody& b, RBodyHandle h) {
-  switch (RoleOf(b)) {
-    case Role::kShip:
-      return Colour(0.75f, 0.80f, 0.88f);
-    case Role::kStation:
-      return Colour(0.50f, 0.54f, 0.60f);
-    case Role::kBay:
-      return Colour(0.38f, 0.40f, 0.44f);
-    case Role::kCrate:
-      return Colour(0.90f, 0.55f, 0.15f);
-    case Role::kMissile:
-      return Colour(0.95f, 0.25f, 0.20f);
-    case Role::kDebris:
-      return Colour(0.95f, 0.80f, 0.35f);
-    case Role::kAsteroid: {
-      static const Eigen::Vector3f shades[4] = {
-          Colour(0.55f, 0.47f, 0.40f), Colour(0.47f, 0.44f, 0.42f), Colour(0.60f, 0.52f, 0.42f),
-          Colour(0.42f, 0.38f, 0.36f)};
-      return shades[h.index % 4];
-    }
-    default:
-      return Colour(0.7f, 0.7f, 0.7f);
-  }
-}
-
 }  // namespace
 
 Renderer::Renderer() {
@@ -151,14 +121,18 @@ Renderer::Renderer() {
   m_starProgram = Program(kStarVertex, kStarFragment);
   m_uStarViewProj = glGetUniformLocation(m_starProgram, "uViewProj");
 
-  // Stars from the same kind of generator as the rocks: the sky is the same every run.
-  Rng rng(4242);
+  // Stars from a fixed seed (a 64-bit LCG): the sky is the same every run.
+  std::uint64_t state = 4242;
+  auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * double(state >> 11) * (1.0 / 9007199254740992.0);
+  };
   std::vector<float> stars;
   for (int k = 0; k < 2500; ++k) {
-    RVec3 d(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1));
+    RVec3 d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
     if (d.squaredNorm() > 1 || d.squaredNorm() < 1e-6) continue;
     d.normalize();
-    const double b = rng.Uniform(0, 1);
+    const double b = uniform(0, 1);
     stars.insert(stars.end(), {float(d.x()), float(d.y()), float(d.z()), float(b * b * b)});
   }
   m_starCount = GLsizei(stars.size() / 4);
@@ -182,16 +156,15 @@ Renderer::Renderer() {
                         reinterpret_cast<const void*>(3 * sizeof(float)));
   glBindVertexArray(0);
   m_lines.reserve(6 * 4096);
-  m_flashes.reserve(16);
 
   RShape sphere;
   sphere.type = RShapeType::kSphere;
   sphere.radius = 1;
   const std::vector<MeshVertex> v = Tessellate(sphere);
-  glGenVertexArrays(1, &m_flashMesh.vao);
-  glGenBuffers(1, &m_flashMesh.vbo);
-  glBindVertexArray(m_flashMesh.vao);
-  glBindBuffer(GL_ARRAY_BUFFER, m_flashMesh.vbo);
+  glGenVertexArrays(1, &m_ballMesh.vao);
+  glGenBuffers(1, &m_ballMesh.vbo);
+  glBindVertexArray(m_ballMesh.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, m_ballMesh.vbo);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(MeshVertex)), v.data(),
                GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
@@ -199,14 +172,14 @@ Renderer::Renderer() {
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex),
                         reinterpret_cast<const void*>(offsetof(MeshVertex, normal)));
-  m_flashMesh.count = GLsizei(v.size());
+  m_ballMesh.count = GLsizei(v.size());
   glBindVertexArray(0);
 }
 
 Renderer::~Renderer() {
   for (auto& [shape, mesh] : m_meshes)
     glDeleteVertexArrays(1, &mesh.vao), glDeleteBuffers(1, &mesh.vbo);
-  glDeleteVertexArrays(1, &m_flashMesh.vao), glDeleteBuffers(1, &m_flashMesh.vbo);
+  glDeleteVertexArrays(1, &m_ballMesh.vao), glDeleteBuffers(1, &m_ballMesh.vbo);
   glDeleteVertexArrays(1, &m_starVao), glDeleteBuffers(1, &m_starVbo);
   glDeleteVertexArrays(1, &m_lineVao), glDeleteBuffers(1, &m_lineVbo);
   glDeleteProgram(m_litProgram), glDeleteProgram(m_lineProgram), glDeleteProgram(m_starProgram);
@@ -248,16 +221,7 @@ void Renderer::DrawMesh(const GpuMesh& mesh, const Camera& camera, const RVec3& 
   glDrawArrays(GL_TRIANGLES, 0, mesh.count);
 }
 
-void Renderer::Line(const Camera& camera, const RVec3& a_W, const RVec3& b_W,
-                    const Eigen::Vector3f& c) {
-  const Eigen::Vector3f a = (a_W - camera.eye_W).cast<float>(),
-                        b = (b_W - camera.eye_W).cast<float>();
-  m_lines.insert(m_lines.end(), {a.x(), a.y(), a.z(), c.x(), c.y(), c.z(), b.x(), b.y(), b.z(),
-                                 c.x(), c.y(), c.z()});
-}
-
-void Renderer::Box(const Camera& camera, const RVec3& lo, const RVec3& hi,
-                   const Eigen::Vector3f& c) {
+void DrawList::Box(const RVec3& lo, const RVec3& hi, const Eigen::Vector3f& c) {
   for (int axis = 0; axis < 3; ++axis) {
     const int u = (axis + 1) % 3, v = (axis + 2) % 3;
     for (int k = 0; k < 4; ++k) {
@@ -265,13 +229,12 @@ void Renderer::Box(const Camera& camera, const RVec3& lo, const RVec3& hi,
       a[u] = (k & 1) ? hi[u] : lo[u], a[v] = (k & 2) ? hi[v] : lo[v];
       RVec3 b = a;
       b[axis] = hi[axis];
-      Line(camera, a, b, c);
+      Line(a, b, c);
     }
   }
 }
 
-void Renderer::Draw(const Game& game, const Camera& camera, int width, int height,
-                    const DebugDraw& debug) {
+void Renderer::Draw(const DrawList& list, const Camera& camera, int width, int height) {
   glViewport(0, 0, width, height);
   glClearColor(0.008f, 0.010f, 0.022f, 1.0f);  // space: near black, a touch of blue
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -280,76 +243,22 @@ void Renderer::Draw(const Game& game, const Camera& camera, int width, int heigh
   m_viewProj = camera.Projection(float(width) / float(std::max(height, 1))) * camera.View();
   DrawStars(m_viewProj);
 
-  const SpaceWorld& world = game.World();
-  const RBodies& bodies = world.Bodies();
   glUseProgram(m_litProgram);
   glUniformMatrix4fv(m_uViewProj, 1, GL_FALSE, m_viewProj.data());
   const Eigen::Vector3f sun = Eigen::Vector3f(0.55f, 0.62f, 0.35f).normalized();
   glUniform3fv(m_uSunDir, 1, sun.data());
-  for (std::size_t i = 0; i < bodies.EnabledCount(); ++i) {
-    const RRigidBody& b = bodies.At(i);
-    RVec3 p;
-    RQuat q;
-    game.DrawPose(i, p, q);
-    Eigen::Vector3f colour = BodyColour(b, bodies.HandleAt(i));
-    if (debug.sleeping && b.IsSleeping())
-      colour = 0.45f * colour + Eigen::Vector3f(0.10f, 0.22f, 0.55f);
-    DrawMesh(MeshFor(b.PreparedShape().get()), camera, p, q, 1.0f, colour, 0.0f);
-  }
-
-  // Explosion flashes: a hot ball that grows and fades over half a second (frame time
-  // from the steps taken, so a paused game holds its flashes).
-  const std::uint64_t step = world.Integrator().StepCount();
-  if (step != m_lastStep) {
-    const double elapsed = double(step - std::min(step, m_lastStep)) * world.StepDt();
-    for (Flash& f : m_flashes) f.age += elapsed;
-    // The last step's explosions (those of earlier steps in the same frame were not seen).
-    for (const Explosion& x : game.MissileSystem().LastExplosions())
-      m_flashes.push_back({x.point_W, 0});
-    m_lastStep = step;
-  }
-  m_flashes.erase(std::remove_if(m_flashes.begin(), m_flashes.end(),
-                                 [](const Flash& f) { return f.age > 0.6; }),
-                  m_flashes.end());
-  for (const Flash& f : m_flashes) {
-    const float t = float(f.age / 0.6);
-    DrawMesh(m_flashMesh, camera, f.point_W, RQuat::Identity(), 3.0f + 9.0f * t,
-             Eigen::Vector3f(1.0f, 0.85f - 0.5f * t, 0.4f - 0.3f * t), 1.0f);
+  for (const DrawItem& item : list.items) {
+    DrawMesh(item.shape ? MeshFor(item.shape) : m_ballMesh, camera, item.position_W, item.q_WS,
+             item.scale, item.colour, item.emissive);
   }
 
   m_lines.clear();
-  if (game.LaserOn()) {
-    const Lasers& l = game.LaserSystem();
-    Line(camera, l.BeamFrom(), l.BeamTo(), Colour(0.3f, 1.0f, 0.4f));
-  }
-  if (debug.contacts) {
-    for (const RContact& c : world.Integrator().Contacts()) {
-      for (int k = 0; k < c.manifold.pointCount; ++k) {
-        const RVec3 p = c.manifold.points[k].position;
-        Line(camera, p, p + 1.5 * c.manifold.normal, Colour(1.0f, 0.2f, 0.9f));
-        Box(camera, p - RVec3::Constant(0.1), p + RVec3::Constant(0.1), Colour(1.0f, 1.0f, 0.2f));
-      }
-    }
-  }
-  if (debug.bounds) {
-    const std::uint64_t stamp = world.Integrator().CacheStamp();
-    for (const RRigidBody& b : bodies) {
-      const RWorldForm& f = b.WorldForm(stamp);
-      Box(camera, f.aabbMin_W, f.aabbMax_W,
-          b.IsSleeping() ? Colour(0.3f, 0.5f, 1.0f) : Colour(0.3f, 0.8f, 0.3f));
-    }
-  }
-  if (debug.joints) {
-    for (std::size_t j = 0; j < bodies.JointCount(); ++j) {
-      const RJoint& joint = bodies.JointAt(j);
-      const RRigidBody& a = bodies[joint.def.a];
-      const RVec3 anchor = a.Position_W() + a.Orientation_WB() * joint.anchorA_B;
-      const RVec3 other = joint.def.b.IsValid() ? bodies[joint.def.b].Position_W() : anchor;
-      Line(camera, a.Position_W(), anchor, Colour(0.2f, 0.9f, 1.0f));
-      Line(camera, anchor, other, Colour(0.2f, 0.9f, 1.0f));
-      Box(camera, anchor - RVec3::Constant(0.3), anchor + RVec3::Constant(0.3),
-          Colour(0.2f, 0.9f, 1.0f));
-    }
+  for (const DrawLine& l : list.lines) {
+    const Eigen::Vector3f a = (l.a_W - camera.eye_W).cast<float>();  // double, then float
+    const Eigen::Vector3f b = (l.b_W - camera.eye_W).cast<float>();
+    const Eigen::Vector3f& k = l.colour;
+    m_lines.insert(m_lines.end(), {a.x(), a.y(), a.z(), k.x(), k.y(), k.z(), b.x(), b.y(), b.z(),
+                                   k.x(), k.y(), k.z()});
   }
   DrawLines(m_viewProj);
   glBindVertexArray(0);

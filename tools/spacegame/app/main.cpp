@@ -26,6 +26,7 @@
 #include "Autoplay.h"
 #include "Camera.h"
 #include "Game.h"
+#include "GameView.h"
 #include "Hud.h"
 #include "Renderer.h"
 #include "Screenshot.h"
@@ -161,6 +162,8 @@ int Run(const Options& o) {
     spacegame::Game game(o.world);
     spacegame::Autoplay script(game);
     spacegame::Renderer renderer;
+    spacegame::GameView view;
+    spacegame::DrawList drawList;
     spacegame::Camera camera;
     spacegame::DebugDraw debug;
     debug.contacts = debug.bounds = o.debug;
@@ -222,14 +225,11 @@ int Run(const Options& o) {
 
       int w = 0, h = 0;
       SDL_GL_GetDrawableSize(window, &w, &h);
-      REngine::RVec3 shipP;
-      REngine::RQuat shipQ;
-      const REngine::RBodies& bodies = game.World().Bodies();
-      for (std::size_t i = 0; i < bodies.EnabledCount(); ++i)
-        if (bodies.HandleAt(i) == game.World().Ship()) game.DrawPose(i, shipP, shipQ);
-      camera.Follow(hud.wideCamera ? spacegame::CameraMode::kWide : spacegame::CameraMode::kChase,
-                    game, shipP, shipQ);
-      renderer.Draw(game, camera, w, h, debug);
+      spacegame::GameView::Aim(
+          camera, hud.wideCamera ? spacegame::CameraMode::kWide : spacegame::CameraMode::kChase,
+          game);
+      view.Build(game, debug, drawList);
+      renderer.Draw(drawList, camera, w, h);
       if (o.hud) {
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplSDL2_NewFrame();
