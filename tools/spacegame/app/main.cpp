@@ -12,8 +12,6 @@
 // This file is the thin front end: SDL2 for the window and input, OpenGL (epoxy) through
 // Renderer, Dear ImGui for the HUD. Everything the game does is in the logic library.
 #include <SDL.h>
-#include <imgui.h>
-#include <imgui_impl_opengl3.h>
 #include <imgui_impl_sdl.h>
 
 #include <chrono>
@@ -31,6 +29,7 @@
 #include "Renderer.h"
 #include "Screenshot.h"
 #include "StateHash.h"
+#include "Window.h"
 
 namespace {
 
@@ -127,37 +126,7 @@ spacegame::ShipInput Keyboard(bool fire, bool dock) {
 }
 
 int Run(const Options& o) {
-  if (SDL_Init(SDL_INIT_VIDEO) != 0) {
-    std::fprintf(stderr, "rengine-spacegame: SDL_Init: %s\n", SDL_GetError());
-    return 1;
-  }
-  SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
-  SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 3);
-  SDL_GL_SetAttribute(SDL_GL_CONTEXT_PROFILE_MASK, SDL_GL_CONTEXT_PROFILE_CORE);
-  SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
-  SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
-  SDL_Window* window =
-      SDL_CreateWindow("REngine space game", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
-                       o.width, o.height, SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE);
-  if (!window) {
-    std::fprintf(stderr, "rengine-spacegame: SDL_CreateWindow: %s\n", SDL_GetError());
-    return 1;
-  }
-  SDL_GLContext gl = SDL_GL_CreateContext(window);
-  if (!gl) {
-    std::fprintf(stderr, "rengine-spacegame: OpenGL 3.3 core: %s\n", SDL_GetError());
-    return 1;
-  }
-  SDL_GL_SetSwapInterval(o.autoplay ? 0 : 1);  // the autoplay runs as fast as it can draw
-
-  IMGUI_CHECKVERSION();
-  ImGui::CreateContext();
-  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the screenshots
-  ImGui::StyleColorsDark();
-  ImGui_ImplSDL2_InitForOpenGL(window, gl);
-  ImGui_ImplOpenGL3_Init("#version 330 core");
-
-  int status = 0;
+  spacegame::Window window("REngine space game", o.width, o.height, !o.autoplay);
   {
     spacegame::Game game(o.world);
     spacegame::Autoplay script(game);
@@ -224,23 +193,20 @@ int Run(const Options& o) {
       }
 
       int w = 0, h = 0;
-      SDL_GL_GetDrawableSize(window, &w, &h);
+      window.DrawableSize(w, h);
       spacegame::GameView::Aim(
           camera, hud.wideCamera ? spacegame::CameraMode::kWide : spacegame::CameraMode::kChase,
           game);
       view.Build(game, debug, drawList);
       renderer.Draw(drawList, camera, w, h);
       if (o.hud) {
-        ImGui_ImplOpenGL3_NewFrame();
-        ImGui_ImplSDL2_NewFrame();
-        ImGui::NewFrame();
+        window.BeginHud();
         spacegame::DrawHud(game, hud, debug);
-        ImGui::Render();
-        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        window.EndHud();
       }
       const bool lastFrame = o.autoplay && frame + 1 >= o.frames;
       if (lastFrame && !o.screenshot.empty()) spacegame::WriteScreenshot(o.screenshot, w, h);
-      SDL_GL_SwapWindow(window);
+      window.Swap();
       if (lastFrame) {
         running = false;
         std::fprintf(stderr, "frames=%d steps=%llu physics_ms_per_step=%.4f hash=%s\n", frame + 1,
@@ -250,13 +216,7 @@ int Run(const Options& o) {
       }
     }
   }
-  ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplSDL2_Shutdown();
-  ImGui::DestroyContext();
-  SDL_GL_DeleteContext(gl);
-  SDL_DestroyWindow(window);
-  SDL_Quit();
-  return status;
+  return 0;
 }
 
 }  // namespace
