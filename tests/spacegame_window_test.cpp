@@ -129,6 +129,7 @@ TEST(SpaceGameWindow, RengineViewPlaysATrajectoryOfRengineSim) {
       p.colours, 100 * p.commonest, 100 * p.lit);
   EXPECT_EQ(p.width, 640);
   EXPECT_GT(p.colours, 200u);
-  EXPECT_LT(p.commonest, 0.9);
-  EXPECT_GT(p.lit, 0.1);
+  // A cloud is mostly sky between its boxes: the sky may take more than in the game's frame.
+  EXPECT_LT(p.commonest, 0.95);
+  EXPECT_GT(p.lit, 0.05);
 }

@@ -216,8 +216,11 @@ int Run(const Options& o) {
       }
       drawn = list.items.size();
       const double a = 0.6 + 0.15 * (t - trajectory.StartTime());  // a slow turn round
-      camera.LookAt(centre + 2.0 * radius * RVec3(std::cos(a) * 0.8, 0.55, std::sin(a) * 0.8),
-                    centre, RVec3::UnitY());
+      // The bounding sphere of the moving bodies within 80% of the vertical field of view.
+      const double distance = radius / std::sin(0.4 * camera.fovY);
+      camera.LookAt(
+          centre + distance * RVec3(std::cos(a) * 0.8, 0.55, std::sin(a) * 0.8).normalized(),
+          centre, RVec3::UnitY());
       int w = 0, h = 0;
       window.DrawableSize(w, h);
       renderer.Draw(list, camera, w, h);
