@@ -105,6 +105,19 @@ TEST(SpaceGameWindow, TheAutoplayRepeatsAndItsLastFrameShowsAScene) {
   EXPECT_GT(p.lit, 0.1);
 }
 
+// Played (not the autoplay) for 40 frames with no key pressed: the wall-clock loop runs, reads
+// the keyboard, takes the steps the elapsed time owes (how many depends on the machine), and
+// quits cleanly. The hash is not compared: wall-clock frames differ from run to run.
+TEST(SpaceGameWindow, PlayedUntouchedTheGameRunsItsClockLoop) {
+  const std::string dir = RENGINE_SPACEGAME_OUT;
+  const GameRun r =
+      UnderXvfb(std::string(RENGINE_SPACEGAME) + " --frames 40 --width 320 --height 200",
+                dir + "/play.stderr");
+  std::printf("played: %s\n", r.lastLine.c_str());
+  ASSERT_EQ(r.exitCode, 0) << r.lastLine;
+  EXPECT_EQ(r.lastLine.rfind("frames=40 steps=", 0), 0u) << r.lastLine;
+}
+
 // The shared cloud of 1000 boxes run by rengine-sim for a second, played back by rengine-view for
 // 30 frames: every body drawn, and a picture, not a blank screen.
 TEST(SpaceGameWindow, RengineViewPlaysATrajectoryOfRengineSim) {

@@ -35,7 +35,9 @@ namespace {
 
 struct Options {
   bool autoplay = false;
-  int frames = 900;  // autoplay frames (the script docks near frame 870); play: until closed
+  // Frames to run, then quit; 0: the autoplay's 900 (the script docks near frame 870), or
+  // until the window is closed when playing (a smoke test plays a few frames untouched).
+  int frames = 0;
   std::string screenshot;
   int width = 1280, height = 720;
   bool hud = true;
@@ -101,6 +103,7 @@ Options Parse(int argc, char** argv) {
       Usage(("unknown option " + a).c_str());
   }
   if (!o.screenshot.empty() && !o.autoplay) Usage("--screenshot needs --autoplay");
+  if (o.autoplay && o.frames == 0) o.frames = 900;
   // The autoplay is watched from the wide camera (station, ship and rocks in one frame).
   if (o.autoplay && !o.chase) o.wide = true;
   return o;
@@ -204,7 +207,7 @@ int Run(const Options& o) {
         spacegame::DrawHud(game, hud, debug);
         window.EndHud();
       }
-      const bool lastFrame = o.autoplay && frame + 1 >= o.frames;
+      const bool lastFrame = o.frames > 0 && frame + 1 >= o.frames;
       if (lastFrame && !o.screenshot.empty()) spacegame::WriteScreenshot(o.screenshot, w, h);
       window.Swap();
       if (lastFrame) {
