@@ -61,16 +61,18 @@ RBodyHandle Missiles::Fire(RBodyHandle launcher, const RVec3& position_W, const 
   auto free = std::find_if(m_slots.begin(), m_slots.end(), [](const Slot& s) { return !s.live; });
   if (free == m_slots.end()) return {};
   RBodies& bodies = m_world.Bodies();
-  const RRigidBody& from = bodies[launcher];
+  // Read before Enable, which may move bodies in the container's storage.
+  const std::uint32_t launcherId = bodies[launcher].Id();
+  const RVec3 launcherVelocity = bodies[launcher].Velocity_W();
   const RVec3 dir = direction_W.normalized();
   bodies.Enable(free->body);
   RRigidBody& m = bodies[free->body];
   // The pool keeps its bodies, so the ignore list only grows; the same launcher again adds
   // nothing (the engine keeps the list sorted and unique).
-  m.IgnoreCollisionsWith(from.Id());
+  m.IgnoreCollisionsWith(launcherId);
   // The capsule's axis is its S frame's y: turn y onto the flight direction.
   m.SetShapePose(position_W, RQuat::FromTwoVectors(RVec3::UnitY(), dir));
-  m.SetVelocity_W(from.Velocity_W() + m_tuning.launchSpeed * dir);
+  m.SetVelocity_W(launcherVelocity + m_tuning.launchSpeed * dir);
   m.SetAngularVelocity_W(RVec3::Zero());
   m_world.NoteSpawn(m);
   free->launcher = launcher;
