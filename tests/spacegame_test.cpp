@@ -7,13 +7,37 @@
 #include <REnginePhysics/RContactEvents.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <new>
+#include <string>
 #include <vector>
 
 #include "Autoplay.h"
 #include "Game.h"
 #include "StateHash.h"
+
+// Heap allocations counted while g_countAllocations is set (this binary's operator new, as
+// events_test.cpp counts them). gcc takes the replaced pair, once inlined, for malloc freed by
+// delete: it is not.
+static std::atomic<long> g_allocations{0};
+static std::atomic<bool> g_countAllocations{false};
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+void* operator new(std::size_t n) {
+  if (g_countAllocations) ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 using namespace spacegame;
 using namespace REngine;
@@ -351,4 +375,34 @@ TEST(SpaceGame, TheGameFarOutPlaysAsAtTheOrigin) {
   std::printf("autoplay at 0 and at 1e6 m: %zu bodies, largest difference %.2e m\n", ends[0].size(),
               worst);
   EXPECT_LT(worst, 1e-3);
+}
+
+// No heap churn in the loop: after the first second, the autoplay's frames (thrusters, the
+// laser on every step, a missile homing in and going off, debris thrown out) allocate nothing,
+// but for the few where something first happens and a container grows (the step's contacts
+// and events when the debris first touches, the queries' tree rebuilt for the bodies the
+// blast enabled).
+TEST(SpaceGame, TheLoopAllocatesOnlyWhileItsContainersGrow) {
+  Game game;
+  Autoplay script(game);
+  for (int f = 0; f < 60; ++f) game.Frame(Autoplay::kFrameSeconds, script.Input(f, game));
+  int allocatingFrames = 0;
+  long total = 0;
+  std::string which;  // frame:allocations
+  for (int f = 60; f < 240; ++f) {
+    const ShipInput in = script.Input(f, game);
+    g_allocations = 0;
+    g_countAllocations = true;
+    game.Frame(Autoplay::kFrameSeconds, in);
+    g_countAllocations = false;
+    allocatingFrames += g_allocations > 0;
+    if (g_allocations > 0) which += " " + std::to_string(f) + ":" + std::to_string(g_allocations);
+    total += g_allocations;
+  }
+  std::printf("frames 60 to 240: %d of 180 allocated, %ld allocations in all (%s)\n",
+              allocatingFrames, total, which.c_str());
+  // Measured: 11 frames, most about the missile going off (frames 121 to 126: the blast, the
+  // debris enabled, their first contacts), the second launch (150) and debris reaching rocks
+  // (215 to 220).
+  EXPECT_LE(allocatingFrames, 16);
 }
