@@ -21,11 +21,6 @@ namespace {
 
 constexpr RScalar kDt = 1.0 / 60;
 
-RScalar Gap(const RBodies& bodies, RJointHandle h) {
-  const auto [pA, pB] = Anchors(bodies, h);
-  return (pA - pB).norm();
-}
-
 }  // namespace
 
 // A Newton's cradle of five balls, each hung from its own point by a ball joint 1 m above

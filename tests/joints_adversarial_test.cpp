@@ -24,19 +24,10 @@ namespace {
 constexpr RScalar kDt = 1.0 / 60;
 constexpr RScalar kG = 9.81;
 
-RWorldSettings Gravity() {
-  RWorldSettings s;
-  s.gravity_W = RVec3(0, -kG, 0);
-  return s;
-}
+RWorldSettings Gravity() { return GravityAlongMinusY(kG); }
 
 
 
-
-RScalar Gap(const RBodies& bodies, RJointHandle h) {
-  const auto [pA, pB] = Anchors(bodies, h);
-  return (pA - pB).norm();
-}
 
 // Kinetic plus potential energy (gravity along -y) of the enabled dynamic bodies.
 RScalar Energy(const RBodies& bodies) {

@@ -24,11 +24,7 @@ namespace {
 constexpr RScalar kDt = 1.0 / 60;
 constexpr RScalar kG = 9.81;
 
-RWorldSettings Gravity() {
-  RWorldSettings s;
-  s.gravity_W = RVec3(0, -kG, 0);
-  return s;
-}
+RWorldSettings Gravity() { return GravityAlongMinusY(kG); }
 
 
 

@@ -24,16 +24,7 @@ namespace {
 constexpr RScalar kDt = 1.0 / 60;
 constexpr RScalar kG = 9.81;
 
-RWorldSettings Gravity() {
-  RWorldSettings s;
-  s.gravity_W = RVec3(0, -kG, 0);
-  return s;
-}
-
-RScalar Gap(const RBodies& bodies, RJointHandle h) {
-  const auto [pA, pB] = Anchors(bodies, h);
-  return (pA - pB).norm();
-}
+RWorldSettings Gravity() { return GravityAlongMinusY(kG); }
 
 // A compound of boxes (half extents, centre in the compound's frame) of one density.
 BodyDef CompoundOf(const std::vector<std::pair<RVec3, RVec3>>& boxes, RScalar rho) {

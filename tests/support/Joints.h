@@ -1,10 +1,11 @@
 // What the joint suites and bench_joints share: a joint definition in one expression, where
-// a joint's two anchors are now, and the complete elliptic integral the pendulum's closed
-// form needs (computed here, independently of REngineMath's elliptic functions). Header-only.
+// a joint's two anchors are now and how far apart, their gravity, and the complete elliptic
+// integral the pendulum's closed form needs (computed here, independently of REngineMath's elliptic functions). Header-only.
 #pragma once
 
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RJoint.h>
 
 #include <cmath>
@@ -28,6 +29,19 @@ inline std::pair<RVec3, RVec3> Anchors(const RBodies& bodies, RJointHandle h) {
   if (!j.def.b.IsValid()) return {pA, j.anchorB_B};
   const RRigidBody& b = bodies[j.def.b];
   return {pA, b.Position_W() + b.Orientation_WB() * j.anchorB_B};
+}
+
+// How far apart a joint's two anchors are now, m (0: the joint holds).
+inline RScalar Gap(const RBodies& bodies, RJointHandle h) {
+  const auto [pA, pB] = Anchors(bodies, h);
+  return (pA - pB).norm();
+}
+
+// The joint suites' world: gravity g along -y (m/s^2).
+inline RWorldSettings GravityAlongMinusY(RScalar g = 9.81) {
+  RWorldSettings s;
+  s.gravity_W = RVec3(0, -g, 0);
+  return s;
 }
 
 // The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
