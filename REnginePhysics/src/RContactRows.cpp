@@ -81,7 +81,7 @@ void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std
   r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
   r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
   r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
-  r.miss = false;
+  r.miss = false, r.joined = false;
 }
 
 // Asks for what BuildContactRows reads of contact ci: the contact and its pair's warm starts

@@ -237,6 +237,60 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
     }
     k0 = k1;
   }
+  if (!m_weldGroups.empty()) JoinWeldImpacts(bodies, first, last);
+}
+
+// The same for a weld (RWeldGroups.cpp), one rigid body made of several: its members'
+// contacts with one body facing one way bounce as one impact, through the centre of their
+// leading points, as a compound's children's do; the weld's rows carry the impulse to the
+// members (RJointImpacts.cpp). Bounced one contact after another, a welded pair landing
+// flat left turning at 2.3 rad/s. The joined row keeps that point and normal whenever
+// within the step it meets (ImpactGeometry, which looks at one manifold, would find its own
+// contact's alone).
+void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
+  auto group = [this](std::uint32_t i) -> std::uint64_t {
+    const RWeldGroup* g = WeldOf(i);
+    return g ? std::uint64_t(m_weldMembers[g->first].body) | (std::uint64_t(1) << 32) : i;
+  };
+  for (std::uint32_t k0 = first; k0 < last; ++k0) {
+    const RContact& c0 = m_contacts[m_blockContact[k0]];
+    if (!WeldOf(c0.a) && !WeldOf(c0.b)) continue;
+    if (!std::isfinite(m_impacts[k0].gap) || m_impacts[k0].joined) continue;  // (joined already)
+    const std::uint64_t ga = group(c0.a), gb = group(c0.b);
+    if (ga == gb) continue;
+    const RVec3& n = c0.manifold.normal;
+    // The contacts of the same two (the weld on the same side), facing the same way; the
+    // deepest leads.
+    std::uint32_t lead = k0;
+    int others = 0;
+    for (std::uint32_t k = k0 + 1; k < last; ++k) {
+      const RContact& c = m_contacts[m_blockContact[k]];
+      if (group(c.a) != ga || group(c.b) != gb || c.manifold.normal.dot(n) < kFaceContactCos) continue;
+      if (!std::isfinite(m_impacts[k].gap)) continue;
+      ++others;
+      if (m_impacts[k].gap < m_impacts[lead].gap) lead = k;
+    }
+    if (others == 0) continue;
+    RImpactRow& r = m_impacts[lead];
+    RVec3 sum = RVec3::Zero();
+    int count = 0;
+    for (std::uint32_t k = k0; k < last; ++k) {
+      const RContact& c = m_contacts[m_blockContact[k]];
+      if (group(c.a) != ga || group(c.b) != gb || c.manifold.normal.dot(n) < kFaceContactCos) continue;
+      if (!std::isfinite(m_impacts[k].gap)) continue;
+      const RContactManifold& m = c.manifold;
+      for (int q = 0; q < m.pointCount; ++q) {
+        if (m.points[q].separation <= r.gap + m_settings.penetrationSlop) sum += m.points[q].position, ++count;
+      }
+      if (k != lead) m_impacts[k].gap = std::numeric_limits<RScalar>::infinity();
+    }
+    if (count == 0) continue;
+    const RContact& c = m_contacts[m_blockContact[lead]];
+    const RVec3 centre = sum / count;
+    r.rA = centre - bodies[c.a].m_x_W, r.rB = centre - bodies[c.b].m_x_W;
+    SetDirection(r.normal, c.manifold.normal, r.rA, r.rB, m_solverBodies[c.a], m_solverBodies[c.b]);
+    r.joined = true;
+  }
 }
 
 // An impact row's approach speed at the centre of its manifold's leading points is the mean

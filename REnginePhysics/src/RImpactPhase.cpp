@@ -179,8 +179,9 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
       advance(sa, t), advance(sb, t);
       RDirection dir[3];
       RVec3 rA, rB;
-      if (t == 0) {
-        // At the start: the manifold's own impact point and normal.
+      if (t == 0 || r.joined) {
+        // At the start: the manifold's own impact point and normal (a weld's joined
+        // contacts: theirs, at any time).
         rA = r.rA, rB = r.rB;
         SetDirection(dir[0], r.normal.d, rA, rB, sa, sb);
         SetDirection(dir[1], r.tangent[0], rA, rB, sa, sb);

@@ -321,6 +321,7 @@ class RWorldStep {
     // events: where a pair that met within the step touched).
     RVec3 point_W, normal_W;
     bool miss;                 // found, along the motion, not to meet within the step
+    bool joined;               // a weld's contacts joined in it: its point whenever it meets
   };
   // Working state of a body during the solve: velocities that include every pending change.
   struct RSolverBody {
@@ -456,6 +457,7 @@ class RWorldStep {
   void PrefetchContact(std::uint32_t ci) const;  // (only speed depends on it)
   void BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block);
   void JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last);
+  void JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last);
   static std::size_t FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from);
   // Both return the largest change of a row's relative speed their impulses made, m/s
   // (|delta lambda| k: what SolveIslandBlocks stops on).
