@@ -1,16 +1,20 @@
 // rengine-spacegame and rengine-view in a window (#17), under a virtual display (xvfb-run,
 // Mesa's software OpenGL): the game's autoplay run twice ends on the same state hash, and its
 // last frame, written as a PNG, shows a scene: many colours, none of them covering the
-// screen; rengine-view plays a trajectory of rengine-sim's and shows it the same way.
+// screen; --record keeps every K-th frame without changing the hash; rengine-view plays a
+// trajectory of rengine-sim's and shows it the same way.
 #include <gtest/gtest.h>
 #include <stb_image.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 namespace {
 
@@ -103,6 +107,51 @@ TEST(SpaceGameWindow, TheAutoplayRepeatsAndItsLastFrameShowsAScene) {
   EXPECT_GT(p.colours, 500u);
   EXPECT_LT(p.commonest, 0.9);
   EXPECT_GT(p.lit, 0.1);
+}
+
+// --record DIR --record-every 10 on a 30-frame autoplay: DIR/frame_00000.png to frame_00002.png
+// (frames 10, 20 and 30) at the window's size, no fourth; and the hash of the run with
+// --record is the hash of the run without (reading frames back touches no physics). Bad
+// --record arguments are usage errors (exit code 2) before any window opens.
+TEST(SpaceGameWindow, RecordKeepsEveryKthFrameAndLeavesTheHash) {
+  namespace fs = std::filesystem;
+  const std::string out = RENGINE_SPACEGAME_OUT, dir = out + "/record-frames";
+  fs::remove_all(dir);
+  const std::string game =
+      std::string(RENGINE_SPACEGAME) + " --autoplay --frames 30 --width 320 --height 180";
+  const GameRun plain = UnderXvfb(game, out + "/record-plain.stderr");
+  const GameRun recorded =
+      UnderXvfb(game + " --record " + dir + " --record-every 10", out + "/record.stderr");
+  std::printf("without --record: %s\nwith --record:    %s\n", plain.lastLine.c_str(),
+              recorded.lastLine.c_str());
+  ASSERT_EQ(plain.exitCode, 0) << plain.lastLine;
+  ASSERT_EQ(recorded.exitCode, 0) << recorded.lastLine;
+  ASSERT_FALSE(HashOf(plain.lastLine).empty());
+  EXPECT_EQ(HashOf(recorded.lastLine), HashOf(plain.lastLine));
+
+  ASSERT_TRUE(fs::is_directory(dir));
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) files += entry.is_regular_file();
+  EXPECT_EQ(files, 3u);
+  for (int i = 0; i < 3; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/frame_%05d.png", i);
+    const Picture p = Look(dir + name);
+    EXPECT_EQ(p.width, 320) << name;
+    EXPECT_EQ(p.height, 180) << name;
+    EXPECT_GT(p.colours, 100u) << name;
+  }
+
+  // Parsed before the window opens: no virtual display needed.
+  for (const std::string& bad : std::vector<std::string>{
+           " --autoplay --record-every 0 --record " + dir, " --autoplay --record-every 10",
+           " --record " + dir, " --autoplay --frames 5 --record " + dir + " --record-every 6",
+           " --autoplay --record /dev/null/frames", " --autoplay --record"}) {
+    const std::string line =
+        std::string(RENGINE_SPACEGAME) + bad + " 2> " + out + "/record-usage.stderr";
+    const int code = std::system(line.c_str());
+    EXPECT_TRUE(WIFEXITED(code) && WEXITSTATUS(code) == 2) << bad << ": " << code;
+  }
 }
 
 // Played (not the autoplay) for 40 frames with no key pressed: the wall-clock loop runs, reads

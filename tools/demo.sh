@@ -2,7 +2,9 @@
 # Installs what is missing, builds, runs the default scene and writes its trajectory and a
 # plot: build/demo/trajectory.csv and build/demo/demo.png; then, where they are built, the
 # trajectory played back by rengine-view (build/demo/view.png) and the space game's
-# autoplay (build/demo/spacegame.png), in a window, or under xvfb-run without a display.
+# autoplay (build/demo/spacegame.png, its last frame, and build/demo/spacegame.gif, every 6th
+# of its 900 frames at 640x360 put together by ImageMagick), in a window, or under xvfb-run
+# without a display; and says how to play the game on a machine with a display.
 #   tools/demo.sh [SCENE.json]   (default: the Dzhanibekov tumbling box)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,4 +27,22 @@ if [ -x build/bin/rengine-spacegame ] && [ -x build/bin/rengine-view ]; then
   "${display[@]}" build/bin/rengine-spacegame --autoplay --frames 900 \
     --screenshot build/demo/spacegame.png
   echo "wrote build/demo/view.png and build/demo/spacegame.png"
+  # The animation: the same autoplay (the same hash) without the HUD, every 6th frame kept
+  # (10 a second of its 60), then a looping GIF of them. ImageMagick is for the demo only.
+  rengine_install_deps imagemagick
+  rm -rf build/demo/frames
+  "${display[@]}" build/bin/rengine-spacegame --autoplay --frames 900 --width 640 --height 360 \
+    --no-hud --record build/demo/frames --record-every 6
+  # Debian's convert, not whatever convert is first on PATH. -delay is in 1/100 s: 10 frames a
+  # second, real time; -layers Optimize keeps only what changes from frame to frame.
+  /usr/bin/convert -delay 10 -loop 0 build/demo/frames/frame_*.png -layers Optimize \
+    build/demo/spacegame.gif
+  echo "wrote build/demo/spacegame.gif ($(ls build/demo/frames | wc -l) frames of build/demo/frames/," \
+    "$(du -k build/demo/spacegame.gif | cut -f1) KB)"
+  cat <<'PLAY'
+to play on a machine with a display: build/bin/rengine-spacegame
+  W/S thrust  A/D yaw  up/down pitch  Q/E roll  left/right strafe  R/V up/down
+  space laser  F missile  G dock (near a port)  C camera  1-4 debug drawing  Esc quit
+  (build/bin/rengine-spacegame --autoplay flies the scripted run in the window, unthrottled)
+PLAY
 fi

@@ -2,12 +2,17 @@
 //
 //   rengine-spacegame                       play (keys on the HUD)
 //   rengine-spacegame --autoplay --frames 900 --screenshot shot.png
+//   rengine-spacegame --autoplay --frames 900 --record frames/ --record-every 6
 //
 // The autoplay feeds scripted input (Autoplay.h) for N frames of exactly 1/60 s, writes the
 // last frame as a PNG, and ends with one line on stderr:
 //   frames=N steps=S physics_ms_per_step=X hash=H
 // H, the final state's hash, is the same on every run of the same build (the tests and CI
 // compare two runs under a virtual display); X is wall-clock time and varies.
+// --record DIR keeps every K-th frame of the autoplay (--record-every K, default 1: frames K,
+// 2K, ..., 1-based) as DIR/frame_00000.png, frame_00001.png, ..., read back the way
+// --screenshot is; the framebuffer is read only on those frames, and the physics and the hash
+// are the same with or without it.
 //
 // This file is the thin front end: SDL2 for the window and input, OpenGL (epoxy) through
 // Renderer, Dear ImGui for the HUD. Everything the game does is in the logic library.
@@ -19,7 +24,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "Autoplay.h"
 #include "Camera.h"
@@ -39,6 +46,8 @@ struct Options {
   // until the window is closed when playing (a smoke test plays a few frames untouched).
   int frames = 0;
   std::string screenshot;
+  std::string record;   // a directory: every recordEvery-th autoplay frame as a PNG
+  int recordEvery = 0;  // 0: not given (1 with --record)
   int width = 1280, height = 720;
   bool hud = true;
   bool wide = false;   // the wide camera instead of the chase camera (autoplay: the default)
@@ -51,6 +60,7 @@ struct Options {
   if (problem) std::fprintf(stderr, "rengine-spacegame: %s\n", problem);
   std::fprintf(stderr,
                "usage: rengine-spacegame [--autoplay] [--frames N] [--screenshot FILE.png]\n"
+               "         [--record DIR [--record-every K]]\n"
                "         [--width W] [--height H] [--no-hud] [--wide | --chase] [--debug]\n"
                "         [--asteroids N] [--seed S] [--origin X]\n");
   std::exit(problem ? 2 : 0);
@@ -78,6 +88,11 @@ Options Parse(int argc, char** argv) {
       o.frames = int(number(i, 1, 10000000));
     else if (a == "--screenshot")
       o.screenshot = value(i);
+    else if (a == "--record") {
+      o.record = value(i);
+      if (o.record.empty()) Usage("--record: an empty directory name");
+    } else if (a == "--record-every")
+      o.recordEvery = int(number(i, 1, 10000000));
     else if (a == "--width")
       o.width = int(number(i, 64, 8192));
     else if (a == "--height")
@@ -104,6 +119,23 @@ Options Parse(int argc, char** argv) {
   }
   if (!o.screenshot.empty() && !o.autoplay) Usage("--screenshot needs --autoplay");
   if (o.autoplay && o.frames == 0) o.frames = 900;
+  if (!o.record.empty() && !o.autoplay) Usage("--record needs --autoplay");
+  if (o.recordEvery != 0 && o.record.empty()) Usage("--record-every needs --record");
+  if (!o.record.empty()) {
+    if (o.recordEvery == 0) o.recordEvery = 1;
+    if (o.recordEvery > o.frames)
+      Usage(("--record-every " + std::to_string(o.recordEvery) + " is more than the " +
+             std::to_string(o.frames) + " frames: nothing would be recorded")
+                .c_str());
+    // The directory is made (with its parents) before the window opens, so a bad path is a
+    // usage error, not a failure 900 frames in.
+    std::error_code ec;
+    std::filesystem::create_directories(o.record, ec);
+    if (ec || !std::filesystem::is_directory(o.record))
+      Usage(("--record: cannot make the directory " + o.record +
+             (ec ? ": " + ec.message() : std::string()))
+                .c_str());
+  }
   // The autoplay is watched from the wide camera (station, ship and rocks in one frame).
   if (o.autoplay && !o.chase) o.wide = true;
   return o;
@@ -209,6 +241,12 @@ int Run(const Options& o) {
       }
       const bool lastFrame = o.frames > 0 && frame + 1 >= o.frames;
       if (lastFrame && !o.screenshot.empty()) spacegame::WriteScreenshot(o.screenshot, w, h);
+      // Only recorded frames read the framebuffer back (glReadPixels waits for the GPU).
+      if (!o.record.empty() && (frame + 1) % o.recordEvery == 0) {
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%05d.png", (frame + 1) / o.recordEvery - 1);
+        spacegame::WriteScreenshot(o.record + "/" + name, w, h);
+      }
       window.Swap();
       if (lastFrame) {
         running = false;
