@@ -214,10 +214,11 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
     const RScalar used = std::hypot(blk.lambdaT1[0] + blk.lambdaT1[1], blk.lambdaT2[0] + blk.lambdaT2[1]);
     const RScalar left = blk.friction * normal - used;
     if (!(left > 0)) continue;
-    const RJointRow& n = sc.endRows[std::size_t(nj) * kRows + e];
+    // (The contact row's end bodies by value: the pushes below may move the rows.)
+    const std::uint32_t endA = sc.endRows[std::size_t(nj) * kRows + e].a, endB = sc.endRows[std::size_t(nj) * kRows + e].b;
     for (int t = 0; t < 2; ++t) {
       RJointRow r;
-      r.a = n.a, r.b = n.b;
+      r.a = endA, r.b = endB;
       r.dir = blk.t[t];
       const RIslandScratch::REndBody& ea = sc.endBodies[r.a];
       const RIslandScratch::REndBody& eb = sc.endBodies[r.b];

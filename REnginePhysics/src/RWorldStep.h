@@ -678,9 +678,9 @@ class RWorldStep {
   // (the joints' prediction, PredictJoints, for a weld's bodies).
   void PredictWeld(const RStepBodies& bodies, const RWeldGroup& g, RScalar dt);
   RVec3 Centre(const RStepBodies& bodies, const RWeldGroup& g) const;  // its centre of mass now, world
-  // The weld group of body i, or null.
+  // The weld group of body i, or null (also for the world's solver body, index bodies.size()).
   const RWeldGroup* WeldOf(std::uint32_t i) const {
-    return m_weldOf.empty() || m_weldOf[i] == 0 ? nullptr : &m_weldGroups[m_weldOf[i] - 1];
+    return i >= m_weldOf.size() || m_weldOf[i] == 0 ? nullptr : &m_weldGroups[m_weldOf[i] - 1];
   }
   // Each island's joints: m_islandJoints[m_islandJointStart[k], m_islandJointStart[k + 1])
   // are indices into m_stepJoints, in its order (LayOutIslands).
