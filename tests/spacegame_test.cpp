@@ -19,25 +19,7 @@
 #include "Game.h"
 #include "StateHash.h"
 
-// Heap allocations counted while g_countAllocations is set (this binary's operator new, as
-// events_test.cpp counts them). gcc takes the replaced pair, once inlined, for malloc freed by
-// delete: it is not.
-static std::atomic<long> g_allocations{0};
-static std::atomic<bool> g_countAllocations{false};
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-void* operator new(std::size_t n) {
-  if (g_countAllocations) ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
+#include "support/CountingNew.h"  // this binary's operator new counts allocations
 
 using namespace spacegame;
 using namespace REngine;

@@ -161,10 +161,16 @@ Renderer::Renderer() {
   sphere.type = RShapeType::kSphere;
   sphere.radius = 1;
   const std::vector<MeshVertex> v = Tessellate(sphere);
-  glGenVertexArrays(1, &m_ballMesh.vao);
-  glGenBuffers(1, &m_ballMesh.vbo);
-  glBindVertexArray(m_ballMesh.vao);
-  glBindBuffer(GL_ARRAY_BUFFER, m_ballMesh.vbo);
+  m_ballMesh = Upload(v);
+}
+
+// A mesh's triangles to the GPU: a vertex array of positions and normals.
+Renderer::GpuMesh Renderer::Upload(const std::vector<MeshVertex>& v) {
+  GpuMesh m;
+  glGenVertexArrays(1, &m.vao);
+  glGenBuffers(1, &m.vbo);
+  glBindVertexArray(m.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, m.vbo);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(MeshVertex)), v.data(),
                GL_STATIC_DRAW);
   glEnableVertexAttribArray(0);
@@ -172,8 +178,9 @@ Renderer::Renderer() {
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex),
                         reinterpret_cast<const void*>(offsetof(MeshVertex, normal)));
-  m_ballMesh.count = GLsizei(v.size());
   glBindVertexArray(0);
+  m.count = GLsizei(v.size());
+  return m;
 }
 
 Renderer::~Renderer() {
@@ -190,21 +197,7 @@ const Renderer::GpuMesh& Renderer::MeshFor(const RPreparedShape* shape) {
   if (it != m_meshes.end()) return it->second;
   // Once per prepared shape: a split rock's halves come from the shared rock shapes, so
   // even splitting builds nothing new after the first of each.
-  const std::vector<MeshVertex> v = Tessellate(shape->shape);
-  GpuMesh m;
-  glGenVertexArrays(1, &m.vao);
-  glGenBuffers(1, &m.vbo);
-  glBindVertexArray(m.vao);
-  glBindBuffer(GL_ARRAY_BUFFER, m.vbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(v.size() * sizeof(MeshVertex)), v.data(),
-               GL_STATIC_DRAW);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex), nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(MeshVertex),
-                        reinterpret_cast<const void*>(offsetof(MeshVertex, normal)));
-  glBindVertexArray(0);
-  m.count = GLsizei(v.size());
+  const GpuMesh m = Upload(Tessellate(shape->shape));
   return m_meshes.emplace(shape, m).first->second;
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "Camera.h"
+#include "ShapeMeshes.h"
 
 namespace spacegame {
 
@@ -59,6 +60,7 @@ class Renderer {
     GLsizei count = 0;
   };
   const GpuMesh& MeshFor(const REngine::RPreparedShape* shape);
+  static GpuMesh Upload(const std::vector<MeshVertex>& vertices);
   void DrawMesh(const GpuMesh& mesh, const Camera& camera, const REngine::RVec3& position_W,
                 const REngine::RQuat& q_WS, float scale, const Eigen::Vector3f& colour,
                 float emissive);
