@@ -90,15 +90,9 @@ RBoundsTree::RBox RWorldStep::FatBox(const RRigidBody& b, std::size_t i) const {
   return Valid(fat) ? fat : box;
 }
 
+// The sweep boxes are this step's (DetectPairs made them with the reaches).
 void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
-  m_sweepBoxes.resize(n);
-  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
-    for (std::size_t i = i0; i < i1; ++i) {
-      if (i + 2 < i1) PrefetchBody(bodies[i + 2], 7 * 64);  // orientation to the body-frame box
-      m_sweepBoxes[i] = SweepBox(bodies[i], i);
-    }
-  });
   // The bodies that left their fat boxes (or whose box stopped or started being a number).
   m_moved.clear();
   const bool rebuild = !m_fatValid || m_fatBoxes.size() != n || m_fatRefits >= kFatRefits;
@@ -199,11 +193,20 @@ void RWorldStep::RebuildFatPairs(const RStepBodies& bodies) {
 // loop's sphere test (the same operands in the same order, so the same answer to the bit).
 // The list is in (i, then j) order, and so are the tasks' ranges of it, joined in order.
 void RWorldStep::TreePairs(RScalar grow) {
+  constexpr std::size_t kBoxAhead = 16;
   const std::size_t used = ParallelRanges(m_jobs, m_fatPairs.size(), m_tasks, 4096, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.pairs.clear();
     st.sphereTests = 0;
     for (std::size_t k = k0; k < k1; ++k) {
+      // The second body's box is anywhere in a 1.4 MB array (30000 bodies): asked for a
+      // few pairs ahead, it is there when the pair is tested.
+      if (k + kBoxAhead < k1) {
+        const std::uint32_t ahead = m_fatPairs[k + kBoxAhead].second;
+        const char* box = reinterpret_cast<const char*>(&m_sweepBoxes[ahead]);
+        __builtin_prefetch(box), __builtin_prefetch(box + sizeof(RBoundsTree::RBox) - 1);
+        __builtin_prefetch(&m_passive[ahead]);
+      }
       const auto [i, j] = m_fatPairs[k];
       if ((m_passive[i] && m_passive[j]) || !Overlap(m_sweepBoxes[i], m_sweepBoxes[j])) continue;
       ++st.sphereTests;

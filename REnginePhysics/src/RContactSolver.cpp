@@ -163,15 +163,16 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   if (!m_islandRowsBuilt[island]) {  // (else built as tasks: FindImpulses)
     // An island's bodies and contacts lie far apart in storage (a pile's column: a layer of
     // bodies between two), each a wait for memory: the next ones are asked for while one
-    // is worked on.
+    // is worked on, across the island's end (the islands are laid out in the order they
+    // are solved: a debris cloud's islands of two or three bodies wait on every one).
     const std::uint32_t b0 = m_islandBodyStart[island], b1 = m_islandBodyStart[island + 1];
     for (std::uint32_t k = b0; k < b1; ++k) {
-      if (k + 2 < b1) PrefetchBody(bodies[m_islandBodies[k + 2]], 8 * 64);  // to the shape's core
+      if (k + 2 < m_islandBodies.size()) PrefetchBody(bodies[m_islandBodies[k + 2]], 8 * 64);  // to the shape's core
       const std::uint32_t i = m_islandBodies[k];
       InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
     }
     for (std::uint32_t k = first; k < last; ++k) {
-      if (k + 1 < last) PrefetchContact(m_blockContact[k + 1]);
+      if (k + 1 < m_blockContact.size()) PrefetchContact(m_blockContact[k + 1]);
       tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
     }
   }

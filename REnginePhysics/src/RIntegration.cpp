@@ -17,9 +17,15 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
   m_putBack.assign(bodies.size(), 0);
   ParallelRanges(m_jobs, bodies.size(), m_tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
-      // The whole body two ahead (the motion reads its state, accumulators and the
-      // rotation's cache): PrefetchBody.
-      if (i + 2 < i1) PrefetchBody(bodies[i + 2], sizeof(RRigidBody));
+      // What the motion reads of the body six ahead: its first seven lines (state,
+      // accumulators, inverse inertia, drag, masks) and the rotation's cache, not the
+      // material, shape and names between them (PrefetchBody).
+      if (i + 6 < i1) {
+        const RRigidBody& ahead = bodies[i + 6];
+        PrefetchBody(ahead, 7 * 64);
+        const char* rotation = reinterpret_cast<const char*>(&ahead.m_rotation);
+        for (std::size_t at = 0; at < sizeof(RFreeRotation); at += 64) __builtin_prefetch(rotation + at);
+      }
       RRigidBody& b = bodies[i];
       // A welded body moves with its group (below).
       if (!m_weldOf.empty() && m_weldOf[i]) continue;

@@ -55,6 +55,16 @@ inline void PrefetchBody(const RRigidBody& b, std::size_t bytes) {
   for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
 }
 
+// A body's hull (its polyhedron's vertex array, up to 4 lines), read by its world form and
+// the narrow phase: asked for once the body's own lines have arrived (PrefetchBody a few
+// pairs earlier), since the pointer to it is in them.
+inline void PrefetchHull(const RRigidBody& b) {
+  const RConvexPolyhedron* hull = ShapeOf(b).polyhedron;
+  if (!hull) return;
+  const char* p = reinterpret_cast<const char*>(hull->Vertices().data());
+  for (std::size_t line = 0; line < 4 * 64; line += 64) __builtin_prefetch(p + line);
+}
+
 // A body's pose for its joints: centre of mass (world, m) and orientation q_WB.
 struct RJointPoseIn {
   RVec3 x;
