@@ -37,18 +37,18 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
   // contact with a sliding box moves with the box). The same point for both bodies keeps
   // angular momentum exact. Lever arms are about the centres at the start of the step;
   // UpdateObjects moves them to where the centres end.
-  auto accumulateEnd = [&bodies, this, dt](std::uint32_t a, std::uint32_t b, const RVec3& rA,
+  auto accumulateEnd = [this, dt](std::uint32_t a, std::uint32_t b, const RVec3& rA,
                                            const RVec3& rB, const RVec3& J) {
     if (J.isZero(0)) return;
     RSolverBody& sa = m_solverBodies[a];
     RSolverBody& sb = m_solverBodies[b];
     const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
-    if (!bodies[a].Immovable()) {
+    if (!ImmovableAt(a)) {
       sa.endLinear -= J;
       sa.endAngular -= (rA + shift).cross(J);
     }
-    if (!bodies[b].Immovable()) {
+    if (!ImmovableAt(b)) {
       sb.endLinear += J;
       sb.endAngular += (rB + shift).cross(J);
     }

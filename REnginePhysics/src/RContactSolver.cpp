@@ -49,9 +49,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   GatherWelds(bodies);
   bool anyRow = !m_stepJoints.empty();
   for (const RContact& c : m_contacts) {
-    const RRigidBody& a = bodies[c.a];
-    const RRigidBody& b = bodies[c.b];
-    anyRow = anyRow || (a.m_responds && b.m_responds && !(a.Immovable() && b.Immovable()) &&
+    anyRow = anyRow || (RespondsAt(c.a) && RespondsAt(c.b) && !(ImmovableAt(c.a) && ImmovableAt(c.b)) &&
                         c.manifold.pointCount > 0);
   }
   m_solved = anyRow;

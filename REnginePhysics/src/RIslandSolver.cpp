@@ -96,12 +96,10 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
         __builtin_prefetch(&m_warm[w].pair);
       }
       RContact& c = m_contacts[ci];
-      const RRigidBody& A = bodies[c.a];
-      const RRigidBody& B = bodies[c.b];
       // A manifold without points (the narrow phase hit its iteration cap) gives no rows:
       // its impact point and centroid would be 0/0; nor do separations that are not
       // numbers (see ImpactGeometry), which leave no point within the slop of the deepest.
-      c.resolved = A.m_responds && B.m_responds && !(A.Immovable() && B.Immovable()) &&
+      c.resolved = RespondsAt(c.a) && RespondsAt(c.b) && !(ImmovableAt(c.a) && ImmovableAt(c.b)) &&
                    c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
       if (!c.resolved) continue;
       warmFrom = FindWarmStarts(m_warm, PairKey(c.handleA.index, c.handleB.index), warmFrom);
@@ -122,7 +120,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     // contact's rows are solved in.
     m_rowStart[ci].warm = warmCount;
     warmCount += static_cast<std::uint32_t>(c.manifold.pointCount);
-    if (!bodies[c.a].Immovable() && !bodies[c.b].Immovable()) m_islandSets.Union(c.a, c.b);
+    if (!ImmovableAt(c.a) && !ImmovableAt(c.b)) m_islandSets.Union(c.a, c.b);
   }
   // Joints join islands as contacts do; the world's end (index n) joins nothing.
   for (const RStepJoint& j : m_stepJoints) {
@@ -137,7 +135,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
     const RContact& c = m_contacts[ci];
     if (!c.resolved) continue;
-    const std::uint32_t root = m_islandSets.Find(bodies[c.a].Immovable() ? c.b : c.a);
+    const std::uint32_t root = m_islandSets.Find(ImmovableAt(c.a) ? c.b : c.a);
     m_rowStart[ci].block = root;  // for now
     ++m_blockStart[root + 1];
   }
@@ -202,7 +200,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_immovableRowBodies.clear();
   for (std::size_t i = 0; i < n; ++i) {
     if (!m_inRows[i]) continue;
-    if (bodies[i].Immovable()) {
+    if (ImmovableAt(i)) {
       m_immovableRowBodies.push_back(static_cast<std::uint32_t>(i));
     } else {
       ++m_islandBodyStart[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))] + 1];
@@ -212,7 +210,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_islandBodies.resize(m_islandBodyStart[islands]);
   m_islandBodyFill.assign(m_islandBodyStart.begin(), m_islandBodyStart.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!m_inRows[i] || bodies[i].Immovable()) continue;
+    if (!m_inRows[i] || ImmovableAt(i)) continue;
     m_islandBodies[m_islandBodyFill[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))]]++] =
         static_cast<std::uint32_t>(i);
   }

@@ -170,7 +170,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
     if (!c.resolved) continue;
     // A kinematic body holds as static geometry does, and joins no island: the islands on a
     // platform sleep and wake apart (its motion wakes what it touches, SetShapePose the sleepers about where it was and is).
-    const bool staticA = bodies[c.a].Immovable(), staticB = bodies[c.b].Immovable();
+    const bool staticA = ImmovableAt(c.a), staticB = ImmovableAt(c.b);
     if (staticA || staticB) {
       // Held: the static body pushed this step (a speculative contact, or a body sliding
       // along a floor in space, is not held).

@@ -185,6 +185,13 @@ class RWorldStep {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_fatPairs, m_fatScratch, m_fatMerged;  // (i < j), sorted
   std::vector<std::uint32_t> m_treeIds, m_moved;
   std::vector<char> m_movedMark, m_passive;  // per body
+  // Per body, this step (DetectPairs' set-up pass): whether it is static or kinematic and
+  // whether it responds, a byte each beside the others, for the contact phase's passes
+  // over contacts and bodies, which would otherwise wait for each body's first line.
+  static constexpr std::uint8_t kFlagImmovable = 1, kFlagResponds = 2;
+  std::vector<std::uint8_t> m_bodyFlags;
+  bool ImmovableAt(std::size_t i) const { return m_bodyFlags[i] & kFlagImmovable; }
+  bool RespondsAt(std::size_t i) const { return m_bodyFlags[i] & kFlagResponds; }
   bool m_fatValid = false;  // the list matches the fat boxes (false after a sweep without it)
   int m_fatRefits = 0;      // steps since the tree was built: it is rebuilt every kFatRefits
   static constexpr int kFatRefits = 64;
