@@ -90,9 +90,19 @@ RBoundsTree::RBox RWorldStep::FatBox(const RRigidBody& b, std::size_t i) const {
   return Valid(fat) ? fat : box;
 }
 
-// The sweep boxes are this step's (DetectPairs made them with the reaches).
+// The sweep boxes: DetectPairs made them with the reaches when the last sweep used the
+// broad phase; otherwise they are made here.
 void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
+  if (!m_sweepBoxesMade) {
+    m_sweepBoxes.resize(n);
+    ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+      for (std::size_t i = i0; i < i1; ++i) {
+        if (i + 6 < i1) PrefetchBody(bodies[i + 6], 7 * 64);  // orientation to the body-frame box
+        m_sweepBoxes[i] = SweepBox(bodies[i], i);
+      }
+    });
+  }
   // The bodies that left their fat boxes (or whose box stopped or started being a number).
   m_moved.clear();
   const bool rebuild = !m_fatValid || m_fatBoxes.size() != n || m_fatRefits >= kFatRefits;

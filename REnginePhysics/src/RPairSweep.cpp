@@ -145,8 +145,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   m_moveV.resize(n), m_moveW.resize(n);
   m_passive.resize(n), m_bodyFlags.resize(n);
   // The broad phase's boxes (SweepBox) are made here too, while the body's lines are in
-  // the cache: a pass of their own waited for every body again (30000 bodies: 2 ms a step).
-  const bool sweepBoxes = shortcuts.boundsRejection && shortcuts.broadPhase;
+  // the cache, when the last sweep used the broad phase (it mostly stays in use): a pass
+  // of their own waited for every body again (30000 bodies: 2 ms a step). Otherwise
+  // UpdateBroadPhase makes them if the broad phase is taken up.
+  const bool sweepBoxes = shortcuts.boundsRejection && shortcuts.broadPhase && m_fatValid;
+  m_sweepBoxesMade = sweepBoxes;
   if (sweepBoxes) m_sweepBoxes.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
   ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {

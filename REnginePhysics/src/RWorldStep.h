@@ -55,16 +55,6 @@ inline void PrefetchBody(const RRigidBody& b, std::size_t bytes) {
   for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
 }
 
-// A body's hull (its polyhedron's vertex array, up to 4 lines), read by its world form and
-// the narrow phase: asked for once the body's own lines have arrived (PrefetchBody a few
-// pairs earlier), since the pointer to it is in them.
-inline void PrefetchHull(const RRigidBody& b) {
-  const RConvexPolyhedron* hull = ShapeOf(b).polyhedron;
-  if (!hull) return;
-  const char* p = reinterpret_cast<const char*>(hull->Vertices().data());
-  for (std::size_t line = 0; line < 4 * 64; line += 64) __builtin_prefetch(p + line);
-}
-
 // A body's pose for its joints: centre of mass (world, m) and orientation q_WB.
 struct RJointPoseIn {
   RVec3 x;
@@ -180,6 +170,7 @@ class RWorldStep {
   RBoundsTree::RBox SweepBox(const RRigidBody& b, std::size_t i) const;
   RBoundsTree::RBox FatBox(const RRigidBody& b, std::size_t i) const;
   std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
+  bool m_sweepBoxesMade = false;  // by DetectPairs' set-up pass, this sweep (else UpdateBroadPhase)
   std::vector<RBoundsTree::RBox> m_fatBoxes;    // per body
   RBoundsTree m_fatTree;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_fatPairs, m_fatScratch, m_fatMerged;  // (i < j), sorted
@@ -250,6 +241,15 @@ class RWorldStep {
   }
   static bool Passive(const RRigidBody& b) {
     return (b.m_sleeping || b.m_isStatic || StillKinematic(b)) && b.m_responds;
+  }
+  // A body's hull (its polyhedron's vertex array, up to 4 lines), read by its world form
+  // and the narrow phase: asked for once the body's own lines have arrived (PrefetchBody a
+  // few pairs earlier), since the pointer to it is in them.
+  static void PrefetchHull(const RRigidBody& b) {
+    const RConvexPolyhedron* hull = b.m_polyhedron_B;
+    if (!hull) return;
+    const char* p = reinterpret_cast<const char*>(hull->Vertices().data());
+    for (std::size_t line = 0; line < 4 * 64; line += 64) __builtin_prefetch(p + line);
   }
   std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
   // The step's job system (null: one thread) and how many tasks a parallel stage is cut
