@@ -15,6 +15,7 @@
 #include "FuzzInput.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -197,10 +198,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         return d.dot(body.Position_W()) + std::abs(d.dot(axis)) + body.Shape().radius;
       }
       if (body.Shape().type == RShapeType::kCylinder) {  // its axis's reach and its rim's
-        const RVec3 axis = body.Orientation_WB() * RVec3::UnitY();
-        const double along = d.dot(axis);
-        return d.dot(body.Position_W()) + body.Shape().halfHeight * std::abs(along) +
-               body.Shape().radius * std::sqrt(std::max(0.0, d.squaredNorm() - along * along));
+        // d's part across the axis from d in the body frame, not sqrt(|d|^2 - along^2):
+        // near the axis that difference cancels to rounding, and its square root made the
+        // rim's reach 2e-8 m short on a normal 1e-8 rad from a cylinder's axis.
+        const RVec3 d_B = body.Orientation_WB().conjugate() * d;
+        const double along = d_B.y(), across = std::hypot(d_B.x(), d_B.z());
+        return d.dot(body.Position_W()) + body.Shape().halfHeight * std::abs(along) + body.Shape().radius * across;
       }
       if (!body.Polyhedron_B()) return d.dot(body.Position_W()) + body.BoundingRadius();
       double most = -1e300;
