@@ -90,19 +90,9 @@ RBoundsTree::RBox RWorldStep::FatBox(const RRigidBody& b, std::size_t i) const {
   return Valid(fat) ? fat : box;
 }
 
-// The sweep boxes: DetectPairs made them with the reaches when the last sweep used the
-// broad phase; otherwise they are made here.
+// The sweep boxes are this step's (DetectPairs made them with the reaches).
 void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
-  if (!m_sweepBoxesMade) {
-    m_sweepBoxes.resize(n);
-    ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
-      for (std::size_t i = i0; i < i1; ++i) {
-        if (i + 6 < i1) PrefetchBody(bodies[i + 6], 7 * 64);  // orientation to the body-frame box
-        m_sweepBoxes[i] = SweepBox(bodies[i], i);
-      }
-    });
-  }
   // The bodies that left their fat boxes (or whose box stopped or started being a number).
   m_moved.clear();
   const bool rebuild = !m_fatValid || m_fatBoxes.size() != n || m_fatRefits >= kFatRefits;
@@ -213,8 +203,7 @@ void RWorldStep::TreePairs(RScalar grow) {
       // few pairs ahead, it is there when the pair is tested.
       if (k + kBoxAhead < k1) {
         const std::uint32_t ahead = m_fatPairs[k + kBoxAhead].second;
-        const char* box = reinterpret_cast<const char*>(&m_sweepBoxes[ahead]);
-        __builtin_prefetch(box), __builtin_prefetch(box + sizeof(RBoundsTree::RBox) - 1);
+        PrefetchBytes(&m_sweepBoxes[ahead], sizeof(RBoundsTree::RBox));
         __builtin_prefetch(&m_passive[ahead]);
       }
       const auto [i, j] = m_fatPairs[k];

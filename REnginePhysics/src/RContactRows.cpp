@@ -87,8 +87,7 @@ void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std
 // Asks for what BuildContactRows reads of contact ci: the contact and its pair's warm starts
 // of last step (a manifold's worth, four entries).
 void RWorldStep::PrefetchContact(std::uint32_t ci) const {
-  const char* c = reinterpret_cast<const char*>(&m_contacts[ci]);
-  for (std::size_t line = 0; line < sizeof(RContact); line += 64) __builtin_prefetch(c + line);
+  PrefetchBytes(&m_contacts[ci], sizeof(RContact));
   const std::size_t w0 = m_rowStart[ci].warmFound, w1 = std::min(w0 + 4, m_warm.size());
   for (std::size_t w = w0; w < w1; ++w) {
     const char* p = reinterpret_cast<const char*>(&m_warm[w]);

@@ -23,8 +23,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       if (i + 6 < i1) {
         const RRigidBody& ahead = bodies[i + 6];
         PrefetchBody(ahead, 7 * 64);
-        const char* rotation = reinterpret_cast<const char*>(&ahead.m_rotation);
-        for (std::size_t at = 0; at < sizeof(RFreeRotation); at += 64) __builtin_prefetch(rotation + at);
+        PrefetchBytes(&ahead.m_rotation, sizeof(RFreeRotation));
       }
       RRigidBody& b = bodies[i];
       // A welded body moves with its group (below).

@@ -145,11 +145,9 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   m_moveV.resize(n), m_moveW.resize(n);
   m_passive.resize(n), m_bodyFlags.resize(n);
   // The broad phase's boxes (SweepBox) are made here too, while the body's lines are in
-  // the cache, when the last sweep used the broad phase (it mostly stays in use): a pass
-  // of their own waited for every body again (30000 bodies: 2 ms a step). Otherwise
-  // UpdateBroadPhase makes them if the broad phase is taken up.
-  const bool sweepBoxes = shortcuts.boundsRejection && shortcuts.broadPhase && m_fatValid;
-  m_sweepBoxesMade = sweepBoxes;
+  // the cache: a pass of their own waited for every body again (30000 bodies: 2 ms a
+  // step). A world small enough for the all-pairs loop makes them unread, for little.
+  const bool sweepBoxes = shortcuts.boundsRejection && shortcuts.broadPhase;
   if (sweepBoxes) m_sweepBoxes.resize(n);
   const RScalar halfDt = RScalar(0.5) * dt;
   ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
@@ -367,10 +365,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
       while (memory < memoryEnd && before(m_manifolds[memory], m_pairs[k])) ++memory;
       // Last step's entries are read in order but 720 bytes apart, past the stream
       // prefetch's page: the one two ahead is asked for (a resting pile reads one a pair).
-      if (memory + 2 < memoryEnd) {
-        const char* entry = reinterpret_cast<const char*>(&m_manifolds[memory + 2]);
-        for (std::size_t at = 0; at < sizeof(RManifoldMemory); at += 64) __builtin_prefetch(entry + at);
-      }
+      if (memory + 2 < memoryEnd) PrefetchBytes(&m_manifolds[memory + 2], sizeof(RManifoldMemory));
       const RManifoldMemory* kept = nullptr;
       const std::size_t remembered = st.inPlace + st.manifolds.size();
       // Last step's entries from `unread` on are still to be read (this pair's is read here).
