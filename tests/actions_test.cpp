@@ -1,4 +1,4 @@
-// A scene's actions (SCENE_FORMAT.md, "Actions"): checked at the door (exit-2 errors name the
+// A scene's actions (docs/scene-format.md, "Actions"): checked at the door (exit-2 errors name the
 // JSON path), and replayed by RSceneWorld. Each verb against its closed form in zero g: a
 // free body drifts as x0 + v t exactly (kick-drift-kick with no force adds no rounding
 // beyond the additions), an impulse J changes v by J / m and a sphere's spin by

@@ -1,7 +1,7 @@
 // The API refuses invalid values at the door, and a body that overflows anyway is put back
-// and started afresh (issue #11, defects 5, 7 and 8). Each test reproduces a defect that the
-// engine had: a negative or zero dt, a zero quaternion kept forever, a NaN pose, and one
-// infinite force that froze a stack for good.
+// and started afresh. Each test reproduces an input that must not get through: a negative or
+// zero dt, a zero quaternion kept forever, a NaN pose, and one infinite force that would
+// freeze a stack for good.
 #include <REnginePhysics/RIntegrator.h>
 #include <gtest/gtest.h>
 

@@ -145,9 +145,9 @@ TEST(Bodies, StepsBitForBitLikeAPlainVector) {
   }
 }
 
-// The churn: a sleeping stack, and a small body added and removed far away every 10
-// steps. The stack stays asleep and does not move at all; nothing but the newcomer is ever
-// looked at by the narrow phase.
+// Churn (as bench_churn measures it): a sleeping stack, and a small body added and removed
+// far away every 10 steps. The stack stays asleep and does not move at all; nothing but the
+// newcomer is ever looked at by the narrow phase.
 TEST(Bodies, ChurnElsewhereLeavesASleepingStackAsleepAndUntouched) {
   RBodies bodies;
   RIntegrator integrator(Gravity());

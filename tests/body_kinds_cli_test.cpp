@@ -1,4 +1,4 @@
-// rengine-sim with the bodies' additions of issue #14 (kind, drag, gravity scale, locks):
+// rengine-sim with the bodies' kinds and motion fields (kind, drag, gravity scale, locks):
 // every bad value exits 2 naming the JSON path, a kinematic scene runs as its closed form
 // says, and --describe reports what a kinematic body weighs (nothing: mass 0, as static).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Kinematic bodies, drag, gravity scales and axis locks (issue #14, "Bodies"), checked
+// Kinematic bodies, drag, gravity scales and axis locks, checked
 // against closed forms and conservation laws: exponential decay, free fall, a platform and a
 // turntable carrying what stands on them, a kinematic body's exact motion whatever it hits,
 // what it wakes, and collisions of locked bodies (momentum on the free axes, energy).

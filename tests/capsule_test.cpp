@@ -1,4 +1,4 @@
-// Capsules (#15): mass properties against quadrature, the narrow phase against FCL and
+// Capsules: mass properties against quadrature, the narrow phase against FCL and
 // closed forms, and a capsule resting and rolling against the closed forms of rigid-body
 // motion.
 #include <REnginePhysics/RCollision.h>

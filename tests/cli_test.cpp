@@ -1,5 +1,5 @@
 // rengine-sim as its users see it: exit codes, messages, the CSV and --describe contracts
-// of ../shared/SCENE_FORMAT.md, and determinism. Runs the built binary through the shell.
+// of docs/scene-format.md, and determinism. Runs the built binary through the shell.
 #include <REngineMath/RQuaternion.h>
 
 #include <gtest/gtest.h>
@@ -416,8 +416,8 @@ TEST_F(Cli, HullSceneRuns) {
   EXPECT_NE(r.err.find("hash="), std::string::npos);
 }
 
-// Untrusted scenes cannot crash or hang the CLI (#11): a value nested 100k deep crashed it
-// (SIGSEGV); a body name with a control character went raw into the CSV; the work a scene
+// Untrusted scenes cannot crash or hang the CLI: a value nested 100k deep must not crash it
+// (SIGSEGV), a body name with a control character must not go raw into the CSV; the work a scene
 // asks for is bounded by documented limits, and --max-seconds stops a run that takes too long.
 TEST_F(Cli, HostileScenesGetExitTwoNotACrash) {
   const std::string deep = "{\"gravity\": " + std::string(100000, '[') +
@@ -441,7 +441,7 @@ TEST_F(Cli, HostileScenesGetExitTwoNotACrash) {
   EXPECT_EQ(Run(one + " --max-seconds -1").code, 2);
 }
 
-// The determinism gate (#11): each shared reference scene's final-state hash is pinned, and
+// The determinism gate: each reference scene's (scenes/) final-state hash is pinned, and
 // two runs agree. A change that alters the physics on purpose changes a hash: re-pin it here
 // with the reason in the commit message. A change that should not (a refactoring, a speed-up
 // of an exact shortcut) must leave every hash as it is.

@@ -1,4 +1,4 @@
-// Compound bodies (#15): mass properties of the union against closed forms, the narrow
+// Compound bodies: mass properties of the union against closed forms, the narrow
 // phase child by child against FCL, rest on several children at once, a concave union that
 // holds a ball its hull would not, rays, events, conservation in free tumbling far from the
 // origin, and save and load.

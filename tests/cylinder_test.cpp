@@ -1,4 +1,4 @@
-// Cylinders (#15): mass properties against quadrature, the narrow phase against FCL and
+// Cylinders: mass properties against quadrature, the narrow phase against FCL and
 // the cylinder's exact signed distance, the manifold's shape (an end standing on a face is
 // a full manifold, a side lying on it a line), and rolling, resting and stacking against the
 // closed forms of rigid-body motion.
@@ -385,7 +385,7 @@ TEST(CylinderPhysics, StandingOnItsEndRestsOnAFullManifold) {
 
 // A stack of eight cylinders, end on end, each turned about the axis from the one below and
 // set 1 mm off centre: over 10 s it stands, every cylinder upright and within 1 mm of where
-// it was put (Bullet's and Jolt's cylinder stacks wander; see the issue).
+// it was put (Bullet's and Jolt's cylinder stacks wander).
 TEST(CylinderPhysics, StackOfEightStands) {
   std::vector<RRigidBody> bodies{Ground(0, 0.6)};
   const RScalar r = 0.4, h = 0.25;

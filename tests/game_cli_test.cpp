@@ -1,5 +1,5 @@
 // rengine-sim's answers to a game's questions: the scene's rays (--rays) and the contact
-// events (--events) of ../shared/SCENE_FORMAT.md, written as CSV, and their bad input.
+// events (--events) of docs/scene-format.md, written as CSV, and their bad input.
 #include <REngineMath/RMath.h>
 
 #include <gtest/gtest.h>
@@ -138,7 +138,7 @@ TEST_F(Cli, BadRaysExitTwoNamingThePath) {
   EXPECT_NE(dir.err.find("no/such/dir/r.csv"), std::string::npos) << dir.err;
 }
 
-// --events: begin and end rows (SCENE_FORMAT.md, "Events") in zero g, dt 0.01 s. A crate
+// --events: begin and end rows (docs/scene-format.md, "Events") in zero g, dt 0.01 s. A crate
 // rests on the wall's top from the start (begin in step 1) and is removed after step 10 (end
 // in step 11); a missile that does not respond crosses a 10 cm sensor at 1000 m/s inside
 // step 1 (begin and end); a ball added after step 0 in the slot "tmp" freed (so created

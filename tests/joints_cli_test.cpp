@@ -1,4 +1,4 @@
-// Scenes with joints run through rengine-sim (SCENE_FORMAT.md, "Joints"), their trajectory
+// Scenes with joints run through rengine-sim (docs/scene-format.md, "Joints"), their trajectory
 // CSV checked against closed forms at 60 Hz: a ball hung from the world by a ball joint
 // swings with the physical pendulum's period, a brake-motored slider on an incline runs down
 // at g sin(a) - F / m and stops at its limit, a rope stops a falling weight at its length, a

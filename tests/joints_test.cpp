@@ -37,7 +37,7 @@ RWorldSettings Gravity() { return GravityAlongMinusY(kG); }
 // 4 sqrt(I / (m g L)) K(sin(theta0/2)) exactly. RATTLE, the step's method, keeps it to
 // (w dt)^2/24 = 1.1e-4 and the energy (translation, rotation and height) to within
 // (w dt)^2/4 = 6.8e-4 of the swing's (w = sqrt(m g L / I)); each step ends on the
-// constraint to the Newton tolerance. The issue asks 0.1%, 0.1% and 0.1 mm.
+// constraint to the Newton tolerance. Asserted: 0.1%, 0.1% and 0.1 mm.
 TEST(Joints, PendulumKeepsTheExactPeriodEnergyAndLength) {
   const RScalar L = 1, theta0 = kPi / 6, m = 1, radius = 0.05;
   const RVec3 pivot(0, 2, 0);

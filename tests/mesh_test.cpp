@@ -1,4 +1,4 @@
-// Triangle meshes (#15): bad meshes refused by name, the tree and rays against brute force,
+// Triangle meshes: bad meshes refused by name, the tree and rays against brute force,
 // distances and verdicts against FCL's BVH models, and the physics a mesh must not spoil: a
 // box slides over a tessellated floor exactly as over one box, a ball rolls down a mesh
 // incline at 5/7 g sin(theta), a ball dropped on a vertex where six triangles meet bounces
@@ -340,7 +340,7 @@ Slide SlideOn(const RBodyDef& floor) {
 
 }  // namespace
 
-// The test: a box slides over a floor of 40 x 40 quads (3200 triangles) and stops at
+// A box slides over a floor of 40 x 40 quads (3200 triangles) and stops at
 // v0^2 / (2 mu g), as on one flat box, never lifting more than 1 mm or tilting: the
 // triangles' edges inside the flat floor are not active, and the manifolds of the triangles
 // under the box merge into the four corners a box floor gives.

@@ -232,7 +232,7 @@ TEST(CollisionAdversarial, ThinSlabAgainstRotatedBox) {
   }
 }
 
-// The pair from the issue: a 2.75 x 6 x 0.05 m plate and a small rotated box just below it.
+// A hard pair: a 2.75 x 6 x 0.05 m plate and a small rotated box just below it.
 TEST(CollisionAdversarial, PlateAndRotatedBoxFromTheIssue) {
   const BodySpec plate{BoxShape(RVec3(1.375, 3, 0.025)), RVec3(1.625, 0, 0.5)};
   const BodySpec box{BoxShape(RVec3(0.424, 0.15, 0.1686) / 2), RVec3(0.192, -0.278, 0.274),
@@ -427,7 +427,7 @@ TEST(CollisionAdversarial, BoxPairsGjkAndEpaCannotCertify) {
   }
 }
 
-// From the issue: a 26 x 1.15 x 1 m box exactly touching (gap 2.3e-13 m) a static
+// A hard pair: a 26 x 1.15 x 1 m box exactly touching (gap 2.3e-13 m) a static
 // 390 x 4000 x 3600 m box along an edge, whose normal cone holds many right answers.
 TEST(CollisionAdversarial, BoxTouchingAHugeBoxAlongAnEdge) {
   const BodySpec box{BoxShape(RVec3(13.117647055900639, 0.57617071270942688, 0.50029640259522512)),

@@ -260,7 +260,7 @@ TEST(Polyhedron, DegenerateInputs) {
   throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(1, 1, 0), RVec3(5, 2, 0)});  // flat
   throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-12)});       // sliver
   throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(NAN, 1, 0), RVec3(0, 0, 1)});         // NaN
-  // Thinner than 1e-4 of its size is a sliver (#11): refused. Thin but solid (1e-3) is a
+  // Thinner than 1e-4 of its size is a sliver: refused. Thin but solid (1e-3) is a
   // valid hull with the exact volume.
   throws({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1e-6)});
   const RConvexPolyhedron thin =
@@ -365,10 +365,10 @@ TEST(Polyhedron, HugeCoordinatesAreRefused) {
   EXPECT_LT(RelErr(h.MassProperties().volume, a * a * a / 6), 1e-12);
 }
 
-// Needles and slivers (#11): three points within 1e-9 m of each other and a fourth 10 m
-// away, or clouds flat or straight to 1e-9..1e-5 of their size. Before, about half of such
-// clouds became hulls, some with zero normals, vertices outside their faces or an infinite
-// inertia ratio; a needle dropped on the ground reached 16 km/s. Every one is refused now;
+// Needles and slivers: three points within 1e-9 m of each other and a fourth 10 m away, or
+// clouds flat or straight to 1e-9..1e-5 of their size. Without the width check about half of
+// such clouds became hulls, some with zero normals, vertices outside their faces or an
+// infinite inertia ratio; a needle dropped on the ground reached 16 km/s. Every one is refused;
 // clouds just thick enough pass with every invariant of a convex polyhedron.
 TEST(Polyhedron, NeedlesAndSliversAreRefused) {
   std::mt19937_64 rng(7);

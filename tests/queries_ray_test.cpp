@@ -47,8 +47,9 @@ RVec3 Into(const RVec3& n, std::mt19937_64& rng, RScalar minCos) {
 }
 
 // The tolerance of the closed-form checks: 1e-9 of the ray's scale (how far it travels plus
-// the body's size), the bound. The rounding of the inputs themselves is below it: a
-// world coordinate of 3e7 m is held to 3.7e-9 m, moving the entry by that over the cosine.
+// the body's size), the bound the queries promise. The rounding of the inputs themselves is
+// below it: a world coordinate of 3e7 m is held to 3.7e-9 m, moving the entry by that over
+// the cosine.
 RScalar Tol(RScalar distance, RScalar size) { return 1e-9 * (distance + size); }
 
 // World points are held to the rounding of their coordinates (3.7e-9 m at 3e7 m) on top.

@@ -1,4 +1,4 @@
-// rengine-view's trajectory reader (#17), without a display: the rows of rengine-sim's CSV
+// rengine-view's trajectory reader, without a display: the rows of rengine-sim's CSV
 // become each body's samples, posed between rows for drawing; rows that are not the
 // format's are refused naming their line.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// Collision response against closed forms and conservation laws (first part of the
-// response issue: impulses, restitution, the separating-velocity guard, reporting).
+// Collision response against closed forms and conservation laws: impulses, restitution,
+// the separating-velocity guard, reporting.
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RScene.h>
 
@@ -100,7 +100,7 @@ TEST(Response, BoxesHeadOnMatchTheClosedForm) {
   }
 }
 
-// The shared reference scene, through the scene loader.
+// The reference scene (scenes/), through the scene loader.
 TEST(Response, SharedHeadOnElasticScene) {
   const RScene scene = LoadSharedScene("head_on_elastic");
   std::vector<RRigidBody> bodies = CreateBodies(scene);

@@ -1,5 +1,5 @@
 // Torque-free rotation against closed forms, conservation laws and an independent RK4
-// reference; the Dzhanibekov bounds of the shared reference scene.
+// reference; the Dzhanibekov bounds of the reference scene (scenes/dzhanibekov.json).
 #include <REngineMath/REllipticFunctions.h>
 #include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RIntegrator.h>
@@ -172,7 +172,7 @@ TEST(FreeRotation, TimeReversible) {
   }
 }
 
-// ../shared/scenes/dzhanibekov.json: box with half extents (0.5, 1, 1.5), mass 1, spun at
+// scenes/dzhanibekov.json: box with half extents (0.5, 1, 1.5), mass 1, spun at
 // (0.01, 5, 0.01) rad/s about its intermediate axis (y) for 36000 steps of 1/60 s.
 // Required: rotational energy and world angular momentum within 1e-6 relative at every
 // step; final orientation within 0.1 degree of the converged solution; the flips present.

@@ -1,4 +1,4 @@
-// A scene's joints (SCENE_FORMAT.md, "Joints"): read with their documented meanings, every
+// A scene's joints (docs/scene-format.md, "Joints"): read with their documented meanings, every
 // kind of bad input refused at the door with the file, the JSON path and what is wrong, and
 // made by RSceneWorld after the bodies (a body an action removes takes its joints along).
 #include <REnginePhysics/RIntegrator.h>

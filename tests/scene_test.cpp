@@ -1,4 +1,4 @@
-// Scene files: the shared reference scenes load with their values, defaults are the
+// Scene files: the reference scenes (scenes/) load with their values, defaults are the
 // documented ones, and every kind of bad input is refused with the file and the JSON path.
 #include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RScene.h>
@@ -537,8 +537,8 @@ TEST(Scene, CreateBodiesNamesTheBodysField) {
   }
 }
 
-// A value nested 100k deep (200 KB, #11): the loader crashed (SIGSEGV) printing it with a
-// recursive dump. Refused as it is read, naming where, with a message of bounded length.
+// A value nested 100k deep (200 KB): a loader that printed it with a recursive dump would
+// crash (SIGSEGV). Refused as it is read, naming where, with a message of bounded length.
 TEST(Scene, DeepNestingIsRefusedAtAFixedDepth) {
   const int depth = 100000;
   const std::string text = "{\"gravity\": " + std::string(depth, '[') + std::string(depth, ']') +

@@ -1,4 +1,4 @@
-// rengine-spacegame's logic (#17), without a display: what the game does, asserted against
+// rengine-spacegame's logic, without a display: what the game does, asserted against
 // the physics. A missile leaves through its own launcher's hull without touching it, and
 // goes off on its first contact with anything else; a laser gives the rock it names exactly
 // the beam's impulse (linear and angular); the dock's weld holds the ship on the spinning

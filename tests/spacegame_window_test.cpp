@@ -1,4 +1,4 @@
-// rengine-spacegame and rengine-view in a window (#17), under a virtual display (xvfb-run,
+// rengine-spacegame and rengine-view in a window, under a virtual display (xvfb-run,
 // Mesa's software OpenGL): the game's autoplay run twice ends on the same state hash, and its
 // last frame, written as a PNG, shows a scene: many colours, none of them covering the
 // screen; --record keeps every K-th frame without changing the hash; rengine-view plays a

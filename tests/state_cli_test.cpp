@@ -1,4 +1,4 @@
-// rengine-sim --save-state N:FILE and --load-state FILE (../shared/SCENE_FORMAT.md, "Command
+// rengine-sim --save-state N:FILE and --load-state FILE (docs/scene-format.md, "Command
 // line"): a run started in a new process from the state saved after step N ends with the
 // uninterrupted run's hash=, and writes the same trajectory rows and contact events from
 // step N on; a file that is not such a state, or is another scene's, is bad input (exit 2,
@@ -46,10 +46,10 @@ const std::string kGame = R"({"gravity": [0, -9.81, 0], "dt": 0.0166666666666666
 
 }  // namespace
 
-// The shared scenes: the 10-box stack saved at step 300 of 600 (asleep by then), the 1000-box
-// pile saved at steps 60 (contacts, warm starts, bodies resting towards sleep) and 75 (a few
-// steps before the whole pile falls asleep: rest times decide that step) of 120. The load
-// runs on two threads, the uninterrupted run on one.
+// The reference scenes (scenes/): the 10-box stack saved at step 300 of 600 (asleep by
+// then), the 1000-box pile saved at steps 60 (contacts, warm starts, bodies resting towards
+// sleep) and 75 (a few steps before the whole pile falls asleep: rest times decide that
+// step) of 120. The load runs on two threads, the uninterrupted run on one.
 TEST_F(Cli, SharedScenesLoadedFromAStateEndWithTheUninterruptedHash) {
   struct Case {
     const char* scene;

@@ -163,9 +163,10 @@ TEST(Threads, EveryThreadCountStepsTheSameWorldBitForBit) {
   EXPECT_GT(run.events[2], 100u) << "too few end events";
 }
 
-// The same with the bodies of issue #14 among them: a kinematic paddle sweeping the floor,
-// a kinematic platform rising through the crowd, a third of the bodies damped, some locked
-// on random axes, some with other gravity scales (falling up, floating, heavier).
+// The same with kinematic, damped and locked bodies among them: a kinematic paddle sweeping
+// the floor, a kinematic platform rising through the crowd, a third of the bodies damped,
+// some locked on random axes, some with other gravity scales (falling up, floating,
+// heavier).
 TEST(Threads, KinematicDampedAndLockedBodiesStepAlikeOnEveryThreadCount) {
   std::vector<RBodyDef> defs = World(22);
   std::mt19937_64 rng(5);

@@ -6,7 +6,8 @@
 One colour per series (debris, pile awake, pile sleeping, sparse), one line style per engine:
 REngine (solid; with the broad phase, the default), REngine's all-pairs reference loop
 (dotted; rows with broadphase=off), Bullet of the same run (dash-dot), and Jolt 5.5's figures
-from the issue's table (dashed, open markers: measured on this machine, in another run).
+from the reference table in tools/rengine-bench/scaling_scenes.cpp (dashed, open markers:
+measured in another run).
 Where several files hold the same point (series, engine, body count), the first file's is
 drawn: give the main run first.
 
@@ -36,7 +37,7 @@ ENGINES = {  # engine -> (label, line style, marker, filled)
     "REngine all pairs": ("REngine, all-pairs loop (broad phase off)", ":", "x", True),
     "REngine 2 threads": ("REngine, 2 threads", (0, (5, 1)), "D", True),
     "Bullet": ("Bullet 3.24, this run", "-.", "s", True),
-    "Jolt": ("Jolt 5.5, the issue's table", "--", "^", False),
+    "Jolt": ("Jolt 5.5, the reference table", "--", "^", False),
 }
 
 

@@ -1,7 +1,7 @@
-// The motion of bodies that are not simply free (issue #14, "Bodies"): kinematic bodies,
-// angular locks, the inverse inertia the solver sees for them, drag and gravity scales.
-// Integrate (RIntegration.cpp) and the solver's set-up (RContactSolver.cpp) call these for
-// the bodies that need them; a body without any of it takes the old path, bit for bit.
+// The motion of bodies that are not simply free: kinematic bodies, angular locks, the
+// inverse inertia the solver sees for them, drag and gravity scales. Integrate
+// (RIntegration.cpp) and the solver's set-up (RContactSolver.cpp) call these for the bodies
+// that need them; a body without any of it takes the plain free body's path, bit for bit.
 #include "RWorldStep.h"
 
 #include <REngineMath/RQuaternion.h>

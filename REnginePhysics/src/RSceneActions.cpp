@@ -1,4 +1,4 @@
-// A scene's actions (SCENE_FORMAT.md, "Actions", and this project's add_joint and
+// A scene's actions (docs/scene-format.md, "Actions", and this project's add_joint and
 // remove_joint): read, checked against the bodies and joints that exist at each step, and
 // sorted by step.
 #include "RSceneJson.h"

@@ -1,4 +1,4 @@
-// A scene's joints (SCENE_FORMAT.md, "Joints") and the joint objects of its add_joint actions:
+// A scene's joints (docs/scene-format.md, "Joints") and the joint objects of its add_joint actions:
 // read and checked at the door, every check RBodies::AddJoint makes included, so that a scene
 // that loads makes its joints and a bad one is refused naming the JSON path rather than the
 // engine's field.

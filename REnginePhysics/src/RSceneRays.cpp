@@ -1,4 +1,4 @@
-// A scene's rays (SCENE_FORMAT.md, "Rays"): read, checked at the door, sorted by step.
+// A scene's rays (docs/scene-format.md, "Rays"): read, checked at the door, sorted by step.
 #include "RSceneJson.h"
 
 #include <algorithm>

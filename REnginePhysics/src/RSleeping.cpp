@@ -43,8 +43,8 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   // world: RWorldId). (A body an RBodies has just added has not been stepped.)
   // Static and kinematic bodies that the game moved, added or removed may hold or have held
   // sleeping bodies (their contacts are not kept while they sleep): the sleepers whose
-  // boxes touch where such a body was or is wake, with their islands (below). A moving
-  // platform no longer wakes the world each time the game sets its pose.
+  // boxes touch where such a body was or is wake, with their islands (below): a moving
+  // platform whose pose the game sets wakes what is about it, not the world.
   bool moved = m_wakeAll || (bodies.wakeAll && *bodies.wakeAll);
   m_wakeBoxes.clear();
   if (bodies.wakeBoxes) m_wakeBoxes.swap(*bodies.wakeBoxes), bodies.wakeBoxes->clear();

@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Writes the committed seed corpus of tests/fuzz (reproducible; run from anywhere).
 
-Each target's directory gets a few ordinary inputs and every reproducer of issue #11 that
-its encoding can express (see each fuzz_*.cpp for the encoding):
-  fuzz_scene: the format's example, small shared-style scenes (one with joints, one with joint actions and
-              one refused for an add_joint to a removed body), a value nested 100k deep,
-              hull points of 1e300, a name with a NUL and one with an escape sequence;
+Each target's directory gets a few ordinary inputs and every reproducer of a defect found in
+the handling of untrusted input that its encoding can express (see each fuzz_*.cpp for the
+encoding):
+  fuzz_scene: the format's example, small scenes like those of scenes/ (one with joints, one
+              with joint actions and one refused for an add_joint to a removed body), a value
+              nested 100k deep, hull points of 1e300, a name with a NUL and one with an escape
+              sequence;
   fuzz_hull:  a cube, points of 1e300, a needle (three points within 1e-9 m, one 10 m off);
   fuzz_narrowphase: every mode, and the 26 m box touching the 4 km box (exact doubles);
   fuzz_world: small worlds shaped after the reproducers (a stack; API calls given

@@ -2,12 +2,13 @@
 //
 //   bench_bullet [SCENE.json ...] [--steps N] [--runs N] [--match-combine] [--sleep]
 //
-// Default scenes: box_pile_1000.json and debris_cloud_1000.json from the shared scenes
-// directory. Each scene is loaded once with REngine's loader; every run builds both worlds
-// afresh from those definitions, then steps REngine, then Bullet, and times the step loop
-// alone (std::chrono::steady_clock, setup excluded). The pair is repeated --runs times
-// (default 3) and the medians are compared: ratio = Bullet / REngine, > 1 means REngine is
-// faster. The physics figures come from the first run (both engines are deterministic).
+// Default scenes: box_pile_1000.json and debris_cloud_1000.json from the reference scenes
+// directory (scenes/). Each scene is loaded once with REngine's loader; every run builds
+// both worlds afresh from those definitions, then steps REngine, then Bullet, and times the
+// step loop alone (std::chrono::steady_clock, setup excluded). The pair is repeated --runs
+// times (default 3) and the medians are compared: ratio = Bullet / REngine, > 1 means
+// REngine is faster. The physics figures come from the first run (both engines are
+// deterministic).
 //
 // The Bullet world is what a Bullet user would build for the scene (tools/bench/BulletWorld.h,
 // shared with rengine-bench): btDbvtBroadphase, btSequentialImpulseConstraintSolver with the

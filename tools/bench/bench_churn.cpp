@@ -6,9 +6,9 @@
 //                  constant-count step.
 //   Churn          a small body is added far away and the previous one removed once a period
 //                  (RBodies): the pile must stay asleep, and the step cost at most 1.5x
-//                  the constant one (issue #12).
-//   ChurnVector    the same through a plain std::vector (identity by index), what a game got
-//                  before RBodies: every removal wakes the world.
+//                  the constant one.
+//   ChurnVector    the same through a plain std::vector (identity by index): every removal
+//                  wakes the world.
 //   Pooled         Constant plus 500 parked (disabled) bodies: parking costs nothing.
 // Spawning one hull body: from its RShape (Qhull runs) or from a prepared shape (shared).
 //

@@ -12,12 +12,12 @@
 // relative pose (as the engine calls it); libccd the hulls' world-space vertices,
 // transformed beforehand and outside the timing (its support is a plain loop over them).
 // libccd runs twice: with its defaults (CCD_INIT: epa and mpr tolerance 1e-4, as the
-// issue's reference figures were measured) and with the tight tolerances the tests use
+// reference figures below were measured) and with the tight tolerances the tests use
 // (tests/support/CollisionOracles.h: relative 1e-14 for EPA, whose depth is then accurate
 // to ~1e-15 relative on most pairs, like ours).
 //
-// At the end it prints the ratios the issue asks for (libccd / ours; > 1: ours faster).
-// Issue reference, libccd 2.1 on random 32-vertex hulls: ~0.8 us GJK intersection,
+// At the end it prints the ratios (libccd / ours; > 1: ours faster). Reference figures,
+// libccd 2.1 on random 32-vertex hulls: ~0.8 us GJK intersection,
 // ~4.2 us GJK+EPA, ~0.9 us MPR per pair; target: ours >= 3x faster than libccd's GJK+EPA
 // and faster than its boolean GJK.
 #include <REngineMath/RQuaternion.h>

@@ -1,5 +1,5 @@
-// bench_joints: REngine's joints against Bullet's on the closed-form scenes of issue #16, in
-// the same process (tests/joints_test.cpp asserts REngine's side of each).
+// bench_joints: REngine's joints against Bullet's on the closed-form scenes of
+// tests/joints_test.cpp, in the same process (that suite asserts REngine's side of each).
 //
 //   bench_joints [--repeats N] [--csv FILE] [--quick]
 //
@@ -610,7 +610,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: bench_joints [--repeats N (default 7)] [--csv FILE] [--quick (one repeat)]\n"
-                   "REngine's joints against Bullet's on the closed-form scenes of issue #16, 60 Hz,\n"
+                   "REngine's joints against Bullet's on joints_test's closed-form scenes, 60 Hz,\n"
                    "%d iterations; see the source's comment for the scenes and Bullet's joints.\n",
                    kIterations);
       return arg == "--help" || arg == "-h" ? 0 : 2;

@@ -1,4 +1,4 @@
-// Triangle meshes (issue #15): what a 100k-triangle mesh costs to build and to hold, and what
+// Triangle meshes: what a 100k-triangle mesh costs to build and to hold, and what
 // its contacts cost in a step against the same scene on one flat box.
 //
 // The mesh: a flat square floor of 224 x 224 quads of 0.5 m, two triangles a quad (100 352

@@ -1,8 +1,8 @@
 // Ray casts per second against asteroid fields of 1000 and 10000 hulls: REngine's
 // RQueries::CastRay beside Bullet's btCollisionWorld::rayTest (ClosestRayResultCallback) on
-// the same world, in the same run (issue #14: at least 2x Bullet's rays per second).
+// the same world, in the same run (the target: at least 2x Bullet's rays per second).
 //
-// The field: n rocks (24 random points on a rough sphere, as ../shared/scaling's sparse
+// The field: n rocks (24 random points on a rough sphere, as tools/make_scaling_scenes.py's sparse
 // field, radius 1 to 5 m), uniform in a cube of side 25 n^(1/3) m (one rock per 15600 m^3
 // at every n), at rest. The rays: 4096 from uniform points of the cube in uniform
 // directions, 100 m long (a laser's range), fixed seed; one benchmark iteration casts all

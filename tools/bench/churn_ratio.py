@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Medians of interleaved repetitions of bench_churn, and the ratios issue #12 asks for.
+"""Medians of interleaved repetitions of bench_churn, and their ratios to the constant step.
 
     tools/bench/churn_ratio.py [build/bin/bench_churn] [--repetitions N]
 
@@ -43,7 +43,7 @@ def main():
                  if name in asleep else "")
         print(f"  {name:28s} {per:10.3f} {what}{extra}")
     c = med["BM_Pile_Constant"]
-    print(f"churn / constant step:         {med['BM_Pile_Churn'] / c:.3f}  (issue #12: at most 1.5)")
+    print(f"churn / constant step:         {med['BM_Pile_Churn'] / c:.3f}  (target: at most 1.5)")
     print(f"vector churn / constant step:  {med['BM_Pile_ChurnVector'] / c:.1f}")
     print(f"pooled / constant step:        {med['BM_Pile_Pooled'] / c:.3f}")
     print(f"spawn from shape / prepared:   "

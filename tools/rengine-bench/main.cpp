@@ -1,4 +1,4 @@
-// rengine-bench: work-precision benchmark (issue #6, "benchmark run time against error").
+// rengine-bench: work-precision benchmark (run time against error).
 //
 //   rengine-bench [--scenes a,b,...] [--csv FILE] [--repeats N] [--quick]
 //   rengine-bench --shortcuts [--csv FILE] [--repeats N] [--quick]   (see shortcuts.h)
@@ -54,10 +54,10 @@
 //                 0.2) 3.0 m of the 10 m left before the incline's end. error =
 //                 |d - g (sin t - mu cos t) T^2 / 2| / (g (sin t - mu cos t) T^2 / 2), d the
 //                 centre of mass's displacement down the slope.
-//   stack10       ../shared/scenes/box_stack_10.json with the grid's dt and iterations, for
+//   stack10       scenes/box_stack_10.json with the grid's dt and iterations, for
 //                 the scene's duration (steps x dt). error = |x_top(T) - x_top(0)|, m: the
 //                 top box's drift from its start (it should rest).
-//   debris_cloud  ../shared/scenes/debris_cloud_1000.json (1000 unit boxes, zero g, e = 1, no
+//   debris_cloud  scenes/debris_cloud_1000.json (1000 unit boxes, zero g, e = 1, no
 //                 friction) with the grid's dt and iterations, for 2 s (1 s in --quick). No
 //                 closed form; what the exact motion conserves: error = |E(T) - E(0)| / E(0),
 //                 the final relative change of kinetic energy (elastic and frictionless: the
@@ -295,22 +295,22 @@ int Run(int argc, char** argv) {
   CLI::Option* scalingFlag = app.add_flag(
       "--scaling", scaling,
       "Instead of the grid: ms/step against body count on the scaling scenes, REngine and "
-      "Bullet interleaved, the issue's Jolt figures scaled to this run (CSV default "
+      "Bullet interleaved, the reference table's Jolt figures scaled to this run (CSV default "
       "build/bench/scaling.csv, repeats default 3; --quick: the 1000-body scenes, 10 steps)");
   scalingFlag->excludes(shortcutsFlag);
   app.add_option("--steps", stepsText, "--scaling: steps per run (default each scene's own, 300)")
       ->needs(scalingFlag);
   std::string threadsText = "1";
   app.add_option("--threads", threadsText,
-                 "--scaling: REngine's thread counts, comma-separated (default 1, as the issue's "
-                 "figures; 0: what the machine has)");
+                 "--scaling: REngine's thread counts, comma-separated (default 1, as the reference "
+                 "table's figures; 0: what the machine has)");
   app.add_option("--broadphase", broadPhaseText,
                  "--scaling: REngine's broad phase on, off (the all-pairs reference loop) or both")
       ->needs(scalingFlag)
       ->capture_default_str();
   app.add_option("--scene-dir", sceneDir,
                  "--scaling: the scene files, generated there by "
-                 "../shared/scaling/make_scaling_scenes.py when missing")
+                 "tools/make_scaling_scenes.py when missing")
       ->needs(scalingFlag)
       ->capture_default_str();
   app.add_flag("--generate-scenes", generateScenes,

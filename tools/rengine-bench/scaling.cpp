@@ -16,7 +16,8 @@
 //    tools/bench/BulletWorld.h as bench_bullet builds them (restitution and friction mapped so
 //    that Bullet's products equal REngine's combined values), deactivation on when the scene's
 //    solver.sleeping is (Bullet's defaults) and off otherwise, stepSimulation(dt, 0).
-//  * Jolt: not in Debian. The table gives Jolt 5.5 and Bullet 3.24 on this machine;
+//  * Jolt: not in Debian. The reference table (ScalingScenes, scaling_scenes.cpp) gives Jolt
+//    5.5 and Bullet 3.24 measured together on one thread in another run;
 //    jolt_estimate = this run's Bullet ms/step x (Jolt / Bullet) of the scene's row, and
 //    vs_jolt = REngine / jolt_estimate (<= 1: at or under Jolt).
 //
@@ -25,8 +26,8 @@
 //   bullet_ms_per_step,jolt_estimate_ms_per_step,vs_jolt,rengine_table_ms_per_step,
 //   bullet_table_ms_per_step,jolt_table_ms_per_step,rengine_hash
 // bodies counts the dynamic bodies (a pile also has its static ground); the *_table columns
-// are the figures (empty where it has no row; so are the estimate and vs_jolt, and
-// the Bullet columns without Bullet).
+// are the reference table's figures (empty where it has no row; so are the estimate and
+// vs_jolt, and the Bullet columns without Bullet).
 #include "scaling.h"
 
 #include "report.h"
@@ -346,7 +347,7 @@ int RunScaling(const ScalingOptions& options) {
               kHaveBullet ? ", interleaved (REngine, Bullet, REngine, ...)" : "",
               opt.steps ? std::to_string(opt.steps).c_str() : "each scene's own");
   if (kHaveBullet) {
-    std::printf("jolt estimate = Bullet ms/step of this run x Jolt / Bullet of the issue's "
+    std::printf("jolt estimate = Bullet ms/step of this run x Jolt / Bullet of the reference "
                 "table; vs Jolt = REngine / jolt estimate (<= 1: at or under Jolt)\n");
   }
 

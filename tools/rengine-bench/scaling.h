@@ -1,5 +1,5 @@
-// rengine-bench --scaling (issue #13): ms/step against body count for REngine and Bullet in
-// the same run, on the scaling scenes (scaling_scenes.h), with the issue's Jolt figures
+// rengine-bench --scaling: ms/step against body count for REngine and Bullet in the same
+// run, on the scaling scenes (scaling_scenes.h), with the reference table's Jolt figures
 // scaled to this run. tools/plot_scaling.py draws the CSV.
 #pragma once
 
@@ -19,7 +19,7 @@ struct ScalingOptions {
   // loop), or both (two REngine rows per scene, timed in the same interleaving).
   enum class BroadPhase { kOn, kOff, kBoth } broadPhase = BroadPhase::kOn;
   // REngine's thread counts (RWorldSettings::threads): one row per count and broad-phase
-  // setting, timed in the same interleaving. The issue's figures are single-threaded.
+  // setting, timed in the same interleaving. The reference table's figures are single-threaded.
   std::vector<int> threads = {1};
   bool quick = false;          // smoke test: the smallest scenes, 10 steps, 1 run
   bool generateOnly = false;   // make the missing scene files, run nothing

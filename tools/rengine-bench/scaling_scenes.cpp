@@ -1,4 +1,4 @@
-// rengine-bench --scaling's scenes (scaling_scenes.h): the list, the figures, and the
+// rengine-bench --scaling's scenes (scaling_scenes.h): the list, the reference table, and the
 // generator run where files are missing.
 #include "scaling_scenes.h"
 
@@ -57,7 +57,7 @@ std::string RunGenerator(const std::filesystem::path& outDir) {
 }  // namespace
 
 const std::vector<ScalingScene>& ScalingScenes() {
-  // The table, ms/step: 3000-box piles and Jolt's 3000 pile give ranges (17-21,
+  // The reference table, ms/step: 3000-box piles and Jolt's 3000 pile give ranges (17-21,
   // 4.9-6.1, 4.4-6.1, 2.2-2.6): their midpoints. No row for the 1000-box pile sleeping and
   // the 1000-rock sparse field.
   static const std::vector<ScalingScene> scenes{

@@ -231,7 +231,7 @@ const RScene& StackScene() {
   return scene;
 }
 
-// A shared scene at the grid point's dt and iterations, for `duration` seconds.
+// A reference scene (scenes/) at the grid point's dt and iterations, for `duration` seconds.
 World SceneWorld(const RScene& scene, const GridPoint& p, RScalar duration) {
   World w;
   w.settings = scene.settings;

@@ -20,8 +20,9 @@ struct Scene {
 // Every scene, in table order (the order of the CSV and of the runs).
 const std::vector<Scene>& AllScenes();
 
-// Reads the shared scene files that `scene` builds its worlds from (once per process), so
-// that a missing or bad file is reported (an REngine::RSceneError) before any run.
+// Reads the reference scene files (scenes/) that `scene` builds its worlds from (once per
+// process), so that a missing or bad file is reported (an REngine::RSceneError) before any
+// run.
 void LoadSceneFiles(const Scene& scene);
 
 }  // namespace rbench

@@ -5,7 +5,7 @@
 //                   10 s at 60 Hz; a box dropped from 120 m lands on stack 0 near t = 5 s and
 //                   wakes it. Error: the largest displacement of a box of the other stacks
 //                   from where it started, m (physics: they rest, 0).
-//   box_pile_1000   sleeping. ../shared/scenes/box_pile_1000.json as given (1000 boxes
+//   box_pile_1000   sleeping. scenes/box_pile_1000.json as given (1000 boxes
 //                   dropped on the floor, 5 s). Error: the largest speed of a body at the
 //                   end, m/s (how far from rest the pile still is; no closed form).
 //   awake_pile      contactReuse. box_pile_1000 with sleeping off, 5 s. Error: the

@@ -1,4 +1,4 @@
-// rengine-sim --events FILE: the contact events of every step (SCENE_FORMAT.md, "Events")
+// rengine-sim --events FILE: the contact events of every step (docs/scene-format.md, "Events")
 // into the CSV step,time,event,body_a,body_b,x,y,z,nx,ny,nz,normal_impulse,tangent_impulse.
 #pragma once
 

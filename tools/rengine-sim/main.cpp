@@ -1,4 +1,4 @@
-// rengine-sim: runs a scene file and writes its trajectory (../shared/SCENE_FORMAT.md).
+// rengine-sim: runs a scene file and writes its trajectory (docs/scene-format.md).
 //
 //   rengine-sim SCENE.json [--out TRAJ.csv] [--steps N] [--dt S] [--every K] [--quiet]
 //               [--max-seconds S] [--rays RAYS.csv] [--events EVENTS.csv]

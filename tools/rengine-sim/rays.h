@@ -1,4 +1,4 @@
-// rengine-sim --rays FILE: the scene's rays (SCENE_FORMAT.md, "Rays") answered after their
+// rengine-sim --rays FILE: the scene's rays (docs/scene-format.md, "Rays") answered after their
 // steps into the CSV step,ray,body,distance,x,y,z,nx,ny,nz.
 #pragma once
 

@@ -1,4 +1,4 @@
-// rengine-sim --save-state N:FILE and --load-state FILE (SCENE_FORMAT.md, "Command line"):
+// rengine-sim --save-state N:FILE and --load-state FILE (docs/scene-format.md, "Command line"):
 // the world's whole state after step N written with SaveState (RWorldState.h), and a run
 // started from such a state instead of step 0.
 //

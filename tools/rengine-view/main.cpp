@@ -1,10 +1,10 @@
-// rengine-view: plays back a trajectory of rengine-sim in a window (#17).
+// rengine-view: plays back a trajectory of rengine-sim in a window.
 //
 //   rengine-view SCENE.json TRAJ.csv                  play, looping (space: pause)
 //   rengine-view SCENE.json TRAJ.csv --frames 120 --screenshot shot.png
 //
 // The scene gives each body's shape (the bodies it starts with and those its actions add);
-// the trajectory (SCENE_FORMAT.md) gives the poses, drawn between rows. The camera circles
+// the trajectory (docs/scene-format.md) gives the poses, drawn between rows. The camera circles
 // the bodies' starting bounds. With --frames, N frames of 1/60 s of playback (times --speed)
 // are drawn, the last written as a PNG, and the last line on stderr reads
 // `frames=N time=T bodies=B`. The drawing is rengine-spacegame's (spacegame_render).

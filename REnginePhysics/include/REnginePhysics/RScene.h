@@ -1,4 +1,4 @@
-// Scene files (../shared/SCENE_FORMAT.md, "rengine-scene/1"): a world's settings, its step
+// Scene files (docs/scene-format.md, "rengine-scene/1"): a world's settings, its step
 // and step count, its bodies and joints, read from JSON and checked field by field.
 //
 // Every problem is reported, never repaired: a typo in a field name, a NaN, a zero-length
@@ -37,7 +37,7 @@ class RSceneError : public std::runtime_error {
   std::string m_file, m_jsonPath, m_problem;
 };
 
-// A joint of the scene (SCENE_FORMAT.md, "Joints"), added by RSceneWorld after the scene's
+// A joint of the scene (docs/scene-format.md, "Joints"), added by RSceneWorld after the scene's
 // bodies and before the actions of step 0, or by an add_joint action at its step. Its anchors
 // and axis are world values as the bodies stand when it is added (as the scene starts, or at
 // the action's step); every check RBodies::AddJoint makes is made at load, so a scene that
@@ -54,7 +54,7 @@ struct RSceneJoint {
   RJointDef def;
 };
 
-// What the game does between steps (SCENE_FORMAT.md, "Actions", and this project's joint
+// What the game does between steps (docs/scene-format.md, "Actions", and this project's joint
 // verbs), so that its spawning and despawning can be replayed from a file: applied when
 // `step` steps have run, before the next one, in list order among actions of the same step.
 struct RSceneAction {
@@ -77,7 +77,7 @@ struct RSceneAction {
   RSceneJoint joint;
 };
 
-// A ray the scene asks after a step (SCENE_FORMAT.md, "Rays"), answered by rengine-sim into
+// A ray the scene asks after a step (docs/scene-format.md, "Rays"), answered by rengine-sim into
 // --rays FILE with RQueries::CastRay (or CastRayAll when `all`).
 struct RSceneRay {
   std::string name;

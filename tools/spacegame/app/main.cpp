@@ -1,4 +1,4 @@
-// rengine-spacegame: REngine's showcase, a space game on the engine's public API (#17).
+// rengine-spacegame: REngine's showcase, a space game on the engine's public API.
 //
 //   rengine-spacegame                       play (keys on the HUD)
 //   rengine-spacegame --autoplay --frames 900 --screenshot shot.png
