@@ -124,7 +124,7 @@ TEST(BroadPhase, FindsTheSamePairsThroughChurnAndSleep) {
   RIntegrator ia(on), ib(off);
   RBodies a, b;
   // A tumbling crowd falling freely 300 m away, beside a floor of 16 small stacks that go to
-  // sleep; bodies of both come and go (never a static one: removing that wakes every island,
+  // sleep; bodies of both come and go (never the ground: removing it wakes every island on it,
   // and nothing would stay asleep long enough to test the passive tree).
   std::vector<RBodyDef> defs = RandomWorld(3, RVec3(300, 0, 0), 120, 20);
   defs.push_back(BoxDef(RVec3(20, 0.5, 20)).At(RVec3(0, -0.5, 0)).Static().Named("ground"));

@@ -385,9 +385,9 @@ TEST(Sleep, ChangingAnIgnoreListWakes) {
 }
 
 // A copy of an integrator with a copy of its bodies is the same world: its sleepers stay
-// asleep and it goes on as the original does (copying used to wake every sleeper). Bodies the
-// original stepped after that are another world's to the copy (island ids of another world):
-// stepped by the copy, they wake.
+// asleep and it goes on as the original does. Bodies the original stepped after that are
+// another world's to the copy (island ids of another world): stepped by the copy, they
+// wake.
 TEST(Sleep, CopiedIntegratorKeepsItsSleepers) {
   std::vector<RRigidBody> a = MakeBodies(BoxStackDefs(2));
   RIntegrator ia(EarthGravity());

@@ -292,7 +292,7 @@ TEST(State, RollbackInTheSameWorldReplaysTheSameSteps) {
 }
 
 // A copy of an integrator, with a copy of its bodies, is the same world: it goes on bit for
-// bit, its sleepers asleep (copying used to wake every sleeping body).
+// bit, its sleepers asleep.
 TEST(State, CopiedWorldContinuesBitIdentically) {
   Game game;
   RBodies a;

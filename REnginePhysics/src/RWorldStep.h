@@ -163,7 +163,7 @@ class RWorldStep {
   // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
   bool DetectPairs(const RStepBodies& bodies, RScalar dt);
   // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
-  // one of whose bodies the game woke (or all, when the body count or gravity changed);
+  // one of whose bodies the game woke (or all, when gravity or a plain vector's count changed);
   // after it, puts to sleep the islands that have rested long enough.
   // The broad phase (RBroadPhase.cpp): a body's sweep box (where the all-pairs loop can
   // pair it this sweep) and fat box (a sweep box it may move inside without a new search),
