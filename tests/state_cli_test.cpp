@@ -1,8 +1,8 @@
-// rengine-sim --save-state N:FILE and --load-state FILE (docs/scene-format.md, "Command
-// line"): a run started in a new process from the state saved after step N ends with the
-// uninterrupted run's hash=, and writes the same trajectory rows and contact events from
-// step N on; a file that is not such a state, or is another scene's, is bad input (exit 2,
-// the file named).
+// rengine-sim --save-state N:FILE and --load-state FILE (docs/scene-format.md, "The
+// rengine-sim command line"): a run started in a new process from the state saved after
+// step N ends with the uninterrupted run's hash=, and writes the same trajectory rows and
+// contact events from step N on; a file that is not such a state, or is another scene's, is
+// bad input (exit 2, the file named).
 #include <gtest/gtest.h>
 
 #include <sstream>

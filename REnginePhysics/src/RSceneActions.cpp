@@ -1,6 +1,5 @@
-// A scene's actions (docs/scene-format.md, "Actions", and this project's add_joint and
-// remove_joint): read, checked against the bodies and joints that exist at each step, and
-// sorted by step.
+// A scene's actions (docs/scene-format.md, "Actions"), joint actions included: read,
+// checked against the bodies and joints that exist at each step, and sorted by step.
 #include "RSceneJson.h"
 
 #include <algorithm>

@@ -1,5 +1,6 @@
-// rengine-sim --events FILE: the contact events of every step (docs/scene-format.md, "Events")
-// into the CSV step,time,event,body_a,body_b,x,y,z,nx,ny,nz,normal_impulse,tangent_impulse.
+// rengine-sim --events FILE: the contact events of every step (docs/scene-format.md,
+// "Events CSV") into the CSV
+// step,time,event,body_a,body_b,x,y,z,nx,ny,nz,normal_impulse,tangent_impulse.
 #pragma once
 
 #include <REnginePhysics/RBodies.h>

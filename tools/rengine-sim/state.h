@@ -1,6 +1,6 @@
-// rengine-sim --save-state N:FILE and --load-state FILE (docs/scene-format.md, "Command line"):
-// the world's whole state after step N written with SaveState (RWorldState.h), and a run
-// started from such a state instead of step 0.
+// rengine-sim --save-state N:FILE and --load-state FILE (docs/scene-format.md, "The
+// rengine-sim command line"): the world's whole state after step N written with SaveState
+// (RWorldState.h), and a run started from such a state instead of step 0.
 //
 // A state belongs to its scene: it is saved under a tag, a hash of the scene file's content
 // (parsed JSON, so whitespace and key order do not matter) without the fields that do not

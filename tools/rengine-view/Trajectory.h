@@ -1,4 +1,4 @@
-// A trajectory as rengine-sim writes it (docs/scene-format.md, "Trajectory (CSV)"):
+// A trajectory as rengine-sim writes it (docs/scene-format.md, "Trajectory CSV"):
 // one row per body per written step, `step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz`.
 // Read into one list of samples per body (a body's rows run from the step it exists at to
 // the step it is removed), and posed at any time between them for drawing.

@@ -54,9 +54,9 @@ struct RSceneJoint {
   RJointDef def;
 };
 
-// What the game does between steps (docs/scene-format.md, "Actions", and this project's joint
-// verbs), so that its spawning and despawning can be replayed from a file: applied when
-// `step` steps have run, before the next one, in list order among actions of the same step.
+// What the game does between steps (docs/scene-format.md, "Actions"), so that its spawning
+// and despawning can be replayed from a file: applied when `step` steps have run, before
+// the next one, in list order among actions of the same step.
 struct RSceneAction {
   enum class Verb : std::uint8_t { kAdd, kRemove, kImpulse, kSetVelocity, kAddJoint, kRemoveJoint };
   std::uint64_t step = 0;
@@ -72,8 +72,8 @@ struct RSceneAction {
   std::optional<RVec3> point_W;
   // kSetVelocity: either may be absent (left as it is).
   std::optional<RVec3> velocity_W, angularVelocity_W;
-  // kAddJoint: the joint (this project's addition to the format; see the README's
-  // "rengine-sim"). kRemoveJoint: joint.name alone, a joint that exists at the step.
+  // kAddJoint: the joint (docs/scene-format.md, "Actions"). kRemoveJoint: joint.name alone,
+  // a joint that exists at the step.
   RSceneJoint joint;
 };
 
