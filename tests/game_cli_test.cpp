@@ -143,8 +143,8 @@ TEST_F(Cli, BadRaysExitTwoNamingThePath) {
 // 10 (end in step 11); a missile that does not respond crosses a 10 cm sensor at 1000 m/s
 // inside step 1 (begin and end); a ball added after step 0 in the slot "tmp" freed (so
 // created after the wall, named second though its handle is lower) meets the wall 0.53 m
-// away at 10 m/s, 0.053 s in, and bounces off (e = 1) inside step 6 with impulse 2 m v = 40
-// N s. Normals point from body_a to body_b; the hash is the same without --events.
+// away at 10 m/s, 0.053 s in, and bounces off (e = 1) inside step 6 with impulse
+// 2 m v = 40 N s. Normals point from body_a to body_b; the hash is the same without --events.
 TEST_F(Cli, EventsAreWrittenAsBeginAndEndRows) {
   const std::string scene = R"({"dt": 0.01, "steps": 20, "bodies": [
       {"name": "tmp", "shape": {"type": "sphere", "radius": 0.1}, "position": [0, 50, 0]},
