@@ -13,11 +13,14 @@
 // the last one), and the integrator steps exactly that range. Disabled bodies (a pool of
 // parked missiles) sit after it and cost nothing per step.
 //
-// Contact memory (warm starts) and sleeping islands are keyed by handle: adding a body
-// wakes nothing, removing or disabling one wakes only the sleeping island it belonged to
-// (everything, for a static body), and every other pair keeps its warm start.
+// Contact memory (warm starts) and sleeping islands are keyed by handle: adding a body wakes
+// only what it touches (a dynamic one through the next step's pair sweep, a static or
+// kinematic one the sleepers its box touches), removing or disabling one wakes only the
+// sleeping island it belonged to (for a static or kinematic body, the sleepers whose boxes
+// touched it), and every other pair keeps its warm start.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REnginePhysics/RBodyHandle.h>
 #include <REnginePhysics/RJoint.h>
 #include <REnginePhysics/RRigidBody.h>
@@ -62,7 +65,8 @@ class RBodies {
   RBodyHandle Add(const RBodyDef& def);
   RBodyHandle Add(RRigidBody body);
   // Removes the body, O(1): the last enabled body takes its place. Its sleeping island wakes
-  // (a removed body may have held a stack up); a removed static body wakes every sleeper.
+  // (a removed body may have held a stack up); a removed static or kinematic body wakes the
+  // sleepers whose boxes touched it (where it was at the last step, and where it is).
   // Throws RHandleError for a stale or invalid handle.
   void Remove(RBodyHandle h);
   // A disabled body stays in the container with its state, is not stepped, and touches
@@ -173,3 +177,7 @@ class RBodies {
 };
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kBodies,
+                  RENGINE_ABI_LAYOUT(RBodies))

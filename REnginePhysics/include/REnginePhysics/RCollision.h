@@ -13,6 +13,7 @@
 //    |separation| <= RCollisionSolver::kTouchingTolerance * (bounding radius of A + of B).
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
 
@@ -167,3 +168,12 @@ RConvexShape ShapeOf(const RRigidBody& body);
 RRelativePose RelativePose(const RRigidBody& a, const RRigidBody& b);
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kCollision,
+                  RENGINE_ABI_LAYOUT(RConvexShape),
+                  RENGINE_ABI_LAYOUT(RShapeChild),
+                  RENGINE_ABI_LAYOUT(RRelativePose),
+                  RENGINE_ABI_LAYOUT(RDistanceResult),
+                  RENGINE_ABI_LAYOUT(RContactPoint),
+                  RENGINE_ABI_LAYOUT(RContactManifold))

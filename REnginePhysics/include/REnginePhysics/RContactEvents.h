@@ -26,6 +26,7 @@
 // begin, persist, end. The same for any thread count and job system.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 
@@ -64,3 +65,7 @@ struct RContactEvent {
 };
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kContactEvents,
+                  RENGINE_ABI_LAYOUT(RContactEvent))

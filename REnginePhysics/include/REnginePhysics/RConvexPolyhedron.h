@@ -6,6 +6,7 @@
 // world form is one rotation and one translation away.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 
 #include <cstdint>
@@ -120,3 +121,11 @@ class RConvexPolyhedron {
 };
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kConvexPolyhedron,
+                  RENGINE_ABI_LAYOUT(RPlane),
+                  RENGINE_ABI_LAYOUT(RFace),
+                  RENGINE_ABI_LAYOUT(REdge),
+                  RENGINE_ABI_LAYOUT(RPolyhedronMass),
+                  RENGINE_ABI_LAYOUT(RConvexPolyhedron))

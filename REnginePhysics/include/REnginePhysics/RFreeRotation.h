@@ -22,6 +22,7 @@
 // formulas and three quaternion products. Measured by tools/bench/bench_motion.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/REllipticFunctions.h>
 #include <REngineMath/RMath.h>
 
@@ -101,3 +102,7 @@ class RFreeRotation {
 };
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kFreeRotation,
+                  RENGINE_ABI_LAYOUT(RFreeRotation))

@@ -16,6 +16,7 @@
 // principal axis of a body spinning about it.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RCollision.h>
@@ -62,10 +63,11 @@ struct RWorldSettings {
     // Islands of bodies that rest on static geometry, every body slower than sleepSpeed for
     // sleepTime, go to sleep: they are neither moved nor checked against each other or the
     // static geometry until an awake body touches them, the game changes their velocity,
-    // pose, forces, drag or gravity scale, or wakes them; everything wakes when gravity
-    // changes, the body count changes or the game moves a static or kinematic body with
-    // SetShapePose. A kinematic body holds like static geometry; it never sleeps, and while
-    // its velocities move it, it wakes only the islands it touches. Not exact: a sleeping body's residual velocity (< sleepSpeed) is
+    // pose, forces, drag or gravity scale, or wakes them; a static or kinematic body the game
+    // adds, removes, refilters or moves with SetShapePose wakes the sleepers whose boxes touch
+    // where it was or is; everything wakes when gravity changes or a plain vector's body count
+    // changes. A kinematic body holds like static geometry; it never sleeps, and while its
+    // velocities move it, it wakes only the islands it touches. Not exact: a sleeping body's residual velocity (< sleepSpeed) is
     // zeroed. A body that no static geometry holds (a drifting rock in space) sleeps only
     // when its island is exactly still, which is exact.
     bool sleeping = true;
@@ -103,10 +105,11 @@ struct RWorldSettings {
   int threads = 0;
   static constexpr int kMaxThreads = 1024;
   // Contact events (RIntegrator::Events, RContactEvents.h): begin, persist and end of every
-  // touching pair, found after the motion. Off: Events() stays empty and the step skips
-  // their work (a pass over the contacts: the narrow phase again at the end poses where the
-  // motion leaves touching open, a shape cast for pairs the solver does not resolve), 1 to
-  // 2% of a step in the shared scenes. They only observe: the motion is the same either way.
+  // touching pair, found after the motion. Off: Events() stays empty and the step skips their
+  // work (a pass over the contacts: the narrow phase again at the end poses where the motion
+  // leaves touching open, a shape cast for pairs the solver does not resolve), 1 to 2% of a
+  // step in the reference scenes (scenes/). They only observe: the motion is the same either
+  // way.
   bool contactEvents = true;
 };
 
@@ -277,3 +280,11 @@ class RIntegrator {
 std::uint64_t NextCacheStamp();
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kIntegrator,
+                  RENGINE_ABI_LAYOUT(RWorldSettings),
+                  RENGINE_ABI_LAYOUT(RStepProfile),
+                  RENGINE_ABI_LAYOUT(RContact),
+                  RENGINE_ABI_LAYOUT(RPairStats),
+                  RENGINE_ABI_LAYOUT(RIntegrator))

@@ -16,6 +16,7 @@
 // in rad, lengths in m, speeds in rad/s or m/s, forces in N or N m, impulses in N s or N m s.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodyHandle.h>
 #include <REnginePhysics/RRigidBody.h>
@@ -118,3 +119,9 @@ struct RJoint {
 };
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kJoint,
+                  RENGINE_ABI_LAYOUT(RJointMotor),
+                  RENGINE_ABI_LAYOUT(RJointDef),
+                  RENGINE_ABI_LAYOUT(RJoint))

@@ -50,6 +50,7 @@
 // or a zero quaternion) throws RQueryError naming the argument, before anything is done.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RCollision.h>
@@ -226,3 +227,13 @@ class RQueries {
 };
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kQueries,
+                  RENGINE_ABI_LAYOUT(RQueryFilter),
+                  RENGINE_ABI_LAYOUT(RRay),
+                  RENGINE_ABI_LAYOUT(RRayHit),
+                  RENGINE_ABI_LAYOUT(RShapeCastHit),
+                  RENGINE_ABI_LAYOUT(RShapeRayHit),
+                  RENGINE_ABI_LAYOUT(RShapeCastResult),
+                  RENGINE_ABI_LAYOUT(RQueries))

@@ -8,6 +8,7 @@
 // out, so a scene's pose goes in and comes out unchanged.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RFreeRotation.h>
@@ -180,8 +181,8 @@ class alignas(64) RRigidBody {
   bool ShouldCheckCollision(const RRigidBody& other) const;
   void IgnoreCollisionsWith(std::uint32_t otherId);
   // Collision filter bits (RBodyDef::category, mask). Setting them wakes the body, and a
-  // static body wakes every sleeper, as IgnoreCollisionsWith does: a sleeping pair is not
-  // looked at, so it would never learn that it may now touch.
+  // static or kinematic body wakes the sleepers whose boxes touch it, as IgnoreCollisionsWith
+  // does: a sleeping pair is not looked at, so it would never learn that it may now touch.
   std::uint32_t Category() const { return m_category; }
   std::uint32_t Mask() const { return m_mask; }
   void SetCollisionFilter(std::uint32_t category, std::uint32_t mask);
@@ -309,15 +310,17 @@ class alignas(64) RRigidBody {
   // sleeps, how long (s) it has been slower than the sleep speed, and the island it fell
   // asleep with (the integrator's index of the island's first body; kNoIsland when awake
   // and not yet woken by the integrator); where it was at the end of its last step (which
-  // integrator stepped it, at which index: a body found elsewhere, removed, added,
-  // reordered or moved between worlds, means island ids no longer mean what they did, and
-  // everything wakes); the filter bits; the shape's pointer and bounding radius.
+  // integrator stepped it, at which slot: a body found at another slot of a plain vector, or
+  // stepped by another integrator, means island ids no longer mean what they did, and
+  // everything wakes; a body an RBodies has just added has not been stepped and wakes
+  // nothing by itself); the filter bits; the shape's pointer and bounding radius.
   static constexpr std::uint32_t kNoIsland = 0xffffffffu;
   bool m_isStatic = false;
   bool m_isKinematic = false;
   bool m_responds = true;
   bool m_sleeping = false;
-  bool m_staticMoved = false;  // a static body the game moved since the last step
+  // A static or kinematic body the game added, enabled, moved or refiltered since the last step.
+  bool m_staticMoved = false;
   // Where a static or kinematic body the game moved (or refiltered) was at the last step,
   // world box (valid when m_wakeFromSet): the sleepers that touched it there wake, and those
   // that touch it where it is now, not the world.
@@ -432,3 +435,11 @@ class alignas(64) RRigidBody {
 std::uint64_t BodyEditCount();
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kRigidBody,
+                  RENGINE_ABI_LAYOUT(RWorldForm),
+                  RENGINE_ABI_LAYOUT(RPreparedShape),
+                  RENGINE_ABI_LAYOUT(RBodyLocks),
+                  RENGINE_ABI_LAYOUT(RBodyDef),
+                  RENGINE_ABI_LAYOUT(RRigidBody))

@@ -1,6 +1,7 @@
 // Collision shapes and their mass properties.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
 
@@ -65,3 +66,12 @@ RMassProperties ComputeMassProperties(const RShape& shape);
 RMassProperties ComputeMassProperties(const RConvexPolyhedron& polyhedron);
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kShape,
+                  ::REngine::RAbiLayout{"EIGEN_MAX_STATIC_ALIGN_BYTES", EIGEN_MAX_STATIC_ALIGN_BYTES, 0},
+                  RENGINE_ABI_LAYOUT(RQuat),
+                  RENGINE_ABI_LAYOUT(RVec4),
+                  RENGINE_ABI_LAYOUT(RShape),
+                  RENGINE_ABI_LAYOUT(RCompoundChild),
+                  RENGINE_ABI_LAYOUT(RMassProperties))

@@ -13,6 +13,7 @@
 // triangle's face normal instead (Jolt calls these active edges).
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 
 #include <array>
@@ -128,3 +129,7 @@ void RTriangleMesh::ForEachOverlapping(const RVec3& lo, const RVec3& hi, const F
 }
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kTriangleMesh,
+                  RENGINE_ABI_LAYOUT(RTriangleMesh))

@@ -50,17 +50,18 @@
 // loaded into an RBodies or the other way round, and values no saved world has (a NaN
 // velocity, a handle table that contradicts itself).
 //
-// Format (version 2; version 1 had no joints). Little-endian; doubles as their IEEE 754 bits. A 32-byte header: the
+// Format (version 2). Little-endian; doubles as their IEEE 754 bits. A 32-byte header: the
 // magic "\x89RSTATE\n", the format version (u32), 0 (u32), the payload's length (u64), and
 // its checksum (u64, a 64-bit hash that detects corruption, not tampering); then the
 // payload: the world tag, the settings, the integrator's memory, the container and the
-// bodies (src/RWorldState.cpp writes and reads every record in one place). A plain binary
+// bodies (src/RStateRecords.cpp writes and reads every record in one place). A plain binary
 // writer rather than a general format (CBOR through nlohmann_json, which the scene loader
 // uses): the engine proper does not depend on a JSON library, every double must come back
 // bit for bit, and a rollback game saves every frame, so a save is a copy of each field and
 // nothing else.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RRigidBody.h>
@@ -106,7 +107,7 @@ RStateInfo ReadStateInfo(const std::uint8_t* state, std::size_t size);
 // allocates nothing once it has grown). Cost: linear in what it holds: about 0.36 KB a body
 // (0.67 KB for one of three distinct moments of inertia, with its rotation's cache), 0.4 KB
 // a remembered manifold (0.66 KB with its block inverse) and 0.12 KB a warm-started point;
-// the 1000-box pile of ../shared/scenes in mid-fall (1000 contacts) is 1.5 MB.
+// the 1000-box pile of scenes/box_pile_1000.json in mid-fall (1000 contacts) is 1.5 MB.
 std::vector<std::uint8_t> SaveState(const RIntegrator& integrator, const RBodies& bodies,
                                     std::uint64_t worldTag = 0);
 void SaveState(const RIntegrator& integrator, const RBodies& bodies, std::vector<std::uint8_t>& out,
@@ -127,3 +128,8 @@ void LoadState(RIntegrator& integrator, std::vector<RRigidBody>& bodies, const s
                const RLoadOptions& options = {});
 
 }  // namespace REngine
+
+// This header's layouts against the library's (RAbi.h).
+RENGINE_ABI_CHECK(kWorldState,
+                  RENGINE_ABI_LAYOUT(RLoadOptions),
+                  RENGINE_ABI_LAYOUT(RStateInfo))
