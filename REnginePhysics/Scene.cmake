@@ -1,10 +1,20 @@
-# REngine::Scene: reads and validates scene files (../shared/SCENE_FORMAT.md). A library of
+# REngine::Scene: reads and validates scene files (docs/scene-format.md). A library of
 # its own so that a game linking REngine::Physics does not pull in a JSON parser.
-find_package(nlohmann_json 3 REQUIRED)
+# A game that takes REngine as a subproject without nlohmann_json gets the physics alone.
+if(REENGINE_IS_TOP)
+  find_package(nlohmann_json 3 REQUIRED)
+else()
+  find_package(nlohmann_json 3 QUIET)
+  if(NOT nlohmann_json_FOUND)
+    message(STATUS "REngine: nlohmann_json not found, REngine::Scene is not built")
+    return()
+  endif()
+endif()
 
 add_library(REngineScene src/RScene.cpp src/RSceneJson.cpp src/RSceneActions.cpp
   src/RSceneRays.cpp src/RSceneJoints.cpp src/RSceneWorld.cpp)
 add_library(REngine::Scene ALIAS REngineScene)
+rengine_unity(REngineScene)
 set_target_properties(REngineScene PROPERTIES EXPORT_NAME Scene OUTPUT_NAME rengine_scene)
 target_include_directories(REngineScene PUBLIC
   $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>

@@ -17,7 +17,7 @@ using namespace REngine::test;
 namespace {
 
 constexpr RScalar kNaN = std::numeric_limits<RScalar>::quiet_NaN();
-constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
+
 
 }  // namespace
 

@@ -22,14 +22,14 @@
 #include <vector>
 
 #include "support/CliRunner.h"
-#include "support/SharedScenes.h"
+#include "support/ReferenceScenes.h"
 
 using namespace REngine;
 using namespace REngine::test;
 
 TEST_F(Cli, HeadOnElasticRunsAndWritesTheContractsCsv) {
   const Result r =
-      Run(Quote(SharedScenePath("head_on_elastic")) + " --out " + Quote(Path("t.csv")));
+      Run(Quote(ReferenceScenePath("head_on_elastic")) + " --out " + Quote(Path("t.csv")));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out, "");  // the trajectory went to the file
   const std::string csv = ReadFile(Path("t.csv"));
@@ -42,7 +42,7 @@ TEST_F(Cli, HeadOnElasticRunsAndWritesTheContractsCsv) {
 }
 
 TEST_F(Cli, WritesToStandardOutputByDefault) {
-  const Result r = Run(Quote(SharedScenePath("head_on_elastic")) + " --steps 3");
+  const Result r = Run(Quote(ReferenceScenePath("head_on_elastic")) + " --steps 3");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(ParseCsv(r.out).size(), 2u * 4);
 }
@@ -65,7 +65,7 @@ TEST_F(Cli, RowsAtStepZeroEveryKthStepAndTheLast) {
   };
   const double dt = 0.008333333333333333;  // the scene's
   for (const Case& c : cases) {
-    const Result r = Run(Quote(SharedScenePath("head_on_elastic")) + " " + c.options);
+    const Result r = Run(Quote(ReferenceScenePath("head_on_elastic")) + " " + c.options);
     ASSERT_EQ(r.code, 0) << c.options << ": " << r.err;
     const std::vector<Row> rows = ParseCsv(r.out);
     ASSERT_EQ(rows.size(), 2 * c.steps.size()) << c.options;
@@ -80,7 +80,7 @@ TEST_F(Cli, RowsAtStepZeroEveryKthStepAndTheLast) {
 
 TEST_F(Cli, DtOptionOverridesTheScene) {
   // One step of 0.5 s: the spheres (gap 3 m, closing at 4 m/s) do not meet within it.
-  const Result r = Run(Quote(SharedScenePath("head_on_elastic")) + " --steps 1 --dt 0.5");
+  const Result r = Run(Quote(ReferenceScenePath("head_on_elastic")) + " --steps 1 --dt 0.5");
   ASSERT_EQ(r.code, 0) << r.err;
   const std::vector<Row> rows = ParseCsv(r.out);
   ASSERT_EQ(rows.size(), 4u);
@@ -191,7 +191,7 @@ TEST_F(Cli, DescribeGivesWorldMassProperties) {
 
 TEST_F(Cli, SummaryIsTheLastLineAndTheOnlyOneWithoutATerminal) {
   for (const char* quiet : {"", " --quiet"}) {
-    const Result r = Run(Quote(SharedScenePath("head_on_elastic")) + " --out " +
+    const Result r = Run(Quote(ReferenceScenePath("head_on_elastic")) + " --out " +
                          Quote(Path("t.csv")) + quiet);
     ASSERT_EQ(r.code, 0) << r.err;
     // stderr is a file here, not a terminal: no progress display, only the summary.
@@ -206,7 +206,7 @@ TEST_F(Cli, SummaryIsTheLastLineAndTheOnlyOneWithoutATerminal) {
 // The hash is FNV-1a 64 over the final state's doubles; the CSV's 17 digits give them back
 // exactly, so it can be recomputed from the last rows.
 TEST_F(Cli, HashIsFnv1aOfTheFinalState) {
-  const Result r = Run(Quote(SharedScenePath("box_stack_10")) + " --steps 50 --every 50");
+  const Result r = Run(Quote(ReferenceScenePath("box_stack_10")) + " --steps 50 --every 50");
   ASSERT_EQ(r.code, 0) << r.err;
   const std::vector<Row> rows = ParseCsv(r.out);
   ASSERT_EQ(rows.size(), 2u * 11);
@@ -225,7 +225,7 @@ TEST_F(Cli, RunsAreDeterministic) {
   std::string hash[2], csv[2];
   for (int i = 0; i < 2; ++i) {
     const fs::path out = Path("run" + std::to_string(i) + ".csv");
-    const Result r = Run(Quote(SharedScenePath("debris_cloud_1000")) + " --steps 60 --out " +
+    const Result r = Run(Quote(ReferenceScenePath("debris_cloud_1000")) + " --steps 60 --out " +
                          Quote(out));
     ASSERT_EQ(r.code, 0) << r.err;
     hash[i] = r.LastErrLine().substr(r.LastErrLine().find("hash="));
@@ -321,7 +321,7 @@ TEST_F(Cli, BadScenesExitTwoNamingTheFileAndTheField) {
 }
 
 TEST_F(Cli, BadCommandLinesExitTwo) {
-  const std::string scene = Quote(SharedScenePath("head_on_elastic"));
+  const std::string scene = Quote(ReferenceScenePath("head_on_elastic"));
   struct Case {
     std::string args, mustContain;
   };
@@ -455,7 +455,7 @@ TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {
-    const std::string scene = Quote(std::string(RENGINE_SHARED_SCENES) + "/" + pin.scene + ".json");
+    const std::string scene = Quote(std::string(RENGINE_SCENES) + "/" + pin.scene + ".json");
     std::string first;
     // Three runs, on 1, 2 and 4 threads: the hash must not depend on the thread count.
     for (int run = 0; run < 3; ++run) {

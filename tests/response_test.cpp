@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "support/RandomWorlds.h"
-#include "support/SharedScenes.h"
+#include "support/ReferenceScenes.h"
 #include "support/TestBodies.h"
 
 using namespace REngine;
@@ -102,7 +102,7 @@ TEST(Response, BoxesHeadOnMatchTheClosedForm) {
 
 // The reference scene (scenes/), through the scene loader.
 TEST(Response, SharedHeadOnElasticScene) {
-  const RScene scene = LoadSharedScene("head_on_elastic");
+  const RScene scene = LoadReferenceScene("head_on_elastic");
   std::vector<RRigidBody> bodies = CreateBodies(scene);
   RIntegrator integrator(scene.settings);
   Step(integrator, bodies, scene.steps, scene.dt);
@@ -115,7 +115,7 @@ TEST(Response, SharedHeadOnElasticScene) {
 // applied equal and opposite, so momentum is conserved to rounding (1e-12 relative to the
 // sum of |m v|), and no step may gain kinetic energy beyond rounding.
 TEST(Response, DebrisCloudConservesMomentumAndNeverGainsEnergy) {
-  const RScene scene = LoadSharedScene("debris_cloud_1000");
+  const RScene scene = LoadReferenceScene("debris_cloud_1000");
   std::vector<RRigidBody> bodies = CreateBodies(scene);
   RIntegrator integrator(scene.settings);
   const RVec3 p0 = Momentum(bodies);
@@ -141,7 +141,7 @@ TEST(Response, DebrisCloudConservesMomentumAndNeverGainsEnergy) {
 // impulses also conserve angular momentum about any point: equal and opposite at the same
 // contact point.
 TEST(Response, ImpulsesConserveAngularMomentum) {
-  const RScene scene = LoadSharedScene("debris_cloud_1000");
+  const RScene scene = LoadReferenceScene("debris_cloud_1000");
   std::vector<RRigidBody> bodies = CreateBodies(scene);
   RWorldSettings settings = scene.settings;
   settings.positionCorrection = 0;
@@ -227,7 +227,7 @@ static void ExpectStackStands(const char* label, std::vector<RRigidBody> bodies,
 }
 
 TEST(Response, TenBoxStackStands) {
-  const RScene scene = LoadSharedScene("box_stack_10");
+  const RScene scene = LoadReferenceScene("box_stack_10");
   ExpectStackStands("box_stack_10", CreateBodies(scene), scene.settings, scene.dt, scene.steps);
 }
 
@@ -494,7 +494,7 @@ static RScalar WorstOffsetDifference(std::vector<RBodyDef> defs, RWorldSettings 
 
 TEST(Response, FarFromTheOriginTheMotionIsTheSame) {
   {
-    const RScene scene = LoadSharedScene("box_stack_10");
+    const RScene scene = LoadReferenceScene("box_stack_10");
     const RScalar worst = WorstOffsetDifference(scene.bodies, scene.settings, scene.dt, 600);
     std::printf("box_stack_10 at 1e6 m: positions within %.3g m of the stack at the origin\n", worst);
     EXPECT_LT(worst, 1e-6);

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "support/SharedScenes.h"
+#include "support/ReferenceScenes.h"
 
 using namespace REngine;
 using namespace REngine::test;
@@ -32,7 +32,7 @@ std::string Shape(const std::string& shape) { return R"("shape": )" + shape; }
 
 TEST(Scene, SharedScenesLoadWithTheirValues) {
   {
-    const RScene s = LoadScene(SharedScenePath("dzhanibekov"));
+    const RScene s = LoadScene(ReferenceScenePath("dzhanibekov"));
     ASSERT_EQ(s.bodies.size(), 1u);
     const RBodyDef& b = s.bodies[0];
     EXPECT_EQ(b.name, "tbar");
@@ -46,7 +46,7 @@ TEST(Scene, SharedScenesLoadWithTheirValues) {
     EXPECT_EQ(s.settings.gravity_W, RVec3::Zero());
   }
   {
-    const RScene s = LoadScene(SharedScenePath("head_on_elastic"));
+    const RScene s = LoadScene(ReferenceScenePath("head_on_elastic"));
     ASSERT_EQ(s.bodies.size(), 2u);
     EXPECT_EQ(s.steps, 240u);
     EXPECT_EQ(s.dt, 0.008333333333333333);
@@ -59,7 +59,7 @@ TEST(Scene, SharedScenesLoadWithTheirValues) {
     EXPECT_EQ(s.bodies[1].friction, 0.0);
   }
   {
-    const RScene s = LoadScene(SharedScenePath("box_stack_10"));
+    const RScene s = LoadScene(ReferenceScenePath("box_stack_10"));
     ASSERT_EQ(s.bodies.size(), 11u);
     EXPECT_EQ(s.settings.gravity_W, RVec3(0, -9.81, 0));
     EXPECT_TRUE(s.bodies[0].isStatic);
@@ -68,7 +68,7 @@ TEST(Scene, SharedScenesLoadWithTheirValues) {
     EXPECT_EQ(s.bodies[10].position_W, RVec3(0, 9.5, 0));
   }
   {
-    const RScene s = LoadScene(SharedScenePath("debris_cloud_1000"));
+    const RScene s = LoadScene(ReferenceScenePath("debris_cloud_1000"));
     ASSERT_EQ(s.bodies.size(), 1000u);
     EXPECT_EQ(s.steps, 600u);
     // The file's quaternions are unit already: normalising must keep them to rounding.
@@ -82,7 +82,7 @@ TEST(Scene, SharedScenesLoadWithTheirValues) {
     }
   }
   {
-    const RScene s = LoadScene(SharedScenePath("box_pile_1000"));
+    const RScene s = LoadScene(ReferenceScenePath("box_pile_1000"));
     ASSERT_EQ(s.bodies.size(), 1001u);
     EXPECT_EQ(s.steps, 300u);
     EXPECT_TRUE(s.bodies[0].isStatic);
@@ -93,7 +93,7 @@ TEST(Scene, SharedScenesLoadWithTheirValues) {
 TEST(Scene, SharedScenesCreateTheirBodies) {
   for (const char* name : {"dzhanibekov", "head_on_elastic", "box_stack_10",
                            "debris_cloud_1000", "box_pile_1000"}) {
-    const RScene scene = LoadScene(SharedScenePath(name));
+    const RScene scene = LoadScene(ReferenceScenePath(name));
     EXPECT_EQ(CreateBodies(scene).size(), scene.bodies.size()) << name;
     EXPECT_EQ(scene.ignore.size(), scene.bodies.size()) << name;
   }

@@ -171,7 +171,7 @@ TEST(SpaceGameWindow, PlayedUntouchedTheGameRunsItsClockLoop) {
 // 30 frames: every body drawn, and a picture, not a blank screen.
 TEST(SpaceGameWindow, RengineViewPlaysATrajectoryOfRengineSim) {
   const std::string dir = RENGINE_SPACEGAME_OUT;
-  const std::string scene = std::string(RENGINE_SHARED_SCENES) + "/debris_cloud_1000.json";
+  const std::string scene = std::string(RENGINE_SCENES) + "/debris_cloud_1000.json";
   const std::string csv = dir + "/view-cloud.csv", png = dir + "/view-cloud.png";
   std::remove(png.c_str());
   const std::string sim = std::string(RENGINE_SIM) + " " + scene + " --steps 60 --quiet --out " +

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "support/CliRunner.h"
-#include "support/SharedScenes.h"
+#include "support/ReferenceScenes.h"
 
 using namespace REngine::test;
 
@@ -57,7 +57,7 @@ TEST_F(Cli, SharedScenesLoadedFromAStateEndWithTheUninterruptedHash) {
   };
   for (const Case& c : {Case{"box_stack_10", 600, 300}, Case{"box_pile_1000", 120, 60}, Case{"box_pile_1000", 120, 75}}) {
     SCOPED_TRACE(std::string(c.scene) + " saved at step " + std::to_string(c.save));
-    const std::string scene = Quote(SharedScenePath(c.scene)) + " --steps " + std::to_string(c.steps);
+    const std::string scene = Quote(ReferenceScenePath(c.scene)) + " --steps " + std::to_string(c.steps);
     const Result whole = Run(scene + " --threads 1 --out " + Quote(Path("whole.csv")));
     ASSERT_EQ(whole.code, 0) << whole.err;
     const Result first = Run(scene + " --threads 1 --out /dev/null --save-state " + std::to_string(c.save) + ":" +
@@ -106,7 +106,7 @@ TEST_F(Cli, AGameWithActionsContinuesFromItsState) {
 // mistakes.
 TEST_F(Cli, BadStatesExitTwoNamingTheFile) {
   const std::string game = Quote(Write("game.json", kGame));
-  const std::string stack = Quote(SharedScenePath("box_stack_10"));
+  const std::string stack = Quote(ReferenceScenePath("box_stack_10"));
   ASSERT_EQ(Run(game + " --out /dev/null --save-state 60:" + Path("game.bin").string()).code, 0);
   const std::string state = ReadFile(Path("game.bin"));
   Write("cut.bin", state.substr(0, state.size() / 2));

@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 source tools/deps.sh
 rengine_install_deps python3-matplotlib
 rengine_build
-scene="${1:-../shared/scenes/dzhanibekov.json}"
+scene="${1:-scenes/dzhanibekov.json}"
 mkdir -p build/demo
 build/bin/rengine-sim "$scene" --out build/demo/trajectory.csv --every 6
 build/bin/rengine-sim "$scene" --describe > build/demo/describe.json

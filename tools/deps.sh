@@ -12,7 +12,7 @@ REngine_BUILD_PACKAGES=(
   libgtest-dev                  # tests
   libbenchmark-dev              # tools/bench (Google Benchmark)
   libccd-dev libfcl-dev         # independent oracles for the collision tests
-  # rengine-spacegame (#17): window and GL, the HUD, screenshots (stb_image_write); its
+  # rengine-spacegame: window and GL, the HUD, screenshots (stb_image_write); its
   # windowed test runs under a virtual display with Mesa's software OpenGL.
   libsdl2-dev libepoxy-dev libimgui-dev libstb-dev pkgconf   # (pkgconf: CMake finds them by pkg-config)
   xvfb xauth libgl1-mesa-dri

@@ -1,4 +1,5 @@
 #include <REnginePhysics/RConvexPolyhedron.h>
+#include "RLimits.h"
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
@@ -21,10 +22,6 @@ namespace {
 // dropped on the ground was flung at 16 km/s), and its face normals come from rounding. At
 // 1e-4, a 100 m panel may be 1 cm thick.
 constexpr RScalar kMinThickness = 1e-4;
-// Hull points further than this from the shape frame's origin are refused: beyond it the
-// squares in Qhull's and the mass properties' arithmetic leave the doubles (Qhull crashed on
-// points of 1e300). 1e12 m is far beyond any game object, and its squares stay finite.
-constexpr RScalar kMaxCoordinate = 1e12;
 // Every vertex on or below every face plane, to this fraction of the extent.
 constexpr RScalar kInsideTolerance = 1e-9;
 // Face planes closer than this (unit normals, and offsets relative to the extent) are one

@@ -16,7 +16,6 @@ namespace REngine {
 
 namespace {
 
-constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
 
 // GJK converges when the lower bound v.w is within this fraction of the upper bound v.v.
 constexpr RScalar kGjkRelativeGap = 1e-12;

@@ -16,7 +16,6 @@ using namespace solver;
 
 namespace {
 
-constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
 
 // Where the joint's frames are at the poses: world anchors and arms, the axis in each
 // body, a's perpendiculars, and the rotation error q_B (q_A q_rel0)^-1 (world).

@@ -43,7 +43,6 @@ bool ClosestOnSegments(const RVec3& p0, const RVec3& p1, const RVec3& q0, const 
 
 namespace {
 
-constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
 
 
 // Whether p's projection along the face's normal falls inside the face's polygon (loop

@@ -3,6 +3,7 @@
 // their answers. The narrow phases are RRayCast.cpp and RShapeCast.cpp; the tree's upkeep
 // is RQueryState.cpp.
 #include <REnginePhysics/RQueries.h>
+#include "RLimits.h"
 
 #include <REngineMath/RQuaternion.h>
 
@@ -16,8 +17,6 @@ namespace REngine {
 
 namespace {
 
-constexpr RScalar kMaxPosition = 1e15;  // m, as RRigidBody accepts
-constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
 
 void CheckPoint(const RVec3& p, const char* field) {
   if (!(AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition)) {

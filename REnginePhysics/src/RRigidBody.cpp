@@ -1,4 +1,5 @@
 #include <REnginePhysics/RRigidBody.h>
+#include "RLimits.h"
 
 #include <REngineMath/RQuaternion.h>
 
@@ -24,10 +25,6 @@ void CountEdit() { s_bodyEdits.fetch_add(1, std::memory_order_relaxed); }
 constexpr RScalar kMaxInertiaRatio = 1e9;
 constexpr RScalar kMaxSize = 1e12;       // m
 constexpr RScalar kMinThickness = 1e-4;  // of the largest size
-// Positions the engine accepts: 1e15 m (6700 au) is beyond any game, and squared distances
-// there (1e30) are far from overflowing; at 1e185 m they overflow, and a sphere pair's
-// distance came out infinite (found by fuzz_narrowphase).
-constexpr RScalar kMaxPosition = 1e15;
 constexpr const char* kPositionRange = "must be finite and within 1e15 m of the origin";
 // (AllFinite first: Eigen's maxCoeff passes over a NaN.)
 bool InRange(const RVec3& p) { return AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition; }

@@ -49,7 +49,6 @@ struct Interval {
   bool loOpen;
   const char* text;
 };
-constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
 constexpr Interval kFinite{-kInf, kInf, false, "a finite number"};
 constexpr Interval kPositive{0, kInf, true, "a finite number > 0"};
 constexpr Interval kNonNegative{0, kInf, false, "a finite number >= 0"};

@@ -1,5 +1,6 @@
 // Triangle meshes: checks, the bounding-volume tree, active edges and rays (RTriangleMesh.h).
 #include <REnginePhysics/RTriangleMesh.h>
+#include "RLimits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,6 @@ namespace REngine {
 
 namespace {
 
-constexpr RScalar kMaxCoordinate = 1e12;  // m, as hull points
 
 std::string At(const char* list, std::size_t i) { return std::string(list) + "[" + std::to_string(i) + "]"; }
 

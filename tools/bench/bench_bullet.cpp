@@ -284,7 +284,7 @@ void Usage() {
                "usage: bench_bullet [SCENE.json ...] [--steps N] [--runs N] [--match-combine] "
                "[--sleep]\n"
                "default scenes: %s/{box_pile_1000,debris_cloud_1000}.json\n",
-               RENGINE_SHARED_SCENES);
+               RENGINE_SCENES);
 }
 
 bool ParsePositive(const std::string& text, std::uint64_t& out) {
@@ -327,8 +327,8 @@ int main(int argc, char** argv) {
     }
   }
   if (opt.scenes.empty()) {
-    opt.scenes = {RENGINE_SHARED_SCENES "/box_pile_1000.json",
-                  RENGINE_SHARED_SCENES "/debris_cloud_1000.json"};
+    opt.scenes = {RENGINE_SCENES "/box_pile_1000.json",
+                  RENGINE_SCENES "/debris_cloud_1000.json"};
   }
 
   std::printf("bench_bullet: REngine (double) vs Bullet %d.%02d (%s precision: "

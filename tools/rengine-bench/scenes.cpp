@@ -13,14 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "support/SharedScenes.h"
+#include "support/ReferenceScenes.h"
 #include "support/TestBodies.h"
 
 using namespace REngine;
 using test::BoxDef;
 using test::GroundDef;
 using test::HeadOnSpheres;
-using test::LoadSharedScene;
+using test::LoadReferenceScene;
 using test::SphereDef;
 using test::UniformIn;
 using test::UnitBoxDef;
@@ -227,7 +227,7 @@ Errors InclineErrors(Engine& engine) {
 // ---- stack10 ----------------------------------------------------------------------------
 
 const RScene& StackScene() {
-  static const RScene scene = LoadSharedScene("box_stack_10");
+  static const RScene scene = LoadReferenceScene("box_stack_10");
   return scene;
 }
 
@@ -290,7 +290,7 @@ Conservation MeasureConservation(Engine& engine) {
 }
 
 const RScene& DebrisScene() {
-  static const RScene scene = LoadSharedScene("debris_cloud_1000");
+  static const RScene scene = LoadReferenceScene("debris_cloud_1000");
   return scene;
 }
 

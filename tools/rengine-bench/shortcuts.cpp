@@ -47,14 +47,14 @@
 #include <random>
 #include <string>
 
-#include "support/SharedScenes.h"
+#include "support/ReferenceScenes.h"
 #include "support/TestBodies.h"
 
 using namespace REngine;
 using test::BodyDef;
 using test::BoxDef;
 using test::HullDef;
-using test::LoadSharedScene;
+using test::LoadReferenceScene;
 using test::UniformIn;
 
 namespace rbench {
@@ -240,7 +240,7 @@ ShortcutRow RestingStacks(bool quick, int repeats) {
 
 // ---- box_pile_1000 --------------------------------------------------------------------
 ShortcutRow BoxPile(bool quick, int repeats) {
-  const RScene scene = LoadSharedScene("box_pile_1000");
+  const RScene scene = LoadReferenceScene("box_pile_1000");
   const int steps = quick ? 30 : static_cast<int>(scene.steps);
   auto make = [&scene](bool on) {
     Setup s{CreateBodies(scene), scene.settings};
@@ -272,7 +272,7 @@ ShortcutRow BoxPile(bool quick, int repeats) {
 // not exact, each reused point is off by at most the touching band; the error is the
 // largest position difference between the runs at the end.
 ShortcutRow AwakePile(bool quick, int repeats) {
-  const RScene scene = LoadSharedScene("box_pile_1000");
+  const RScene scene = LoadReferenceScene("box_pile_1000");
   const int steps = quick ? 30 : static_cast<int>(scene.steps);
   auto make = [&scene](bool on) {
     Setup s{CreateBodies(scene), scene.settings};

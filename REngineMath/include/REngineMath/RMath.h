@@ -22,6 +22,7 @@ using RMat3 = Eigen::Matrix<RScalar, 3, 3>;
 using RQuat = Eigen::Quaternion<RScalar>;
 
 inline constexpr RScalar kPi = RScalar(3.14159265358979323846264338327950288);
+inline constexpr RScalar kInf = std::numeric_limits<RScalar>::infinity();
 
 // Tolerances, each with the one meaning it has everywhere it is used.
 namespace RTol {
