@@ -445,7 +445,7 @@ TEST_F(Cli, HostileScenesGetExitTwoNotACrash) {
 // two runs agree. A change that alters the physics on purpose changes a hash: re-pin it here
 // with the reason in the commit message. A change that should not (a refactoring, a speed-up
 // of an exact shortcut) must leave every hash as it is.
-TEST_F(Cli, SharedScenesKeepTheirPinnedHashes) {
+TEST_F(Cli, ReferenceScenesKeepTheirPinnedHashes) {
   const struct {
     const char* scene;
     const char* hash;

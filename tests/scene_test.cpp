@@ -30,7 +30,7 @@ std::string Shape(const std::string& shape) { return R"("shape": )" + shape; }
 
 }  // namespace
 
-TEST(Scene, SharedScenesLoadWithTheirValues) {
+TEST(Scene, ReferenceScenesLoadWithTheirValues) {
   {
     const RScene s = LoadScene(ReferenceScenePath("dzhanibekov"));
     ASSERT_EQ(s.bodies.size(), 1u);
@@ -90,7 +90,7 @@ TEST(Scene, SharedScenesLoadWithTheirValues) {
   }
 }
 
-TEST(Scene, SharedScenesCreateTheirBodies) {
+TEST(Scene, ReferenceScenesCreateTheirBodies) {
   for (const char* name : {"dzhanibekov", "head_on_elastic", "box_stack_10",
                            "debris_cloud_1000", "box_pile_1000"}) {
     const RScene scene = LoadScene(ReferenceScenePath(name));

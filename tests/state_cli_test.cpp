@@ -50,7 +50,7 @@ const std::string kGame = R"({"gravity": [0, -9.81, 0], "dt": 0.0166666666666666
 // then), the 1000-box pile saved at steps 60 (contacts, warm starts, bodies resting towards
 // sleep) and 75 (a few steps before the whole pile falls asleep: rest times decide that
 // step) of 120. The load runs on two threads, the uninterrupted run on one.
-TEST_F(Cli, SharedScenesLoadedFromAStateEndWithTheUninterruptedHash) {
+TEST_F(Cli, ReferenceScenesLoadedFromAStateEndWithTheUninterruptedHash) {
   struct Case {
     const char* scene;
     std::uint64_t steps, save;

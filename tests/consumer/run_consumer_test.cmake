@@ -65,7 +65,7 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/sub_add -G $
 if(EXISTS ${SOURCE_DIR}/.git)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/sub_fetch -G ${GENERATOR}
       -DCMAKE_BUILD_TYPE=Debug -DCONSUMER_SUBPROJECT=fetchcontent
-      -DCONSUMER_REPOSITORY=${SOURCE_DIR} -DFETCHCONTENT_BASE_DIR=${WORK_DIR}/sub_fetch_deps)
+      -DCONSUMER_REPOSITORY=file://${SOURCE_DIR} -DFETCHCONTENT_BASE_DIR=${WORK_DIR}/sub_fetch_deps)
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/sub_fetch --target consumer)
   run(${WORK_DIR}/sub_fetch/consumer)
 else()

@@ -130,14 +130,14 @@ tail = u16(0.7) + u16(0.2) + u16(0.1) + u16(0.3) + u16(0.5) * 4 + u16(0.55) * 3
 for mode in range(5):
     write("fuzz_narrowphase", f"cylinder_box_mode{mode}", bytes([mode, 254]) + u16(0.6) * 2 + bytes([0]) + u16(0.4) * 3 + tail)
 write("fuzz_narrowphase", "cylinder_cylinder", bytes([1, 254]) + u16(0.5) * 2 + bytes([254]) + u16(0.45) * 2 + tail)
-issue = bytes([0x80 | 0, 0]) + raw(13.117647055900639, 0.57617071270942688, 0.50029640259522512)
-issue += bytes([0]) + raw(195.29190067006274, 1999.2532169117646, 1808.8235294117646)
-issue += raw(float.fromhex("0x1.1f80e1b73b9fp-1"), float.fromhex("-0x1.308cc2e6e5b98p-1"),
+huge_box = bytes([0x80 | 0, 0]) + raw(13.117647055900639, 0.57617071270942688, 0.50029640259522512)
+huge_box += bytes([0]) + raw(195.29190067006274, 1999.2532169117646, 1808.8235294117646)
+huge_box += raw(float.fromhex("0x1.1f80e1b73b9fp-1"), float.fromhex("-0x1.308cc2e6e5b98p-1"),
              float.fromhex("0x1.fe82356c338bcp-4"), float.fromhex("0x1.1f82ffc2343cdp-1"))
-issue += raw(1, 0, 0, 0)
-issue += raw(float.fromhex("0x1.9b9b9b984cp-1"), float.fromhex("-0x1.fffffffbf4p-1"), float.fromhex("-0x1.efb3b3b3b3b3bp-1"))
-issue += raw(float.fromhex("-0x1.7d87098eb48f4p+7"), float.fromhex("0x1.f53292975567fp+10"), float.fromhex("-0x1.c724207b31cbap+10"))
-write("fuzz_narrowphase", "issue11_box_touching_huge_box", issue)
+huge_box += raw(1, 0, 0, 0)
+huge_box += raw(float.fromhex("0x1.9b9b9b984cp-1"), float.fromhex("-0x1.fffffffbf4p-1"), float.fromhex("-0x1.efb3b3b3b3b3bp-1"))
+huge_box += raw(float.fromhex("-0x1.7d87098eb48f4p+7"), float.fromhex("0x1.f53292975567fp+10"), float.fromhex("-0x1.c724207b31cbap+10"))
+write("fuzz_narrowphase", "box_touching_huge_box", huge_box)
 
 # --- fuzz_world: gravity, iterations, sleeping, dt, count, bodies..., steps, calls
 def body(kind, static=0):
