@@ -24,49 +24,19 @@ namespace {
 // ready when another translation unit's static initialisation calls RVerifyAbi first.
 const RAbiLayout* LibraryLayouts(std::size_t& count) {
   static const RAbiLayout kLibrary[] = {
-      {"EIGEN_MAX_STATIC_ALIGN_BYTES", EIGEN_MAX_STATIC_ALIGN_BYTES, 0},
-      RENGINE_ABI_LAYOUT(RQuat),
-      RENGINE_ABI_LAYOUT(RVec4),
-      RENGINE_ABI_LAYOUT(RShape),
-      RENGINE_ABI_LAYOUT(RCompoundChild),
-      RENGINE_ABI_LAYOUT(RMassProperties),
-      RENGINE_ABI_LAYOUT(RPlane),
-      RENGINE_ABI_LAYOUT(RFace),
-      RENGINE_ABI_LAYOUT(REdge),
-      RENGINE_ABI_LAYOUT(RPolyhedronMass),
-      RENGINE_ABI_LAYOUT(RConvexPolyhedron),
-      RENGINE_ABI_LAYOUT(RTriangleMesh),
-      RENGINE_ABI_LAYOUT(RFreeRotation),
-      RENGINE_ABI_LAYOUT(RConvexShape),
-      RENGINE_ABI_LAYOUT(RShapeChild),
-      RENGINE_ABI_LAYOUT(RRelativePose),
-      RENGINE_ABI_LAYOUT(RDistanceResult),
-      RENGINE_ABI_LAYOUT(RContactPoint),
-      RENGINE_ABI_LAYOUT(RContactManifold),
-      RENGINE_ABI_LAYOUT(RWorldForm),
-      RENGINE_ABI_LAYOUT(RPreparedShape),
-      RENGINE_ABI_LAYOUT(RBodyLocks),
-      RENGINE_ABI_LAYOUT(RBodyDef),
-      RENGINE_ABI_LAYOUT(RRigidBody),
-      RENGINE_ABI_LAYOUT(RJointMotor),
-      RENGINE_ABI_LAYOUT(RJointDef),
-      RENGINE_ABI_LAYOUT(RJoint),
-      RENGINE_ABI_LAYOUT(RBodies),
-      RENGINE_ABI_LAYOUT(RContactEvent),
-      RENGINE_ABI_LAYOUT(RWorldSettings),
-      RENGINE_ABI_LAYOUT(RStepProfile),
-      RENGINE_ABI_LAYOUT(RContact),
-      RENGINE_ABI_LAYOUT(RPairStats),
-      RENGINE_ABI_LAYOUT(RIntegrator),
-      RENGINE_ABI_LAYOUT(RQueryFilter),
-      RENGINE_ABI_LAYOUT(RRay),
-      RENGINE_ABI_LAYOUT(RRayHit),
-      RENGINE_ABI_LAYOUT(RShapeCastHit),
-      RENGINE_ABI_LAYOUT(RShapeRayHit),
-      RENGINE_ABI_LAYOUT(RShapeCastResult),
-      RENGINE_ABI_LAYOUT(RQueries),
-      RENGINE_ABI_LAYOUT(RLoadOptions),
-      RENGINE_ABI_LAYOUT(RStateInfo),
+      RENGINE_ABI_EIGEN_LAYOUT
+      RENGINE_ABI_TYPES_BODIES(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_COLLISION(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_CONTACT_EVENTS(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_CONVEX_POLYHEDRON(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_FREE_ROTATION(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_INTEGRATOR(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_JOINT(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_QUERIES(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_RIGID_BODY(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_SHAPE(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_TRIANGLE_MESH(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_WORLD_STATE(RENGINE_ABI_LAYOUT)
   };
   count = std::size(kLibrary);
   return kLibrary;
@@ -87,7 +57,10 @@ bool RVerifyAbi(const RAbiLayout* layouts, std::size_t count) noexcept {
       std::fprintf(stderr,
                    "REngine: ABI mismatch between this program and the REngine library it links:\n");
     ok = false;
-    if (mine)
+    if (mine && mine->align == 0)  // a setting, not a type
+      std::fprintf(stderr, "  %s is %zu here, %zu in the library\n", layouts[i].type,
+                   layouts[i].size, mine->size);
+    else if (mine)
       std::fprintf(stderr, "  %s: %zu bytes aligned to %zu here, %zu aligned to %zu in the library\n",
                    layouts[i].type, layouts[i].size, layouts[i].align, mine->size, mine->align);
     else

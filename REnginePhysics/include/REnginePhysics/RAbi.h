@@ -34,14 +34,19 @@ bool RVerifyAbi(const RAbiLayout* layouts, std::size_t count) noexcept;
 
 }  // namespace REngine
 
-#define RENGINE_ABI_LAYOUT(T) ::REngine::RAbiLayout{#T, sizeof(::REngine::T), alignof(::REngine::T)}
+#define RENGINE_ABI_LAYOUT(T) ::REngine::RAbiLayout{#T, sizeof(::REngine::T), alignof(::REngine::T)},
+// The alignment Eigen gives its vectorisable types here, checked with every header's types.
+#define RENGINE_ABI_EIGEN_LAYOUT \
+  ::REngine::RAbiLayout{"EIGEN_MAX_STATIC_ALIGN_BYTES", EIGEN_MAX_STATIC_ALIGN_BYTES, 0},
 
-// Checks the listed layouts once per translation unit that includes the header, before main.
-// NAME must be unique among the headers (it names the translation unit's flag).
-#define RENGINE_ABI_CHECK(NAME, ...)                                        \
+// Checks the layouts of the types a header lists (TYPES(X) applies X to each) once per
+// translation unit that includes it, before main. The library's own table (RAbi.cpp) is made
+// from the same lists. NAME must be unique among the headers (it names the unit's flag).
+#define RENGINE_ABI_CHECK(NAME, TYPES)                                      \
   namespace REngine::abi_check {                                            \
   [[maybe_unused]] static const bool NAME = [] {                            \
-    static const ::REngine::RAbiLayout kLayouts[] = {__VA_ARGS__};          \
+    static const ::REngine::RAbiLayout kLayouts[] = {                       \
+        RENGINE_ABI_EIGEN_LAYOUT TYPES(RENGINE_ABI_LAYOUT)};                \
     return ::REngine::RVerifyAbi(kLayouts, std::size(kLayouts));            \
   }();                                                                      \
   }

@@ -178,6 +178,7 @@ class RBodies {
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kBodies,
-                  RENGINE_ABI_LAYOUT(RBodies))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_BODIES(X) \
+  X(RBodies)
+RENGINE_ABI_CHECK(kBodies, RENGINE_ABI_TYPES_BODIES)

@@ -169,11 +169,12 @@ RRelativePose RelativePose(const RRigidBody& a, const RRigidBody& b);
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kCollision,
-                  RENGINE_ABI_LAYOUT(RConvexShape),
-                  RENGINE_ABI_LAYOUT(RShapeChild),
-                  RENGINE_ABI_LAYOUT(RRelativePose),
-                  RENGINE_ABI_LAYOUT(RDistanceResult),
-                  RENGINE_ABI_LAYOUT(RContactPoint),
-                  RENGINE_ABI_LAYOUT(RContactManifold))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_COLLISION(X) \
+  X(RConvexShape) \
+  X(RShapeChild) \
+  X(RRelativePose) \
+  X(RDistanceResult) \
+  X(RContactPoint) \
+  X(RContactManifold)
+RENGINE_ABI_CHECK(kCollision, RENGINE_ABI_TYPES_COLLISION)

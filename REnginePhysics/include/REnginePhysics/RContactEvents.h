@@ -66,6 +66,7 @@ struct RContactEvent {
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kContactEvents,
-                  RENGINE_ABI_LAYOUT(RContactEvent))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_CONTACT_EVENTS(X) \
+  X(RContactEvent)
+RENGINE_ABI_CHECK(kContactEvents, RENGINE_ABI_TYPES_CONTACT_EVENTS)

@@ -122,10 +122,11 @@ class RConvexPolyhedron {
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kConvexPolyhedron,
-                  RENGINE_ABI_LAYOUT(RPlane),
-                  RENGINE_ABI_LAYOUT(RFace),
-                  RENGINE_ABI_LAYOUT(REdge),
-                  RENGINE_ABI_LAYOUT(RPolyhedronMass),
-                  RENGINE_ABI_LAYOUT(RConvexPolyhedron))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_CONVEX_POLYHEDRON(X) \
+  X(RPlane) \
+  X(RFace) \
+  X(REdge) \
+  X(RPolyhedronMass) \
+  X(RConvexPolyhedron)
+RENGINE_ABI_CHECK(kConvexPolyhedron, RENGINE_ABI_TYPES_CONVEX_POLYHEDRON)

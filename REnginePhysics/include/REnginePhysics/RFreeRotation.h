@@ -103,6 +103,7 @@ class RFreeRotation {
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kFreeRotation,
-                  RENGINE_ABI_LAYOUT(RFreeRotation))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_FREE_ROTATION(X) \
+  X(RFreeRotation)
+RENGINE_ABI_CHECK(kFreeRotation, RENGINE_ABI_TYPES_FREE_ROTATION)

@@ -281,10 +281,11 @@ std::uint64_t NextCacheStamp();
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kIntegrator,
-                  RENGINE_ABI_LAYOUT(RWorldSettings),
-                  RENGINE_ABI_LAYOUT(RStepProfile),
-                  RENGINE_ABI_LAYOUT(RContact),
-                  RENGINE_ABI_LAYOUT(RPairStats),
-                  RENGINE_ABI_LAYOUT(RIntegrator))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_INTEGRATOR(X) \
+  X(RWorldSettings) \
+  X(RStepProfile) \
+  X(RContact) \
+  X(RPairStats) \
+  X(RIntegrator)
+RENGINE_ABI_CHECK(kIntegrator, RENGINE_ABI_TYPES_INTEGRATOR)

@@ -120,8 +120,9 @@ struct RJoint {
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kJoint,
-                  RENGINE_ABI_LAYOUT(RJointMotor),
-                  RENGINE_ABI_LAYOUT(RJointDef),
-                  RENGINE_ABI_LAYOUT(RJoint))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_JOINT(X) \
+  X(RJointMotor) \
+  X(RJointDef) \
+  X(RJoint)
+RENGINE_ABI_CHECK(kJoint, RENGINE_ABI_TYPES_JOINT)

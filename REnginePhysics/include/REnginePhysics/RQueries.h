@@ -228,12 +228,13 @@ class RQueries {
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kQueries,
-                  RENGINE_ABI_LAYOUT(RQueryFilter),
-                  RENGINE_ABI_LAYOUT(RRay),
-                  RENGINE_ABI_LAYOUT(RRayHit),
-                  RENGINE_ABI_LAYOUT(RShapeCastHit),
-                  RENGINE_ABI_LAYOUT(RShapeRayHit),
-                  RENGINE_ABI_LAYOUT(RShapeCastResult),
-                  RENGINE_ABI_LAYOUT(RQueries))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_QUERIES(X) \
+  X(RQueryFilter) \
+  X(RRay) \
+  X(RRayHit) \
+  X(RShapeCastHit) \
+  X(RShapeRayHit) \
+  X(RShapeCastResult) \
+  X(RQueries)
+RENGINE_ABI_CHECK(kQueries, RENGINE_ABI_TYPES_QUERIES)

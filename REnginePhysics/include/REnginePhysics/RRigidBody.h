@@ -436,10 +436,11 @@ std::uint64_t BodyEditCount();
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kRigidBody,
-                  RENGINE_ABI_LAYOUT(RWorldForm),
-                  RENGINE_ABI_LAYOUT(RPreparedShape),
-                  RENGINE_ABI_LAYOUT(RBodyLocks),
-                  RENGINE_ABI_LAYOUT(RBodyDef),
-                  RENGINE_ABI_LAYOUT(RRigidBody))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_RIGID_BODY(X) \
+  X(RWorldForm) \
+  X(RPreparedShape) \
+  X(RBodyLocks) \
+  X(RBodyDef) \
+  X(RRigidBody)
+RENGINE_ABI_CHECK(kRigidBody, RENGINE_ABI_TYPES_RIGID_BODY)

@@ -67,11 +67,11 @@ RMassProperties ComputeMassProperties(const RConvexPolyhedron& polyhedron);
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kShape,
-                  ::REngine::RAbiLayout{"EIGEN_MAX_STATIC_ALIGN_BYTES", EIGEN_MAX_STATIC_ALIGN_BYTES, 0},
-                  RENGINE_ABI_LAYOUT(RQuat),
-                  RENGINE_ABI_LAYOUT(RVec4),
-                  RENGINE_ABI_LAYOUT(RShape),
-                  RENGINE_ABI_LAYOUT(RCompoundChild),
-                  RENGINE_ABI_LAYOUT(RMassProperties))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_SHAPE(X) \
+  X(RQuat) \
+  X(RVec4) \
+  X(RShape) \
+  X(RCompoundChild) \
+  X(RMassProperties)
+RENGINE_ABI_CHECK(kShape, RENGINE_ABI_TYPES_SHAPE)

@@ -130,6 +130,7 @@ void RTriangleMesh::ForEachOverlapping(const RVec3& lo, const RVec3& hi, const F
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kTriangleMesh,
-                  RENGINE_ABI_LAYOUT(RTriangleMesh))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_TRIANGLE_MESH(X) \
+  X(RTriangleMesh)
+RENGINE_ABI_CHECK(kTriangleMesh, RENGINE_ABI_TYPES_TRIANGLE_MESH)

@@ -129,7 +129,8 @@ void LoadState(RIntegrator& integrator, std::vector<RRigidBody>& bodies, const s
 
 }  // namespace REngine
 
-// This header's layouts against the library's (RAbi.h).
-RENGINE_ABI_CHECK(kWorldState,
-                  RENGINE_ABI_LAYOUT(RLoadOptions),
-                  RENGINE_ABI_LAYOUT(RStateInfo))
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_WORLD_STATE(X) \
+  X(RLoadOptions) \
+  X(RStateInfo)
+RENGINE_ABI_CHECK(kWorldState, RENGINE_ABI_TYPES_WORLD_STATE)
