@@ -81,6 +81,11 @@ void RIntegrator::PrepareJobs() {
                                 "machine has) to " + std::to_string(RWorldSettings::kMaxThreads) + " (got " +
                                 std::to_string(w.m_settings.threads) + ")");
   }
+  if (w.m_settings.solverIterations < 1 || w.m_settings.solverIterations > RWorldSettings::kMaxSolverIterations) {
+    throw std::invalid_argument("RIntegrator::Update: RWorldSettings::solverIterations must be 1 to " +
+                                std::to_string(RWorldSettings::kMaxSolverIterations) + " (got " +
+                                std::to_string(w.m_settings.solverIterations) + ")");
+  }
   RJobSystem* jobs = m_gameJobs;
   if (!jobs) {
     const int threads = w.m_settings.threads > 0 ? w.m_settings.threads : RThreadPool::MachineThreads();
@@ -157,7 +162,7 @@ void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
 void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   RWorldStep& w = *m_w;
   const auto t0 = Clock::now();
-  PrepareJobs();  // before anything moves: a bad thread count throws with the world untouched
+  PrepareJobs();  // before anything moves: a bad setting throws with the world untouched
   w.m_cacheStamp = NextCacheStamp();
   ++w.m_stepCount;
   w.WakeIslands(bodies);

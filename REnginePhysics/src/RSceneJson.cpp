@@ -3,6 +3,7 @@
 
 #include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
+#include <REnginePhysics/RIntegrator.h>
 
 #include <nlohmann/json.hpp>
 
@@ -194,7 +195,7 @@ std::uint64_t ReadSteps(const json& j, const std::string& path) {
   return ReadInteger(j, path, 0, std::numeric_limits<std::uint64_t>::max());
 }
 int ReadIterations(const json& j, const std::string& path) {
-  return static_cast<int>(ReadInteger(j, path, 1, INT_MAX));
+  return static_cast<int>(ReadInteger(j, path, 1, RWorldSettings::kMaxSolverIterations));
 }
 
 std::uint32_t ReadBits(const json& j, const std::string& path) {

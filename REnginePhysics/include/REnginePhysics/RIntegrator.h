@@ -40,7 +40,12 @@ struct RWorldSettings {
   RVec3 gravity_W = RVec3::Zero();  // m/s^2, world frame (zero: space)
   RCombineMode restitutionCombine = RCombineMode::kMin;
   RCombineMode frictionCombine = RCombineMode::kGeometric;
-  int solverIterations = 10;        // contact solver passes per step
+  // Solver passes per step (contacts and joints), 1 to kMaxSolverIterations: past a few
+  // hundred the passes change nothing a game can see, and a step must stay bounded in time.
+  // Update throws std::invalid_argument outside that range, and the scene and state loaders
+  // refuse it.
+  int solverIterations = 10;
+  static constexpr int kMaxSolverIterations = 1000;
   // Approach speed (m/s) below which restitution is ignored: resting and slowly settling
   // bodies do not bounce. Above it a collision bounces with its restitution: exactly the
   // closed-form outcome for a single point of contact (spheres, a corner, a flat face hitting
