@@ -8,13 +8,21 @@
 #include <REnginePhysics/RJobSystem.h>
 
 #include "support/RandomWorlds.h"
+#include "support/Sanitizers.h"
 #include "support/TestBodies.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
+#include <system_error>
 #include <vector>
 
 using namespace REngine;
@@ -255,4 +263,57 @@ TEST(Threads, OneLargeIslandStepsAlikeOnEveryThreadCount) {
   const AlikeRun run = StepOnEveryThreadCount(defs);
   EXPECT_GT(run.contacts, 500u * 360u) << "the block fell apart: not one large island";
   EXPECT_GT(run.backwardsTasks, 0u);
+}
+
+// A pool whose workers cannot all start (here: an address space with room for a few of
+// their stacks) stops and joins those that did and throws std::system_error naming the
+// thread that failed, instead of destroying its members under running workers (which hung
+// in the condition variable's destructor). Run in a child process, so that the limit and a
+// hang stay there: a hang is ended by an alarm, a worker left joinable by std::terminate,
+// and the child's exit code says which check failed.
+TEST(Threads, APoolWhoseThreadsCannotStartThrowsAfterJoiningThoseStarted) {
+  if (RENGINE_TEST_SANITIZED) GTEST_SKIP() << "a sanitizer's shadow memory does not run under an address-space limit";
+  constexpr int kThreads = 1024;
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    alarm(60);
+    // Room for 64 MiB more than the child maps now: far less than 1023 stacks of at least
+    // 2 MiB each, far more than the exception's message needs.
+    long pages = 0;
+    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+      if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
+      std::fclose(statm);
+    }
+    if (pages <= 0) _exit(10);
+    const rlim_t room = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE)) + (rlim_t(64) << 20);
+    rlimit before{};
+    if (getrlimit(RLIMIT_AS, &before) != 0) _exit(11);
+    const rlimit limit{room, before.rlim_max};  // the soft limit only: it is lifted again below
+    if (setrlimit(RLIMIT_AS, &limit) != 0) _exit(11);
+    try {
+      RThreadPool pool(kThreads);
+      _exit(12);  // every thread started: the limit did not bite
+    } catch (const std::system_error& e) {
+      const std::string what = e.what();
+      const std::string prefix = "RThreadPool: could not start thread ";
+      if (what.rfind(prefix, 0) != 0) _exit(13);
+      const int k = std::atoi(what.c_str() + prefix.size());
+      if (k < 2 || k > kThreads) _exit(14);  // the caller's thread is the first: never it
+      if (what.find(" of " + std::to_string(kThreads) + ": ") == std::string::npos) _exit(15);
+    } catch (...) {
+      _exit(16);
+    }
+    // The limit lifted, a pool starts and runs again in the same process.
+    if (setrlimit(RLIMIT_AS, &before) != 0) _exit(17);
+    RThreadPool pool(4);
+    std::atomic<int> ran{0};
+    pool.Run(100, [](void* c, std::size_t) { ++*static_cast<std::atomic<int>*>(c); }, &ran);
+    _exit(ran == 100 ? 0 : 18);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child was ended by signal " << WTERMSIG(status)
+                                 << (WTERMSIG(status) == SIGALRM ? " (SIGALRM: it hung)" : "");
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "see the _exit codes in the child";
 }

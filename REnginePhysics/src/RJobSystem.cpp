@@ -2,6 +2,8 @@
 #include <REnginePhysics/RJobSystem.h>
 
 #include <algorithm>
+#include <string>
+#include <system_error>
 
 namespace REngine {
 
@@ -12,16 +14,33 @@ int RThreadPool::MachineThreads() {
 RThreadPool::RThreadPool(int threads) {
   const int n = threads > 0 ? threads : MachineThreads();
   m_workers.reserve(static_cast<std::size_t>(n - 1));
-  for (int k = 1; k < n; ++k) m_workers.emplace_back([this] { WorkerLoop(); });
+  // A worker that cannot start (an address-space or thread limit) must not leave the ones
+  // before it running: the members would then be destroyed under them (a condition
+  // variable destroyed while threads wait on it blocks forever, a joinable thread ends the
+  // program). They are stopped and joined, and the caller learns which thread failed.
+  try {
+    for (int k = 1; k < n; ++k) m_workers.emplace_back([this] { WorkerLoop(); });
+  } catch (const std::system_error& e) {
+    const std::size_t failed = m_workers.size() + 2;  // the caller's thread is the first
+    StopWorkers();
+    throw std::system_error(e.code(), "RThreadPool: could not start thread " + std::to_string(failed) +
+                                          " of " + std::to_string(n));
+  } catch (...) {
+    StopWorkers();
+    throw;
+  }
 }
 
-RThreadPool::~RThreadPool() {
+RThreadPool::~RThreadPool() { StopWorkers(); }
+
+void RThreadPool::StopWorkers() {
   {
     std::lock_guard<std::mutex> lock(m_mutex);
     m_stop = true;
   }
   m_wake.notify_all();
   for (std::thread& t : m_workers) t.join();
+  m_workers.clear();
 }
 
 void RThreadPool::Drain() {

@@ -7,6 +7,7 @@
 //
 // Exit codes: 0 success; 2 bad input (scene, options, files); 1 a failure during the run.
 #include <REnginePhysics/RIntegrator.h>
+#include <REnginePhysics/RJobSystem.h>
 #include <REnginePhysics/RScene.h>
 
 #include "csv.h"
@@ -30,6 +31,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #ifdef _WIN32
@@ -269,6 +271,7 @@ int Run(int argc, char** argv) {
 
   RScene scene;
   std::optional<RSceneWorld> world;
+  std::optional<RThreadPool> pool;  // the integrator's threads: it must outlive the integrator
   RIntegrator integrator;
   std::uint64_t startStep = 0;  // the loaded state's, or 0
   std::optional<sim::StateSave> stateSave;
@@ -325,6 +328,23 @@ int Run(int argc, char** argv) {
   if (describe) {
     Describe(*world);
     return kExitOk;
+  }
+
+  // The step's threads are started here, before any output file is opened: a machine that
+  // cannot start as many as --threads asks for (an address-space or thread limit) is told
+  // so at the door, as for an output file that cannot be opened, and no trajectory is cut
+  // short. The integrator runs on them as on its own (the results are the same bits).
+  const int poolThreads = threads > 0 ? threads : RThreadPool::MachineThreads();
+  if (poolThreads > 1) {
+    try {
+      pool.emplace(poolThreads);
+    } catch (const std::system_error& e) {
+      std::fprintf(stderr, "error: --threads %d%s: %s\n", threads,
+                   threads > 0 ? "" : (" (every hardware thread, " + std::to_string(poolThreads) + ")").c_str(),
+                   e.what());
+      return kExitBadInput;
+    }
+    integrator.SetJobSystem(&*pool);
   }
 
   // Opened only now, so that a bad scene never truncates an existing trajectory.

@@ -38,7 +38,10 @@ class RJobSystem {
 // hands out tasks through one atomic counter; the workers sleep between Runs.
 class RThreadPool final : public RJobSystem {
  public:
-  // threads <= 0: std::thread::hardware_concurrency() (at least 1).
+  // threads <= 0: std::thread::hardware_concurrency() (at least 1). When a worker cannot
+  // be started, those already started are stopped and joined, and std::system_error is
+  // thrown ("RThreadPool: could not start thread k of n: " and the system's reason; the
+  // caller's thread is the first).
   explicit RThreadPool(int threads = 0);
   ~RThreadPool() override;
   RThreadPool(const RThreadPool&) = delete;
@@ -52,6 +55,7 @@ class RThreadPool final : public RJobSystem {
 
  private:
   void WorkerLoop();
+  void StopWorkers();  // wakes every worker to return, and joins them
   void Drain();  // takes tasks of the current Run until none is left
 
   std::vector<std::thread> m_workers;
