@@ -5,10 +5,12 @@
 // bad input (exit 2, the file named).
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "RStateFormat.h"  // the header's layout and checksum: to forge a state's tag
 #include "support/CliRunner.h"
 #include "support/ReferenceScenes.h"
 
@@ -137,4 +139,83 @@ TEST_F(Cli, BadStatesExitTwoNamingTheFile) {
     EXPECT_NE(r.err.find("error: " + c.file), std::string::npos) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\n" << r.err;
   }
+}
+
+// What is not a file of bounded size is refused before it is read (exit 2, the path named):
+// a directory, a device that never ends, a file past the 1 GiB a state may be (sparse: it
+// takes no disk).
+TEST_F(Cli, AStateThatIsNoRegularFileOrTooLargeExitsTwoNamingThePath) {
+  const std::string stack = Quote(ReferenceScenePath("box_stack_10"));
+  std::filesystem::create_directory(Path("dir"));
+  Write("huge.bin", "");
+  std::filesystem::resize_file(Path("huge.bin"), (std::uintmax_t(1) << 30) + 1);
+  struct Case {
+    std::string file, says;
+  };
+  for (const Case& c : {Case{Path("dir").string(), "not a regular file"}, Case{"/dev/zero", "not a regular file"},
+                        Case{Path("huge.bin").string(), "it is 1073741825 bytes, more than the 1073741824"}}) {
+    const Result r = Run(stack + " --out /dev/null --load-state " + Quote(c.file));
+    EXPECT_EQ(r.code, 2) << c.file << "\n" << r.err;
+    EXPECT_NE(r.err.find("error: " + c.file + ": cannot read the state: " + c.says), std::string::npos) << r.err;
+  }
+}
+
+namespace {
+
+// A state whose scene tag is rewritten to another scene's (the tag is a hash, not a
+// signature): the 8 bytes after the 32-byte header, the checksum made right.
+std::string Retagged(std::string state, std::uint64_t tag) {
+  std::vector<std::uint8_t> bytes(state.begin(), state.end());
+  REngine::state::StoreU64(bytes.data() + REngine::state::kHeaderBytes, tag);
+  REngine::state::Seal(bytes);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+// The tag this run computes, from the refusal of a state with another tag ("this run's X)").
+std::uint64_t TagOfRun(const Result& refused) {
+  const std::size_t at = refused.err.find("this run's ");
+  return at == std::string::npos ? 0 : std::stoull(refused.err.substr(at + 11, 16), nullptr, 16);
+}
+
+const std::string kJoints = R"({"gravity": [0, -9.81, 0], "steps": 40, "bodies": [
+    {"name": "ground", "shape": {"type": "box", "half_extents": [5, 0.5, 5]}, "static": true},
+    {"name": "arm", "shape": {"type": "box", "half_extents": [1, 0.1, 0.1]}, "position": [1, 2, 0]},
+    {"name": "bob", "shape": {"type": "sphere", "radius": 0.2}, "position": [2, 1, 0], "friction": 0.5}],
+  "joints": [
+    {"name": "shoulder", "type": "hinge", "a": "arm", "b": "ground", "anchor": [0, 2, 0], "axis": [0, 0, 1],
+     "limits": [-1.5, 1.5], "motor": {"speed": 1, "max_force": 50}},
+    {"name": "wrist", "type": "ball", "a": "bob", "b": "arm", "anchor": [2, 2, 0]}]})";
+
+}  // namespace
+
+// A state whose tag is forged onto a scene that defines its joints or bodies otherwise is
+// refused by the scene's path of the first field that differs, not run with the state's
+// values.
+TEST_F(Cli, AStateRetaggedForAnotherSceneIsRefusedByTheFirstDifference) {
+  const std::string original = Quote(Write("joints.json", kJoints));
+  ASSERT_EQ(Run(original + " --out /dev/null --save-state 20:" + Path("joints.bin").string()).code, 0);
+  const std::string saved = ReadFile(Path("joints.bin"));
+  struct Case {
+    std::string from, to, field;
+  };
+  for (const Case& c : {Case{"\"limits\": [-1.5, 1.5]", "\"limits\": [-1, 1]", "joints[0].limits"},
+                        Case{"\"max_force\": 50", "\"max_force\": 5", "joints[0].motor"},
+                        Case{"\"type\": \"ball\"", "\"type\": \"fixed\"", "joints[1].type"},
+                        Case{"\"friction\": 0.5", "\"friction\": 0.25", "bodies[2].friction"}}) {
+    std::string text = kJoints;
+    ASSERT_NE(text.find(c.from), std::string::npos) << c.from;
+    text.replace(text.find(c.from), c.from.size(), c.to);
+    const std::string other = Quote(Write("other.json", text));
+    const std::uint64_t tag = TagOfRun(Run(other + " --out /dev/null --load-state " + Quote(Path("joints.bin"))));
+    ASSERT_NE(tag, 0u) << c.to;
+    Write("forged.bin", Retagged(saved, tag));
+    const Result r = Run(other + " --out /dev/null --load-state " + Quote(Path("forged.bin")));
+    EXPECT_EQ(r.code, 2) << c.to << "\n" << r.err;
+    EXPECT_NE(r.err.find("error: " + Path("forged.bin").string() + ": " + c.field + ": "), std::string::npos)
+        << c.to << "\n" << r.err;
+  }
+  // The tag rewritten to the original scene's own: the same scene, loaded.
+  const std::uint64_t own = TagOfRun(Run(original + " --out /dev/null --load-state " + Quote(Write("x.bin", Retagged(saved, 1)))));
+  Write("same.bin", Retagged(saved, own));
+  EXPECT_EQ(Run(original + " --out /dev/null --load-state " + Quote(Path("same.bin"))).code, 0);
 }

@@ -14,5 +14,14 @@ inline constexpr RScalar kMaxPosition = 1e15;
 // doubles (Qhull crashed on points of 1e300). 1e12 m is far beyond any game object, and its
 // squares stay finite.
 inline constexpr RScalar kMaxCoordinate = 1e12;
+// Points and offsets a saved state keeps in a body's frame or between two bodies (a joint's
+// anchor from a body's centre, a remembered contact point): the distance between two points
+// within kMaxPosition of the origin, measured along any axis, is within 4e15 m.
+inline constexpr RScalar kMaxSpan = 4e15;
+// Impulses a saved state remembers (contact warm starts, joints' last impulses), N s or N m s:
+// a step that keeps every body within the ranges above computes impulses far below 1e30 (a
+// body of 1e12 kg at 1e18 m/s), and squares of 1e30 stay finite in the solver's arithmetic;
+// 1e300 in an edited state would overflow the first step.
+inline constexpr RScalar kMaxImpulse = 1e30;
 
 }  // namespace REngine

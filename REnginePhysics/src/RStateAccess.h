@@ -132,7 +132,7 @@ struct RStateAccess {
 
   // ---- bodies ---------------------------------------------------------------------------
   static void WriteJacobi(RWriter& w, const RJacobiSnCnDn& j);
-  static RJacobiSnCnDn ReadJacobi(RReader& r, const char* field);
+  static RJacobiSnCnDn ReadJacobi(RReader& r, const char* field, bool check);
 
   static void WriteRotation(RWriter& w, const RFreeRotation& f);
 
@@ -168,6 +168,9 @@ struct RStateAccess {
   static void WriteJoints(RWriter& w, const RBodies& c);
   static void ReadJoints(RReader& r, RSavedBodies& out);
   static void CommitJoints(RBodies& bodies, RSavedBodies& saved);
+
+  // The checks that span records (RStateChecks.cpp): indices in range, handles issued.
+  static void CheckReferences(const RSavedStep& step, const RSavedBodies& saved);
 
   static void WriteBodies(RWriter& w, const RWorldStep& s, const std::vector<RRigidBody>& bodies);
 

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -138,7 +139,7 @@ class RReader {
   // A double the engine never leaves non-finite (a pose, a velocity).
   double Finite(const char* field) {
     const double v = F64(field);
-    if (!std::isfinite(v)) Fail(field, "must be finite (got " + std::to_string(v) + ")");
+    if (!std::isfinite(v)) Fail(field, "must be finite (got " + Number(v) + ")");
     return v;
   }
   RVec3 Vec3(const char* field) {
@@ -155,6 +156,44 @@ class RReader {
     const double w = F64(field), x = F64(field), y = F64(field), z = F64(field);
     return RQuat(w, x, y, z);
   }
+  // The ranges a world's values stay in (RLimits.h): a state holds what the engine's doors
+  // let in, and an edited one is refused by the field's name.
+  double Within(const char* field, double limit) {
+    const double v = F64(field);
+    if (!(std::abs(v) <= limit)) Fail(field, "must be finite and within " + Number(limit) + " (got " + Number(v) + ")");
+    return v;
+  }
+  RVec3 WithinVec3(const char* field, double limit) {
+    const RVec3 v = Vec3(field);
+    if (!(AllFinite(v) && v.cwiseAbs().maxCoeff() <= limit)) {
+      Fail(field, "must be finite and within " + Number(limit) + " (got " + Text(v) + ")");
+    }
+    return v;
+  }
+  double NonNegative(const char* field) {
+    const double v = F64(field);
+    if (!(std::isfinite(v) && v >= 0)) Fail(field, "must be finite and >= 0 (got " + Number(v) + ")");
+    return v;
+  }
+  // Unit length within 1e-6, as the engine keeps orientations and axes (normalised each step).
+  RVec3 UnitVec3(const char* field) {
+    const RVec3 v = Vec3(field);
+    if (!(AllFinite(v) && std::abs(v.norm() - 1) <= 1e-6)) Fail(field, "must be a unit vector (got " + Text(v) + ")");
+    return v;
+  }
+  RQuat UnitQuat(const char* field) {
+    const RQuat q = Quat(field);
+    if (!(AllFinite(q) && std::abs(q.norm() - 1) <= 1e-6)) {
+      Fail(field, "must be a finite unit quaternion (got " + Text(RVec3(q.x(), q.y(), q.z())) + ", w " + Number(q.w()) + ")");
+    }
+    return q;
+  }
+  static std::string Number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.17g", v);
+    return text;
+  }
+  static std::string Text(const RVec3& v) { return "[" + Number(v.x()) + ", " + Number(v.y()) + ", " + Number(v.z()) + "]"; }
   template <int R, int C>
   Eigen::Matrix<RScalar, R, C> Matrix(const char* field) {
     Eigen::Matrix<RScalar, R, C> m;

@@ -4,6 +4,8 @@
 // joints after a load and a world with joints continues bit for bit.
 #include "RStateAccess.h"
 
+#include "RLimits.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -80,23 +82,47 @@ void RStateAccess::ReadJoints(RReader& r, RSavedBodies& out) {
     if (!live(d.a) || (d.b.IsValid() && !live(d.b)) || d.a == d.b) {
       r.Fail("a", "a joint's bodies must be live bodies of the container, and two");
     }
-    d.anchor_W = r.FiniteVec3("anchor"), d.hasAnchorB = r.Bool("has_anchor_b"), d.anchorB_W = r.FiniteVec3("anchor_b");
-    d.axis_W = r.FiniteVec3("axis");
+    // RBodies::AddJoint's checks (and SetJointMotor's): what a joint can be.
+    const bool axial = d.type == RJointType::kHinge || d.type == RJointType::kSlider;
+    d.anchor_W = r.WithinVec3("anchor", kMaxPosition);
+    d.hasAnchorB = r.Bool("has_anchor_b");
+    if (d.hasAnchorB && d.type != RJointType::kDistance) r.Fail("has_anchor_b", "only a distance joint has a second anchor");
+    d.anchorB_W = r.WithinVec3("anchor_b", kMaxPosition);
+    d.axis_W = r.UnitVec3("axis");  // kept unit length
     d.hasLimits = r.Bool("has_limits"), d.lower = r.Finite("lower"), d.upper = r.Finite("upper");
+    if (d.hasLimits) {
+      if (!axial) r.Fail("has_limits", "only a hinge or a slider has limits");
+      if (!(d.lower <= d.upper)) r.Fail("lower", "must not exceed upper");
+      if (d.type == RJointType::kHinge && !(d.lower >= -kPi)) r.Fail("lower", "a hinge's limits must lie within [-pi, pi]");
+      if (d.type == RJointType::kHinge && !(d.upper <= kPi)) r.Fail("upper", "a hinge's limits must lie within [-pi, pi]");
+    }
     d.minDistance = r.Finite("min_distance"), d.maxDistance = r.Finite("max_distance");
     d.motor.enabled = r.Bool("motor"), d.motor.speed = r.Finite("motor"), d.motor.maxForce = r.Finite("motor");
     if (!(d.motor.maxForce >= 0)) r.Fail("motor", "max force must be >= 0");
+    if (d.motor.enabled && !axial) r.Fail("motor", "only a hinge or a slider has a motor");
     d.collideConnected = r.Bool("collide_connected");
-    j.anchorA_B = r.FiniteVec3("frames"), j.anchorB_B = r.FiniteVec3("frames");
-    j.axisA_B = r.FiniteVec3("frames"), j.axisB_B = r.FiniteVec3("frames");
-    j.perpA_B[0] = r.FiniteVec3("frames"), j.perpA_B[1] = r.FiniteVec3("frames");
-    j.relative0 = r.Quat("frames");
-    if (!AllFinite(j.relative0)) r.Fail("frames", "must be finite");
+    // The frames in the bodies: anchors from a body's centre (or world points for the
+    // world), unit axes, a unit relative orientation.
+    j.anchorA_B = r.WithinVec3("frames", kMaxSpan), j.anchorB_B = r.WithinVec3("frames", kMaxSpan);
+    j.axisA_B = r.UnitVec3("frames"), j.axisB_B = r.UnitVec3("frames");
+    j.perpA_B[0] = r.UnitVec3("frames"), j.perpA_B[1] = r.UnitVec3("frames");
+    j.relative0 = r.UnitQuat("frames");
+    // A distance joint's range (0 <= min <= max, max > 0); the other joints have none.
     j.minDistance = r.Finite("distances"), j.maxDistance = r.Finite("distances");
-    for (int row = 0; row < RJoint::kMaxRows; ++row) {
-      j.lambda[row] = r.Finite("impulses"), j.lambdaEnd[row] = r.Finite("impulses");
+    if (d.type == RJointType::kDistance && !(j.minDistance >= 0 && j.minDistance <= j.maxDistance && j.maxDistance > 0)) {
+      r.Fail("distances", "must be 0 <= min <= max, max > 0");
     }
-    j.impulse_W = r.FiniteVec3("impulses"), j.angularImpulse_W = r.FiniteVec3("impulses");
+    for (int row = 0; row < RJoint::kMaxRows; ++row) {
+      j.lambda[row] = r.Within("impulses", kMaxImpulse), j.lambdaEnd[row] = r.Within("impulses", kMaxImpulse);
+    }
+    j.impulse_W = r.WithinVec3("impulses", kMaxImpulse), j.angularImpulse_W = r.WithinVec3("impulses", kMaxImpulse);
+    // A joint moves a dynamic body: a joint between two static or kinematic bodies (or one
+    // and the world) is refused by AddJoint.
+    const RRigidBody& A = out.bodies[out.denseOfSlot[d.a.index]];
+    const RRigidBody* B = d.b.IsValid() ? &out.bodies[out.denseOfSlot[d.b.index]] : nullptr;
+    if (A.Immovable() && !(B && !B->Immovable())) {
+      r.Fail("a", "a joint needs a dynamic body: a and b are both static or kinematic (or b is the world)");
+    }
   }
   std::vector<char> freed(out.jointGeneration.size(), 0);
   r.SetRecord("joints");

@@ -1,233 +1,29 @@
-// The state's records (RStateAccess, RStateAccess.h): each part of a world written as a
-// record of fixed fields, and read back field for field in the same order into temporaries
-// that RWorldState.cpp checks whole before the world is touched.
+// The bodies' records of a state (RStateAccess, RStateAccess.h): each body, its exact
+// rotation's cache and the container's tables, written as records of fixed fields and read
+// back field for field in the same order into temporaries that RWorldState.cpp checks whole before the world is touched.
 #include "RStateAccess.h"
 
+#include "RLimits.h"
+
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace REngine {
 
 using namespace state;
 
-void RStateAccess::WriteSettings(RWriter& w, const RWorldSettings& s) {
-  w.Vec3(s.gravity_W);
-  w.U8(static_cast<std::uint8_t>(s.restitutionCombine));
-  w.U8(static_cast<std::uint8_t>(s.frictionCombine));
-  w.I32(s.solverIterations);
-  w.F64(s.restitutionThreshold), w.F64(s.penetrationSlop);
-  w.F64(s.positionCorrection), w.F64(s.maxPositionCorrection);
-  const RWorldSettings::RShortcuts& c = s.shortcuts;
-  w.Bool(c.sleeping), w.Bool(c.boundsRejection), w.Bool(c.broadPhase);
-  w.Bool(c.broadPhaseAlways), w.Bool(c.staticForms), w.Bool(c.contactReuse);
-  w.F64(s.sleepSpeed), w.F64(s.sleepTime);
-  w.Bool(s.contactEvents);
-}
-
-RWorldSettings RStateAccess::ReadSettings(RReader& r) {
-  r.SetRecord("settings");
-  RWorldSettings s;
-  s.gravity_W = r.FiniteVec3("gravity");
-  const auto combine = [&r](const char* field) {
-    const std::uint8_t v = r.U8(field);
-    if (v > static_cast<std::uint8_t>(RCombineMode::kGeometric)) {
-      r.Fail(field, "is not a combine mode (got " + std::to_string(v) + ")");
-    }
-    return static_cast<RCombineMode>(v);
-  };
-  s.restitutionCombine = combine("restitution_combine");
-  s.frictionCombine = combine("friction_combine");
-  s.solverIterations = r.I32("iterations");
-  s.restitutionThreshold = r.Finite("restitution_threshold");
-  s.penetrationSlop = r.Finite("penetration_slop");
-  s.positionCorrection = r.Finite("position_correction");
-  s.maxPositionCorrection = r.Finite("max_position_correction");
-  RWorldSettings::RShortcuts& c = s.shortcuts;
-  c.sleeping = r.Bool("sleeping"), c.boundsRejection = r.Bool("bounds_rejection");
-  c.broadPhase = r.Bool("broad_phase"), c.broadPhaseAlways = r.Bool("broad_phase_always");
-  c.staticForms = r.Bool("static_forms"), c.contactReuse = r.Bool("contact_reuse");
-  s.sleepSpeed = r.Finite("sleep_speed");
-  s.sleepTime = r.Finite("sleep_time");
-  s.contactEvents = r.Bool("contact_events");
-  return s;
-}
-
-void RStateAccess::WriteManifold(RWriter& w, const RContactManifold& m) {
-  w.U8(static_cast<std::uint8_t>(m.query.status));
-  w.F64(m.query.separation);
-  w.Vec3(m.query.normal), w.Vec3(m.query.witnessA), w.Vec3(m.query.witnessB);
-  w.I32(m.query.gjkIterations), w.I32(m.query.epaIterations);
-  w.Vec3(m.normal);
-  w.I32(m.pointCount);
-  for (const RContactPoint& p : m.points) w.Vec3(p.position), w.F64(p.separation), w.U32(p.featureId);
-}
-
-RContactManifold RStateAccess::ReadManifold(RReader& r) {
-  RContactManifold m;
-  const std::uint8_t status = r.U8("manifold.status");
-  if (status > static_cast<std::uint8_t>(RCollisionStatus::kIterationCap)) {
-    r.Fail("manifold.status", "is not a collision status (got " + std::to_string(status) + ")");
-  }
-  m.query.status = static_cast<RCollisionStatus>(status);
-  m.query.separation = r.F64("manifold.separation");
-  m.query.normal = r.Vec3("manifold.query_normal");
-  m.query.witnessA = r.Vec3("manifold.witness_a");
-  m.query.witnessB = r.Vec3("manifold.witness_b");
-  m.query.gjkIterations = r.I32("manifold.gjk_iterations");
-  m.query.epaIterations = r.I32("manifold.epa_iterations");
-  m.normal = r.Vec3("manifold.normal");
-  m.pointCount = r.I32("manifold.point_count");
-  if (m.pointCount < 0 || m.pointCount > 4) {
-    r.Fail("manifold.point_count", "must be 0 to 4 (got " + std::to_string(m.pointCount) + ")");
-  }
-  for (RContactPoint& p : m.points) {
-    p.position = r.Vec3("manifold.points.position");
-    p.separation = r.F64("manifold.points.separation");
-    p.featureId = r.U32("manifold.points.feature");
-  }
-  return m;
-}
-
-// serialOwned(handle, serial): whether that body is in the container with that serial.
-void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned& serialOwned) {
-  WriteSettings(w, s.m_settings);
-  w.U64(s.m_stepCount);
-  w.U64(s.m_warmBodyCount), w.U64(s.m_sleepBodyCount);
-  w.Bool(s.m_wakeAll);
-  w.Vec3(s.m_sleepGravity_W);
-  w.Bool(s.m_nonFinite.has_value());
-  if (s.m_nonFinite) {
-    const RNonFiniteBody& nf = *s.m_nonFinite;
-    w.U64(nf.bodyIndex), w.U32(nf.handle.index), w.U32(nf.handle.generation);
-    w.String(nf.bodyName);
-    w.U64(nf.step);
-  }
-  w.U64(s.m_warm.size());
-  for (const RWorldStep::RWarmStart& ws : s.m_warm) {
-    w.U64(ws.pair), w.U32(ws.genA), w.U32(ws.genB), w.U32(ws.feature);
-    w.Vec3(ws.point_A);
-    w.F64(ws.lambdaN), w.F64(ws.lambdaE);
-    for (int k = 0; k < 2; ++k) w.Vec3(ws.tangentImpulse[k]), w.F64(ws.twistImpulse[k]);
-  }
-  w.U64(s.m_manifolds.size());
-  for (const RWorldStep::RManifoldMemory& m : s.m_manifolds) {
-    w.U32(m.i), w.U32(m.j);
-    w.U32(m.handleA.index), w.U32(m.handleA.generation);
-    w.U32(m.handleB.index), w.U32(m.handleB.generation);
-    // Serials are process-wide: saved as whether they were the bodies' (a load gives the
-    // rebuilt bodies' own), never as numbers.
-    w.U8(static_cast<std::uint8_t>((serialOwned(m.handleA, m.serialA) ? 1 : 0) |
-                                   (serialOwned(m.handleB, m.serialB) ? 2 : 0)));
-    w.Matrix(m.X.R_AB), w.Vec3(m.X.t_AB);
-    WriteManifold(w, m.manifold_A);
-    w.F64(m.keptMax), w.F64(m.droppedMin);
-    // The block and its inverse are read only while hasInverse holds.
-    w.Bool(m.hasInverse);
-    if (m.hasInverse) w.Matrix(m.K), w.Matrix(m.pinv);
-  }
-  w.U64(s.m_touching.size());
-  for (const RWorldStep::RTouchingPair& t : s.m_touching) {
-    w.U32(t.a.index), w.U32(t.a.generation), w.U32(t.b.index), w.U32(t.b.generation);
-    w.Vec3(t.point_W), w.Vec3(t.normal_W);
-  }
-}
-
-RBodyHandle RStateAccess::ReadHandle(RReader& r, const char* field) {
-  RBodyHandle h;
-  h.index = r.U32(field);
-  h.generation = r.U32(field);
-  return h;
-}
-
-RStateAccess::RSavedStep RStateAccess::ReadStep(RReader& r) {
-  RSavedStep s;
-  s.settings = ReadSettings(r);
-  r.SetRecord("integrator");
-  s.stepCount = r.U64("step_count");
-  s.warmBodyCount = r.U64("warm_body_count");
-  s.sleepBodyCount = r.U64("sleep_body_count");
-  s.wakeAll = r.Bool("wake_all");
-  s.sleepGravity_W = r.FiniteVec3("sleep_gravity");
-  if (r.Bool("has_non_finite")) {
-    RNonFiniteBody nf;
-    nf.bodyIndex = static_cast<std::size_t>(r.U64("non_finite.body_index"));
-    nf.handle = ReadHandle(r, "non_finite.handle");
-    nf.bodyName = r.String("non_finite.name");
-    nf.step = r.U64("non_finite.step");
-    s.nonFinite = std::move(nf);
-  }
-  // Warm starts: finite (a non-finite impulse is never remembered) and in the order the
-  // solver's lookups need, by pair, then feature.
-  s.warm.resize(r.Count("warm_starts", 124));
-  for (std::size_t k = 0; k < s.warm.size(); ++k) {
-    r.SetRecord(Indexed("warm_starts", k));
-    RWorldStep::RWarmStart& ws = s.warm[k];
-    ws.pair = r.U64("pair");
-    ws.genA = r.U32("generation_a"), ws.genB = r.U32("generation_b");
-    ws.feature = r.U32("feature");
-    ws.point_A = r.FiniteVec3("point");
-    ws.lambdaN = r.Finite("normal_impulse");
-    ws.lambdaE = r.Finite("end_impulse");
-    for (int p = 0; p < 2; ++p) {
-      ws.tangentImpulse[p] = r.FiniteVec3("tangent_impulse");
-      ws.twistImpulse[p] = r.Finite("twist_impulse");
-    }
-    if (k > 0) {
-      const RWorldStep::RWarmStart& prev = s.warm[k - 1];
-      if (!(prev.pair < ws.pair || (prev.pair == ws.pair && prev.feature <= ws.feature))) {
-        r.Fail("pair", "is out of order (warm starts are sorted by pair, then feature)");
-      }
-    }
-  }
-  s.manifolds.resize(r.Count("manifolds", 399));
-  s.manifoldSerials.resize(s.manifolds.size());
-  for (std::size_t k = 0; k < s.manifolds.size(); ++k) {
-    r.SetRecord(Indexed("manifolds", k));
-    RWorldStep::RManifoldMemory& m = s.manifolds[k];
-    m.i = r.U32("i"), m.j = r.U32("j");
-    if (m.i >= m.j) r.Fail("j", "must be above i (a pair i < j)");
-    if (k > 0) {
-      const RWorldStep::RManifoldMemory& prev = s.manifolds[k - 1];
-      if (!(prev.i < m.i || (prev.i == m.i && prev.j <= m.j))) {
-        r.Fail("i", "is out of order (manifolds are sorted by i, then j)");
-      }
-    }
-    m.handleA = ReadHandle(r, "handle_a"), m.handleB = ReadHandle(r, "handle_b");
-    s.manifoldSerials[k] = r.U8("serials");
-    if (s.manifoldSerials[k] > 3) r.Fail("serials", "must be 0 to 3");
-    m.X.R_AB = r.Matrix<3, 3>("relative_rotation");
-    m.X.t_AB = r.Vec3("relative_position");
-    m.manifold_A = ReadManifold(r);
-    m.keptMax = r.F64("kept_max"), m.droppedMin = r.F64("dropped_min");
-    m.hasInverse = r.Bool("has_inverse");
-    if (m.hasInverse) {
-      m.K = r.Matrix<4, 4>("block");
-      m.pinv = r.Matrix<4, 4>("block_inverse");
-    }
-  }
-  s.touching.resize(r.Count("touching", 64));
-  for (std::size_t k = 0; k < s.touching.size(); ++k) {
-    r.SetRecord(Indexed("touching", k));
-    RWorldStep::RTouchingPair& t = s.touching[k];
-    t.a = ReadHandle(r, "handle_a"), t.b = ReadHandle(r, "handle_b");
-    t.point_W = r.Vec3("point"), t.normal_W = r.Vec3("normal");
-    if (k > 0) {
-      const RWorldStep::RTouchingPair& prev = s.touching[k - 1];
-      if (!(prev.a < t.a || (prev.a == t.a && !(t.b < prev.b)))) {
-        r.Fail("handle_a", "is out of order (touching pairs are sorted by handles)");
-      }
-    }
-  }
-  r.SetRecord("");
-  return s;
-}
-
-
 void RStateAccess::WriteJacobi(RWriter& w, const RJacobiSnCnDn& j) { w.F64(j.sn), w.F64(j.cn), w.F64(j.dn); }
 
-RJacobiSnCnDn RStateAccess::ReadJacobi(RReader& r, const char* field) {
+// Jacobi's sn and cn lie in [-1, 1] and dn in [0, 1] (for a parameter in [0, 1]); rounding
+// may carry them a few ulps past.
+RJacobiSnCnDn RStateAccess::ReadJacobi(RReader& r, const char* field, bool check) {
   RJacobiSnCnDn j;
   j.sn = r.F64(field), j.cn = r.F64(field), j.dn = r.F64(field);
+  constexpr RScalar kOne = 1 + 1e-9;
+  if (check && !(std::abs(j.sn) <= kOne && std::abs(j.cn) <= kOne && j.dn >= -1e-9 && j.dn <= kOne)) {
+    r.Fail(field, "must be Jacobi values: sn and cn within [-1, 1], dn within [0, 1]");
+  }
   return j;
 }
 
@@ -260,30 +56,46 @@ void RStateAccess::ReadRotation(RReader& r, RFreeRotation& f) {
     r.Fail("rotation.general", "contradicts the symmetry of the body's moments of inertia");
   }
   if (!general) return;
+  // The cache is read by the next step only while it is valid: then every value is one a
+  // step computed (finite, in its range); an invalid one is recomputed before use.
   f.m_cacheValid = r.Bool("rotation.cache_valid");
-  f.m_cacheH = r.F64("rotation.step");
+  const bool valid = f.m_cacheValid;
+  const auto finite = [&r, valid](const char* field, RScalar v) {
+    if (valid && !std::isfinite(v)) r.Fail(field, "must be finite (got " + RReader::Number(v) + ")");
+    return v;
+  };
+  f.m_cacheH = finite("rotation.step", r.F64("rotation.step"));
   f.m_cacheW_B = r.Vec3("rotation.angular_velocity");
+  if (valid && !AllFinite(f.m_cacheW_B)) r.Fail("rotation.angular_velocity", "must be finite");
   int* axes[3] = {&f.m_a, &f.m_b, &f.m_c};
   for (int* axis : axes) {
     *axis = r.U8("rotation.axes");
     if (*axis > 2) r.Fail("rotation.axes", "must be 0, 1 or 2 (got " + std::to_string(*axis) + ")");
   }
+  if (f.m_a == f.m_b || f.m_b == f.m_c || f.m_a == f.m_c) r.Fail("rotation.axes", "must be three different axes");
   f.m_signC = r.F64("rotation.sign");
-  f.m_invM = r.F64("rotation.inverse_momentum");
+  if (valid && f.m_signC != 1 && f.m_signC != -1) r.Fail("rotation.sign", "must be 1 or -1");
+  f.m_invM = finite("rotation.inverse_momentum", r.F64("rotation.inverse_momentum"));
   f.m_align0 = r.Quat("rotation.align");
-  for (RScalar& a : f.m_amp) a = r.F64("rotation.amplitudes");
+  if (valid && !(AllFinite(f.m_align0) && std::abs(f.m_align0.norm() - 1) <= 1e-6)) {
+    r.Fail("rotation.align", "must be a finite unit quaternion");
+  }
+  for (RScalar& a : f.m_amp) a = finite("rotation.amplitudes", r.F64("rotation.amplitudes"));
   f.m_m = r.F64("rotation.parameter"), f.m_mc = r.F64("rotation.complement");
-  f.m_lambda = r.F64("rotation.phase_rate");
+  if (valid && !(f.m_m >= 0 && f.m_m <= 1 && f.m_mc >= 0 && f.m_mc <= 1)) {
+    r.Fail("rotation.parameter", "must be an elliptic parameter and its complement, both within [0, 1]");
+  }
+  f.m_lambda = finite("rotation.phase_rate", r.F64("rotation.phase_rate"));
   // Loop counts: bounded as the step bounds them (kMaxPanels, RFreeRotation.cpp).
   f.m_panels = r.I32("rotation.panels");
   if (f.m_panels < 1 || f.m_panels > 4096) r.Fail("rotation.panels", "must be 1 to 4096");
-  f.m_phase = ReadJacobi(r, "rotation.phase");
-  for (RJacobiSnCnDn& j : f.m_node) j = ReadJacobi(r, "rotation.nodes");
-  f.m_panelStep = ReadJacobi(r, "rotation.panel_step");
-  f.m_end = ReadJacobi(r, "rotation.end");
-  f.m_periods = r.F64("rotation.periods");
-  f.m_psiPeriod = r.F64("rotation.period_precession");
-  f.m_hRest = r.F64("rotation.rest");
+  f.m_phase = ReadJacobi(r, "rotation.phase", valid);
+  for (RJacobiSnCnDn& j : f.m_node) j = ReadJacobi(r, "rotation.nodes", valid);
+  f.m_panelStep = ReadJacobi(r, "rotation.panel_step", valid);
+  f.m_end = ReadJacobi(r, "rotation.end", valid);
+  f.m_periods = finite("rotation.periods", r.F64("rotation.periods"));
+  f.m_psiPeriod = finite("rotation.period_precession", r.F64("rotation.period_precession"));
+  f.m_hRest = finite("rotation.rest", r.F64("rotation.rest"));
   f.m_periodPanels = r.I32("rotation.period_panels");
   if (f.m_periodPanels < 0 || f.m_periodPanels > 4096) r.Fail("rotation.period_panels", "must be 0 to 4096");
 }
@@ -379,11 +191,9 @@ RRigidBody RStateAccess::ReadBody(RReader& r, const RShapeCatalog& shapes, std::
     r.Fail("inertia", "this build computes other mass properties from the body's shape and mass "
                       "(a state from another build or platform)");
   }
-  b.m_x_W = r.FiniteVec3("position");
-  b.m_q_WB = r.Quat("orientation");
-  if (!AllFinite(b.m_q_WB) || !(std::abs(b.m_q_WB.norm() - 1) <= 1e-6)) {
-    r.Fail("orientation", "must be a finite unit quaternion");
-  }
+  // Where the API and the scene loader let a body be (RRigidBody::SetShapePose).
+  b.m_x_W = r.WithinVec3("position", kMaxPosition);
+  b.m_q_WB = r.UnitQuat("orientation");
   b.m_v_W = r.FiniteVec3("velocity");
   b.m_w_B = r.FiniteVec3("angular_velocity_body");
   b.m_w_W = r.FiniteVec3("angular_velocity_world");

@@ -89,6 +89,7 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
                       plainVector ? "is an RBodies': it loads into an RBodies, not a plain vector"
                                   : "is a plain vector's: it loads into a plain vector, not an RBodies");
   }
+  CheckReferences(step, saved);
   // The manifolds name bodies by their place among the stepped ones; their serials are
   // the rebuilt bodies' where they were the saved bodies'.
   for (std::size_t k = 0; k < step.manifolds.size(); ++k) {

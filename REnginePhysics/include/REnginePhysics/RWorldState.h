@@ -47,8 +47,16 @@
 // altered (its length and checksum), another world's state (its world tag, see SaveState,
 // or a body whose handle the loading container holds with another name, shape, kind or
 // mass), a shape that is neither in the container nor in the options, a plain vector's state
-// loaded into an RBodies or the other way round, and values no saved world has (a NaN
-// velocity, a handle table that contradicts itself).
+// loaded into an RBodies or the other way round, and values no saved world has: a state is
+// checked as strictly as a scene. Every value in the range the API and the scene loader
+// allow (positions within 1e15 m, unit orientations, axes and rotations within 1e-6,
+// settings as Update takes them: 1 to kMaxSolverIterations solver passes, gravity finite,
+// speeds, slops and times >= 0), joints only as AddJoint makes them (limits and motors on a
+// hinge or slider, a hinge's limits within [-pi, pi], a second anchor on a distance joint), the
+// exact rotation's cache as a step leaves it, remembered impulses within 1e30, every index
+// into the container within it (a sleeping body's island among the slots; only a dynamic,
+// enabled body sleeps or names an island) and every handle a remembered pair names one the
+// container issued (a body it holds, or held before a removal).
 //
 // Format (version 2). Little-endian; doubles as their IEEE 754 bits. A 32-byte header: the
 // magic "\x89RSTATE\n", the format version (u32), 0 (u32), the payload's length (u64), and
