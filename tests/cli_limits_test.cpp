@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "support/CliRunner.h"
 #include "support/Sanitizers.h"
@@ -39,4 +41,50 @@ TEST_F(Cli, ThreadsTheMachineCannotStartExitTwoNamingThreads) {
   // Without the limit the same run succeeds.
   const Result r = Run(Quote(scene) + " --threads 1024 --out " + Quote(Path("t.csv")));
   EXPECT_EQ(r.code, 0) << r.err;
+}
+
+// --steps beyond the limit is the option's fault, not the scene's "steps" field; so is a
+// --steps that makes steps x bodies exceed its limit.
+TEST_F(Cli, StepsBeyondTheLimitsBlameTheOption) {
+  const std::string one = Quote(Write("one.json", kOneBall));
+  Result r = Run(one + " --steps 100000001 --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.LastErrLine(), "error: --steps: must be at most 100000000 (got 100000001)");
+  EXPECT_FALSE(fs::exists(Path("t.csv")));
+  std::vector<std::pair<std::string, std::string>> balls;
+  for (int i = 0; i < 200; ++i) balls.push_back({"b" + std::to_string(i), kSphere});
+  r = Run(Quote(Write("many.json", SceneOf(balls))) + " --steps 100000000");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.LastErrLine(), "error: --steps: 100000000 steps of 200 bodies exceed 1e+10 body-steps");
+  // The scene's own steps are still the scene's.
+  r = Run(Quote(Write("long.json", SceneOf({{"ball", kSphere}}, R"("dt": 0.01, "steps": 100000001)"))));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.LastErrLine().find("long.json: steps: must be at most 100000000"), std::string::npos) << r.err;
+}
+
+// An action after the scene's last step would never apply: refused like a ray there, by its
+// path. --steps that stops the run before an action only leaves it out (a shorter look at a
+// scene, or a state saved before it).
+TEST_F(Cli, AnActionAfterTheLastStepExitsTwoNamingIt) {
+  const std::string late = Quote(Write("late.json", SceneOf({{"ball", kSphere}}, R"("dt": 0.01, "steps": 10,
+      "actions": [{"step": 10, "impulse": {"body": "ball", "impulse": [1, 0, 0]}},
+                  {"step": 11, "remove": "ball"}])")));
+  Result r = Run(late + " --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.LastErrLine(), "error: " + Path("late.json").string() +
+                                 ": actions[1].step: is after the last step (10): the action would never be applied "
+                                 "(got 11)");
+  EXPECT_FALSE(fs::exists(Path("t.csv")));
+  EXPECT_EQ(Run(late + " --steps 11").code, 2) << "--steps does not mend the scene";
+  // The ball is set moving at step 4 and faster at step 10, the last row, unless --steps 9
+  // ends the run first.
+  const std::string cut = Quote(Write("cut.json", SceneOf({{"ball", kSphere}}, R"("dt": 0.01, "steps": 10,
+      "actions": [{"step": 10, "set_velocity": {"body": "ball", "velocity": [3, 0, 0]}},
+                  {"step": 4, "set_velocity": {"body": "ball", "velocity": [1, 0, 0]}}])")));
+  r = Run(cut);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(Velocity(ParseCsv(r.out).back()), RVec3(3, 0, 0));
+  r = Run(cut + " --steps 9");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(Velocity(ParseCsv(r.out).back()), RVec3(1, 0, 0));
 }

@@ -291,7 +291,13 @@ int Run(int argc, char** argv) {
     scene = LoadScene(scenePath);
     if (stepsOverride) scene.steps = *stepsOverride;
     if (dtOverride) scene.dt = *dtOverride;
-    CheckSceneLimits(scene, RSceneLimits{});  // --steps may have raised the work
+    try {
+      CheckSceneLimits(scene, RSceneLimits{});  // --steps may have raised the work
+    } catch (const RSceneError& e) {
+      // The scene passed the same check with its own steps: a limit on them is --steps' now.
+      if (stepsOverride && e.JsonPath() == "steps") throw UsageError{"--steps: " + e.Problem()};
+      throw;
+    }
     world.emplace(scene);
     scene.settings.threads = threads;
     // Contact events cost only when asked for: by --events, or by --save-state, whose state
