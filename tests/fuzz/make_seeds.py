@@ -14,7 +14,10 @@ encoding):
               infinities and NaN). The engine-level reproducers (an infinite force freezing
               a stack, a zero quaternion, a negative dt, a spin of 1e8 rad/s) are gtests in
               api_input_test.cpp and rotation_test.cpp, where each value is exact.
-  fuzz_state: a state loaded intact, with a bit flipped (resealed, and not), and cut.
+  fuzz_state: a state of every shape and joint kind loaded intact (awake, and with its stack
+              asleep), with a bit flipped (resealed, and not), with a double made NaN, an
+              infinity, 1e300, -0 or 2e15 and a u32 made 0xFFFFFFFF, 1000 or 2^31 at a few
+              offsets (resealed), and cut.
 """
 import json
 import os
@@ -153,11 +156,29 @@ write("fuzz_world", "infinite_force", bytes([1, 10, 1]) + u16(0.5) + bytes([2]) 
 write("fuzz_world", "nan_pose", bytes([0, 4, 0]) + u16(0.5) + bytes([1]) + body(0) +
       bytes([3, 0, 0, 6]) + bytes([0]) + raw(float("nan")) * 7)
 
-# --- fuzz_state: steps, mode (1: cut, 2: reseal), edits, (offset: 3 bytes, xor)..., cut length: 3 bytes
+# --- fuzz_state: steps, mode (1: cut, 2: reseal), edits, (kind, offset: 3 bytes, value)...,
+# cut length: 3 bytes. Kinds: 0 xor the byte with the value; 1 a double there made NaN (0),
+# +inf (1), -inf (2), 1e300 (3), -1e300 (4), -0 (5), 2e15 (6), -1 (7), 4 (8), 1e-310 (9); 2 a
+# u32 there made 0xFFFFFFFF (0), 0 (1), 1 (2), 1000 (3), 2^31 (4), 0xFFFFFFFE (5), 17 (6).
+# The world holds every shape and joint kind; after 30 steps its stack sleeps.
 def offset(n):
     return bytes([n & 0xff, (n >> 8) & 0xff, (n >> 16) & 0xff])
-write("fuzz_state", "intact", bytes([30, 0, 0]))
-write("fuzz_state", "flipped", bytes([30, 0, 1]) + offset(700) + bytes([0x10]))
-write("fuzz_state", "flipped_resealed", bytes([30, 2, 2]) + offset(700) + bytes([0x10]) + offset(1500) + bytes([0x80]))
+
+
+def edit(kind, at, value):
+    return bytes([kind]) + offset(at) + bytes([value])
+
+
+for steps in (0, 10, 30):
+    write("fuzz_state", f"intact_{steps}", bytes([steps, 0, 0]))
+write("fuzz_state", "flipped", bytes([30, 0, 1]) + edit(0, 700, 0x10))
+write("fuzz_state", "flipped_resealed", bytes([30, 2, 2]) + edit(0, 700, 0x10) + edit(0, 1500, 0x80))
+for name, kind, value in (("nan", 1, 0), ("inf", 1, 1), ("1e300", 1, 3), ("minus_zero", 1, 5), ("2e15", 1, 6),
+                          ("u32_max", 2, 0), ("u32_1000", 2, 3), ("u32_2e31", 2, 4)):
+    for at in (66, 1200, 4000, 9000):
+        write("fuzz_state", f"{name}_{at}_resealed", bytes([30, 2, 1]) + edit(kind, at, value))
+# Seven edits of every kind at once (its length lets the fuzzer's inputs grow to as many).
+write("fuzz_state", "seven_edits_resealed", bytes([40, 2, 7]) + edit(1, 300, 0) + edit(2, 1100, 0) + edit(0, 2000, 0x40) +
+      edit(1, 3000, 3) + edit(2, 5000, 3) + edit(1, 7000, 6) + edit(2, 8000, 4))
 write("fuzz_state", "cut", bytes([12, 1, 0]) + offset(1000))
 write("fuzz_state", "cut_resealed", bytes([12, 3, 0]) + offset(1000))
