@@ -110,6 +110,7 @@ TEST_F(Cli, BadStatesExitTwoNamingTheFile) {
   const std::string game = Quote(Write("game.json", kGame));
   const std::string stack = Quote(ReferenceScenePath("box_stack_10"));
   ASSERT_EQ(Run(game + " --out /dev/null --save-state 60:" + Path("game.bin").string()).code, 0);
+  ASSERT_EQ(Run(stack + " --out /dev/null --save-state 60:" + Path("stack.bin").string()).code, 0);
   const std::string state = ReadFile(Path("game.bin"));
   Write("cut.bin", state.substr(0, state.size() / 2));
   Write("text.bin", "step,time,body\n0,0,a\n");
@@ -123,7 +124,7 @@ TEST_F(Cli, BadStatesExitTwoNamingTheFile) {
       {game + " --load-state " + Quote(Path("cut.bin")), Path("cut.bin").string(), "cut short"},
       {stack + " --load-state " + Quote(Path("game.bin")), Path("game.bin").string(), "saved from another scene"},
       {game + " --dt 0.01 --load-state " + Quote(Path("game.bin")), Path("game.bin").string(), "another step size"},
-      {game + " --steps 50 --load-state " + Quote(Path("game.bin")), Path("game.bin").string(), "beyond the 50 steps"},
+      {stack + " --steps 50 --load-state " + Quote(Path("stack.bin")), Path("stack.bin").string(), "beyond the 50 steps"},
       {game + " --load-state " + Quote(Path("missing.bin")), Path("missing.bin").string(), "cannot open the state"},
       {game + " --save-state 241:" + Path("x.bin").string(), "--save-state", "step 241 is not among the steps"},
       {game + " --load-state " + Quote(Path("game.bin")) + " --save-state 59:" + Path("x.bin").string(),
