@@ -83,10 +83,17 @@ TEST(Actions, BadOnesAreRefusedNamingThePath) {
               "actions[0].impulse.impulse", "3 numbers");
   ExpectBadAt(Scene(R"({"step": 1, "impulse": {"body": "a", "impulse": [1e999, 0, 0]}})"),
               "actions[0].impulse.impulse[0]", "finite");
+  // RRigidBody::AddImpulse_W's bound (1e30 N s a component): 1e300 flung the body to 1e299 m.
+  ExpectBadAt(Scene(R"({"step": 1, "impulse": {"body": "a", "impulse": [0, 0, -1e300]}})"),
+              "actions[0].impulse.impulse[2]", "must be a finite number within 1e30 (N s) (got -1e+300)");
+  ExpectBadAt(Scene(R"({"step": 1, "impulse": {"body": "a", "impulse": [0, 1.0000000000000001e30, 0],
+                                                 "point": [0, 0, 1]}})"),
+              "actions[0].impulse.impulse[1]", "within 1e30");
   ExpectBadAt(Scene(R"({"step": 1, "add": {"name": "far", "shape": {"type": "sphere", "radius": 1},
                                             "position": [1e16, 0, 0]}})"),
               "actions[0].add.position", "1e15");
   ExpectBadAt(R"({"bodies": [], "actions": {}})", "actions", "array");
+  EXPECT_NO_THROW(ParseScene(Scene(R"({"step": 1, "impulse": {"body": "a", "impulse": [1e30, -1e30, 0]}})"), "a.json"));
   // A name freed by a removal may be used again by a later add.
   EXPECT_NO_THROW(ParseScene(Scene(R"({"step": 1, "remove": "a"},
       {"step": 1, "add": {"name": "a", "shape": {"type": "sphere", "radius": 1}}})"), "a.json"));

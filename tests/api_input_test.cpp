@@ -2,13 +2,16 @@
 // and started afresh. Each test reproduces an input that must not get through: a negative or
 // zero dt, a zero quaternion kept forever, a NaN pose, and one infinite force that would
 // freeze a stack for good.
+#include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
+#include "support/Joints.h"
 #include "support/TestBodies.h"
 
 using namespace REngine;
@@ -194,4 +197,122 @@ TEST(ApiInput, ShapeSizesOutsideTheRangeAreRefused) {
   d.shape.type = RShapeType::kSphere;
   d.shape.radius = 1.1e12;
   EXPECT_THROW(RRigidBody{d}, RBodyError);
+}
+
+// An enum value no enumerator names (a cast, a header newer than the library) is refused
+// naming its field, never taken for one of the others: a joint type of 99 made a ball joint.
+TEST(ApiInput, EnumsOutsideTheirEnumeratorsAreRefused) {
+  RBodies bodies;
+  const RBodyHandle a = bodies.Add(SphereDef(0.5).Mass(1));
+  RJointDef def = Joint(RJointType(99), a, RBodyHandle{}, RVec3::Zero());
+  try {
+    bodies.AddJoint(def);
+    ADD_FAILURE() << "joint type 99 accepted";
+  } catch (const std::invalid_argument& e) {
+    const auto* field = dynamic_cast<const RJointError*>(&e);
+    ASSERT_NE(field, nullptr) << e.what();
+    EXPECT_EQ(field->Field(), "type");
+  }
+  EXPECT_EQ(bodies.JointCount(), 0u);
+  def.type = RJointType::kDistance;  // the last enumerator
+  def.hasAnchorB = true, def.anchorB_W = RVec3(0, 1, 0);
+  EXPECT_NO_THROW(bodies.AddJoint(def));
+
+  RBodyDef body = SphereDef(0.5).Mass(1);
+  body.shape.type = RShapeType(99);
+  try {
+    RRigidBody{body};
+    ADD_FAILURE() << "shape type 99 accepted";
+  } catch (const RBodyError& e) {
+    EXPECT_EQ(e.Field(), "shape.type");
+  }
+  RBodyDef compound = SphereDef(0.5).Mass(1);
+  compound.shape.type = RShapeType::kCompound;
+  compound.shape.children.push_back(RCompoundChild{});
+  compound.shape.children[0].shape = SphereDef(0.5).shape;
+  compound.shape.children[0].shape.type = RShapeType(7);  // one past kMesh
+  try {
+    RRigidBody{compound};
+    ADD_FAILURE() << "child shape type 7 accepted";
+  } catch (const RBodyError& e) {
+    EXPECT_EQ(e.Field(), "shape.children[0].shape.type");
+  }
+  RBodyDef kind = SphereDef(0.5).Mass(1);
+  kind.kind = RBodyKind(3);
+  try {
+    RRigidBody{kind};
+    ADD_FAILURE() << "body kind 3 accepted";
+  } catch (const RBodyError& e) {
+    EXPECT_EQ(e.Field(), "kind");
+  }
+}
+
+// Impulses are held to 1e30 (N s, N m s) in each component, as a saved state's are: one of
+// 1e300 flung a body to 1e299 m in a step. 1e30 itself is accepted; the next double above
+// it is refused, and the body keeps what it had.
+TEST(ApiInput, ImpulsesBeyondTheLimitAreRefused) {
+  const RScalar limit = 1e30, beyond = std::nextafter(limit, kInf);
+  RRigidBody body(SphereDef(0.5).Mass(2));
+  body.AddImpulse_W(RVec3(0, -limit, 0));
+  body.AddAngularImpulse_W(RVec3(limit, 0, 0));
+  body.AddImpulseAtPoint_W(RVec3(0, 0, limit), RVec3(0, 1, 0));
+  const struct {
+    const char* field;
+    void (*add)(RRigidBody&, const RVec3&);
+  } adds[] = {{"impulse", [](RRigidBody& b, const RVec3& j) { b.AddImpulse_W(j); }},
+              {"angular_impulse", [](RRigidBody& b, const RVec3& j) { b.AddAngularImpulse_W(j); }},
+              {"impulse", [](RRigidBody& b, const RVec3& j) { b.AddImpulseAtPoint_W(j, RVec3::Zero()); }}};
+  for (const auto& add : adds) {
+    for (const RVec3& j : {RVec3(beyond, 0, 0), RVec3(0, -beyond, 0), RVec3(0, 0, 1e300)}) {
+      RRigidBody copy = body;
+      try {
+        add.add(copy, j);
+        ADD_FAILURE() << add.field << " " << j.transpose() << " accepted";
+      } catch (const RBodyError& e) {
+        EXPECT_EQ(e.Field(), add.field);
+        EXPECT_NE(std::string(e.what()).find("1e30"), std::string::npos) << e.what();
+      }
+      std::vector<RRigidBody> one{copy}, reference{body};
+      RIntegrator a, b;
+      a.Update(one, 0.01), b.Update(reference, 0.01);
+      EXPECT_EQ(one[0].Velocity_W(), reference[0].Velocity_W()) << "the refused impulse was kept";
+      EXPECT_EQ(one[0].AngularVelocity_W(), reference[0].AngularVelocity_W());
+    }
+  }
+}
+
+// A motor's speed is held within 1e15 (m/s, rad/s) and its force to [0, 1e30] (N, N m), by
+// AddJoint and SetJointMotor alike; the limits themselves are accepted.
+TEST(ApiInput, MotorsBeyondTheLimitsAreRefused) {
+  RBodies bodies;
+  const RBodyHandle a = bodies.Add(SphereDef(0.5).Mass(1));
+  RJointDef def = Joint(RJointType::kHinge, a, RBodyHandle{}, RVec3::Zero());
+  def.axis_W = RVec3::UnitY();
+  def.motor = {true, -1e15, 1e30};
+  const RJointHandle h = bodies.AddJoint(def);
+  const struct {
+    RJointMotor motor;
+    const char* field;
+  } bad[] = {{{true, std::nextafter(1e15, kInf), 1}, "motor.speed"},
+             {{true, -1e300, 1}, "motor.speed"},
+             {{true, 1, std::nextafter(1e30, kInf)}, "motor.max_force"},
+             {{true, 1, 1e300}, "motor.max_force"}};
+  for (const auto& c : bad) {
+    def.motor = c.motor;
+    try {
+      bodies.AddJoint(def);
+      ADD_FAILURE() << c.field << " accepted by AddJoint";
+    } catch (const RJointError& e) {
+      EXPECT_EQ(e.Field(), c.field);
+    }
+    try {
+      bodies.SetJointMotor(h, c.motor);
+      ADD_FAILURE() << c.field << " accepted by SetJointMotor";
+    } catch (const RJointError& e) {
+      EXPECT_EQ(e.Field(), c.field);
+    }
+  }
+  EXPECT_EQ(bodies.JointCount(), 1u);
+  EXPECT_EQ(bodies.Joint(h).def.motor.speed, -1e15);
+  EXPECT_EQ(bodies.Joint(h).def.motor.maxForce, 1e30);
 }

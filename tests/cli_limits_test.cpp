@@ -88,3 +88,35 @@ TEST_F(Cli, AnActionAfterTheLastStepExitsTwoNamingIt) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(Velocity(ParseCsv(r.out).back()), RVec3(1, 0, 0));
 }
+
+// The step size is at most RIntegrator::kMaxDt (1 s), from --dt or the scene's "dt": a step
+// of 1e300 s ran. 1 s itself runs.
+TEST_F(Cli, AStepLongerThanOneSecondExitsTwoNamingIt) {
+  const std::string one = Quote(Write("one.json", kOneBall));
+  Result r = Run(one + " --dt 1e300 --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.LastErrLine(), "error: --dt: must be a finite number > 0 and at most 1 (s) (got \"1e300\")");
+  EXPECT_FALSE(fs::exists(Path("t.csv")));
+  EXPECT_EQ(Run(one + " --dt 1.0000000000000002").code, 2);
+  r = Run(one + " --dt 1");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(ParseCsv(r.out).back().time, 10.0);
+  r = Run(Quote(Write("long.json", SceneOf({{"ball", kSphere}}, R"("dt": 2, "steps": 10)"))));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.LastErrLine(), "error: " + Path("long.json").string() +
+                                 ": dt: must be a finite number > 0 and at most 1 (s) (got 2)");
+  // --dt replaces the scene's dt, but the scene must still be valid.
+  EXPECT_EQ(Run(Quote(Path("long.json")) + " --dt 0.5").code, 2);
+}
+
+// An impulse action is held to the API's 1e30 N s a component: 1e300 ran and flung the
+// ball to 3e299 m.
+TEST_F(Cli, AnImpulseBeyondTheLimitExitsTwoNamingIt) {
+  const std::string scene = Quote(Write("kick.json", SceneOf({{"ball", kSphere}}, R"("dt": 0.01, "steps": 10,
+      "actions": [{"step": 2, "impulse": {"body": "ball", "impulse": [1e300, 0, 0]}}])")));
+  const Result r = Run(scene + " --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.LastErrLine(), "error: " + Path("kick.json").string() +
+                                 ": actions[0].impulse.impulse[0]: must be a finite number within 1e30 (N s) (got 1e+300)");
+  EXPECT_FALSE(fs::exists(Path("t.csv")));
+}

@@ -662,7 +662,7 @@ TEST(JointsAdversarial, JointsOnTheGroundDoNotDependOnTheThreadCount) {
 
 // ---- non-finite ---------------------------------------------------------------------------
 
-// A pendulum's bob is given an impulse that overflows its velocity: the step puts the bob
+// A pendulum's bob is given a force that overflows its velocity: the step puts the bob
 // back at its last finite state ("stepping continues for the others"); the joint's memory
 // must not carry the overflow on: the pendulum then swings on, finite, its rod closed, its
 // energy that of its state when it was put back.
@@ -678,7 +678,7 @@ TEST(JointsAdversarial, APendulumWhoseBobOverflowedSwingsOnAfterItIsPutBack) {
   s.shortcuts.sleeping = false;
   RIntegrator integrator(s);
   for (int k = 0; k < 10; ++k) integrator.Update(bodies, kDt);
-  bodies[bob].AddImpulse_W(RVec3(1e308, 0, 0));
+  bodies[bob].AddForce_W(RVec3(1e308, 0, 0));  // 1e311 m/s^2
   integrator.Update(bodies, kDt);
   std::printf("overflow: %zu bodies put back in that step\n", integrator.NonFiniteInLastStep().size());
   EXPECT_FALSE(integrator.NonFiniteInLastStep().empty());

@@ -279,6 +279,11 @@ const std::vector<BadJoint> kBadJoints = {
      "joints[0].motor.max_force", "finite number >= 0"},
     {"infinite motor speed", J(kSlider + R"(, "motor": {"speed": 1e999, "max_force": 1})"),
      "joints[0].motor.speed", "finite number"},
+    // RBodies::AddJoint's bounds (RLimits.h): a motor of 1e300 ran, its impulses beyond any state's.
+    {"motor speed beyond 1e15", J(kSlider + R"(, "motor": {"speed": -1.000001e15, "max_force": 1})"),
+     "joints[0].motor.speed", "a finite number within 1e15 (got -1.000001e+15)"},
+    {"motor force beyond 1e30", J(kHinge + R"(, "motor": {"speed": 1, "max_force": 1e300})"),
+     "joints[0].motor.max_force", "a finite number >= 0 and at most 1e30 (got 1e+300)"},
     {"unknown motor field", J(kHinge + R"(, "motor": {"speed": 1, "max_force": 1, "torque": 2})"),
      "joints[0].motor.torque", "unknown field"},
     // Distance.
@@ -326,7 +331,7 @@ INSTANTIATE_TEST_SUITE_P(BadInput, AddJointActionReject, testing::ValuesIn(AsAdd
 
 // Only the four cases about the list and the body an action adds are left out of the actions'.
 TEST(SceneJoints, EveryBadJointButTheListsIsABadAddJoint) {
-  EXPECT_EQ(kBadJoints.size(), 65u);
+  EXPECT_EQ(kBadJoints.size(), 67u);
   EXPECT_EQ(AsAddJointActions(kBadJoints).size(), kBadJoints.size() - 4);
 }
 

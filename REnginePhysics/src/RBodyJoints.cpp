@@ -3,6 +3,7 @@
 #include <REnginePhysics/RBodies.h>
 
 #include "RJointRows.h"
+#include "RLimits.h"
 
 #include <REngineMath/RQuaternion.h>
 
@@ -28,8 +29,10 @@ std::uint64_t SlotPair(std::uint32_t a, std::uint32_t b) {
 }
 
 void CheckMotor(const RJointMotor& m) {
-  Require(std::isfinite(m.speed), "motor.speed", "must be finite");
-  Require(std::isfinite(m.maxForce) && m.maxForce >= 0, "motor.max_force", "must be finite and >= 0");
+  Require(std::isfinite(m.speed) && std::abs(m.speed) <= kMaxMotorSpeed, "motor.speed",
+          "must be finite and within 1e15 (m/s or rad/s)");
+  Require(std::isfinite(m.maxForce) && m.maxForce >= 0 && m.maxForce <= kMaxMotorForce, "motor.max_force",
+          "must be finite, >= 0 and at most 1e30 (N or N m)");
 }
 
 }  // namespace
@@ -44,6 +47,10 @@ std::uint32_t RBodies::JointDenseIndex(RJointHandle h) const {
 }
 
 RJointHandle RBodies::AddJoint(const RJointDef& def) {
+  // A type from a cast or a newer header: every branch below would take it for a ball.
+  Require(def.type == RJointType::kBall || def.type == RJointType::kHinge || def.type == RJointType::kSlider ||
+              def.type == RJointType::kFixed || def.type == RJointType::kDistance,
+          "type", "must be ball, hinge, slider, fixed or distance (got " + std::to_string(int(def.type)) + ")");
   // The bodies: a here (RHandleError otherwise), b here or the world, not a itself, and
   // something a joint can move.
   RRigidBody& A = (*this)[def.a];

@@ -23,5 +23,13 @@ inline constexpr RScalar kMaxSpan = 4e15;
 // body of 1e12 kg at 1e18 m/s), and squares of 1e30 stay finite in the solver's arithmetic;
 // 1e300 in an edited state would overflow the first step.
 inline constexpr RScalar kMaxImpulse = 1e30;
+// The game's impulses are held to the same bound, each component (RRigidBody::AddImpulse_W
+// and its kin, the scene's impulse action): one of 1e300 flung a body to 1e299 m in a step
+// with nothing reported. A motor's max_force too (N or N m): over a step of at most
+// RIntegrator::kMaxDt (1 s) its impulse stays within kMaxImpulse, as a saved state's must.
+inline constexpr RScalar kMaxMotorForce = kMaxImpulse;
+// A motor's target speed (m/s for a slider, rad/s for a hinge): a slider beyond 1e15 m/s
+// would cross the whole world (kMaxPosition) within one step; no game drives one faster.
+inline constexpr RScalar kMaxMotorSpeed = 1e15;
 
 }  // namespace REngine

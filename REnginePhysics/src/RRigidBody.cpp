@@ -45,6 +45,11 @@ RRigidBody::RSerial& RRigidBody::RSerial::operator=(const RSerial& other) {
 }
 
 std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
+  // A type from a cast or a newer header would fall through every case below.
+  Require(shape.type == RShapeType::kSphere || shape.type == RShapeType::kBox || shape.type == RShapeType::kHull ||
+              shape.type == RShapeType::kCapsule || shape.type == RShapeType::kCylinder ||
+              shape.type == RShapeType::kCompound || shape.type == RShapeType::kMesh,
+          "shape.type", "must be sphere, box, hull, capsule, cylinder, compound or mesh");
   auto prepared = std::make_shared<RPreparedShape>();
   RPreparedShape& p = *prepared;
   p.shape = shape;
@@ -396,6 +401,11 @@ RVec3 FiniteSum(const RVec3& acc, const RVec3& x, const char* field) {
   Require(AllFinite(sum), field, "makes the accumulated sum overflow");
   return sum;
 }
+// An impulse the game gives: finite, and each component within kMaxImpulse (RLimits.h).
+void CheckImpulse(const RVec3& j, const char* field) {
+  Require(AllFinite(j), field, "must be finite");
+  Require(j.cwiseAbs().maxCoeff() <= kMaxImpulse, field, "must be within 1e30 (N s or N m s) in each component");
+}
 }  // namespace
 
 void RRigidBody::AddForce_W(const RVec3& f_W) {
@@ -409,11 +419,13 @@ void RRigidBody::AddTorque_W(const RVec3& t_W) {
 }
 
 void RRigidBody::AddImpulse_W(const RVec3& j_W) {
+  CheckImpulse(j_W, "impulse");
   m_linearImpulse_W = FiniteSum(m_linearImpulse_W, j_W, "impulse");
   WakeIfNonZero(j_W);
 }
 
 void RRigidBody::AddAngularImpulse_W(const RVec3& h_W) {
+  CheckImpulse(h_W, "angular_impulse");
   m_angularImpulse_W = FiniteSum(m_angularImpulse_W, h_W, "angular_impulse");
   WakeIfNonZero(h_W);
 }
@@ -436,6 +448,7 @@ void RRigidBody::AddForceAtPoint_W(const RVec3& f_W, const RVec3& p_W) {
 }
 
 void RRigidBody::AddImpulseAtPoint_W(const RVec3& j_W, const RVec3& p_W) {
+  CheckImpulse(j_W, "impulse");
   AddAtPoint(m_linearImpulse_W, m_angularImpulse_W, j_W, p_W, m_x_W, "impulse");
   WakeIfNonZero(j_W);
 }

@@ -26,6 +26,12 @@ using namespace scenejson;
 
 namespace {
 
+// The step size RIntegrator::Update takes: > 0 and at most RIntegrator::kMaxDt.
+RScalar ReadStepSize(const json& j, const std::string& path) {
+  static constexpr Interval kStepSize{0, RIntegrator::kMaxDt, true, "a finite number > 0 and at most 1 (s)"};
+  return ReadNumber(j, path, kStepSize);
+}
+
 RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   const Object root(doc, "",
                     {"format", "gravity", "dt", "steps", "restitution_combine",
@@ -39,7 +45,7 @@ RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   }
   RWorldSettings& settings = scene.settings;
   settings.gravity_W = root.Get("gravity", settings.gravity_W, ReadVec3);
-  scene.dt = root.Get("dt", scene.dt, ReadPositive);
+  scene.dt = root.Get("dt", scene.dt, ReadStepSize);
   scene.steps = root.Get("steps", scene.steps, ReadSteps);
   settings.restitutionCombine =
       root.Get("restitution_combine", settings.restitutionCombine, ReadRestitutionCombine);

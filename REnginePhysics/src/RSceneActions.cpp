@@ -2,6 +2,8 @@
 // checked against the bodies and joints that exist at each step, and sorted by step.
 #include "RSceneJson.h"
 
+#include "RLimits.h"
+
 #include <algorithm>
 #include <string>
 #include <unordered_map>
@@ -11,6 +13,9 @@
 namespace REngine::scenejson {
 
 namespace {
+
+// The impulses RRigidBody::AddImpulse_W accepts (RLimits.h).
+constexpr Interval kImpulseRange{-kMaxImpulse, kMaxImpulse, false, "a finite number within 1e30 (N s)"};
 
 RSceneAction ReadAction(const json& j, const std::string& path, const RSceneLimits& limits) {
   const Object action(j, path, {"step", "add", "remove", "impulse", "set_velocity", "add_joint", "remove_joint"});
@@ -45,7 +50,7 @@ RSceneAction ReadAction(const json& j, const std::string& path, const RSceneLimi
     const Object impulse(action.Required("impulse"), action.PathOf("impulse"),
                          {"body", "impulse", "point"});
     a.body = ReadName(impulse.Required("body"), impulse.PathOf("body"));
-    a.impulse_W = ReadVec3(impulse.Required("impulse"), impulse.PathOf("impulse"));
+    a.impulse_W = ReadVector<3>(impulse.Required("impulse"), impulse.PathOf("impulse"), kImpulseRange);
     if (impulse.Has("point")) a.point_W = ReadVec3(impulse.Required("point"), impulse.PathOf("point"));
   } else {
     a.verb = RSceneAction::Verb::kSetVelocity;

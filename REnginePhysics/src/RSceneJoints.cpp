@@ -4,6 +4,8 @@
 // engine's field.
 #include "RSceneJson.h"
 
+#include "RLimits.h"
+
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -105,8 +107,11 @@ RSceneJoint ReadJoint(const json& j, const std::string& path, const char* when) 
   if (joint.Has("motor")) {
     const Object motor(joint.Required("motor"), joint.PathOf("motor"), {"speed", "max_force"});
     def.motor.enabled = true;
-    def.motor.speed = ReadFiniteNumber(motor.Required("speed"), motor.PathOf("speed"));
-    def.motor.maxForce = ReadNonNegative(motor.Required("max_force"), motor.PathOf("max_force"));
+    // The motors RBodies::AddJoint accepts (RLimits.h).
+    static constexpr Interval kSpeed{-kMaxMotorSpeed, kMaxMotorSpeed, false, "a finite number within 1e15"};
+    static constexpr Interval kForce{0, kMaxMotorForce, false, "a finite number >= 0 and at most 1e30"};
+    def.motor.speed = ReadNumber(motor.Required("speed"), motor.PathOf("speed"), kSpeed);
+    def.motor.maxForce = ReadNumber(motor.Required("max_force"), motor.PathOf("max_force"), kForce);
   }
   if (def.type == RJointType::kDistance) {
     if (joint.Has("anchor_b")) {

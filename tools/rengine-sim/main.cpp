@@ -76,12 +76,15 @@ std::uint64_t ParseCount(const std::string& text, const char* option, std::uint6
   return n;
 }
 
-double ParseStepSize(const std::string& text, const char* option) {
+// A number > 0 of seconds; --dt's at most RIntegrator::kMaxDt, the longest step there is.
+double ParseSeconds(const std::string& text, const char* option, bool step) {
   double x = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(x) || !(x > 0)) {
-    throw UsageError{std::string(option) + ": must be a finite number > 0 (got \"" + text +
-                     "\")"};
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(x) || !(x > 0) ||
+      (step && x > RIntegrator::kMaxDt)) {
+    throw UsageError{std::string(option) + (step ? ": must be a finite number > 0 and at most 1 (s)"
+                                                 : ": must be a finite number > 0") +
+                     " (got \"" + text + "\")"};
   }
   return x;
 }
@@ -284,9 +287,9 @@ int Run(int argc, char** argv) {
     const std::optional<std::uint64_t> stepsOverride =
         steps->count() ? std::optional(ParseCount(stepsText, "--steps", 0)) : std::nullopt;
     const std::optional<double> dtOverride =
-        dt->count() ? std::optional(ParseStepSize(dtText, "--dt")) : std::nullopt;
+        dt->count() ? std::optional(ParseSeconds(dtText, "--dt", true)) : std::nullopt;
     if (every->count()) everyK = ParseCount(everyText, "--every", 1);
-    if (maxSeconds->count()) budget = ParseStepSize(maxSecondsText, "--max-seconds");
+    if (maxSeconds->count()) budget = ParseSeconds(maxSecondsText, "--max-seconds", false);
     if (saveState->count()) stateSave = sim::ParseSaveState(saveStateText);
     scene = LoadScene(scenePath);
     if (stepsOverride) scene.steps = *stepsOverride;

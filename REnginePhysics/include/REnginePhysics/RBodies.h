@@ -107,9 +107,10 @@ class RBodies {
   void Reserve(std::size_t n);
   void Clear();
 
-  // Joints (RJoint.h). AddJoint checks the definition (throws RJointError naming the field,
-  // RHandleError for a body that is not here, and adds nothing), fixes the anchors and axes
-  // in the bodies' frames as they stand, and wakes both bodies. A joint whose body is
+  // Joints (RJoint.h). AddJoint checks the definition, its type included (throws RJointError,
+  // a std::invalid_argument, naming the field; RHandleError for a body that is not here; and
+  // adds nothing), fixes the anchors and axes in the bodies' frames as they stand, and
+  // wakes both bodies. A joint whose body is
   // disabled does nothing until it is enabled again; removing a body removes its joints.
   RJointHandle AddJoint(const RJointDef& def);
   // Throws RHandleError for a stale or invalid handle. Wakes the joint's bodies.
@@ -119,8 +120,8 @@ class RBodies {
            m_jointDenseOfSlot[h.index] != kFree;
   }
   const RJoint& Joint(RJointHandle h) const { return m_joints[JointDenseIndex(h)]; }
-  // A motor's target speed and force (RJointMotor's checks: finite, force >= 0; throws
-  // RJointError), for a hinge or slider; wakes the joint's bodies.
+  // A motor's target speed and force (RJointMotor's checks: speed within 1e15, force in
+  // [0, 1e30]; throws RJointError), for a hinge or slider; wakes the joint's bodies.
   void SetJointMotor(RJointHandle h, const RJointMotor& motor);
   // Every joint, in an order that depends only on the sequence of AddJoint and RemoveJoint
   // calls (a removed joint's place is taken by the last one).

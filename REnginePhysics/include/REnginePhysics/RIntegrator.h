@@ -216,9 +216,15 @@ class RIntegrator {
   RIntegrator(RIntegrator&&) noexcept;
   RIntegrator& operator=(RIntegrator&&) noexcept;
 
-  // Advances every enabled body by dt seconds. dt must be finite and > 0: anything else
-  // throws std::invalid_argument before anything moves (a negative dt would run time
-  // backwards, zero would divide by zero). Contact memory and sleeping islands are keyed by
+  // The longest step, s. Games step at 30 Hz or faster and slow simulations at a few Hz; a
+  // step of seconds is a unit mistake (16 for 1/60 s, milliseconds given as seconds), and
+  // at 1 s a motor's impulse in one step (its force times dt) stays within the impulses the
+  // engine accepts. The scene loader and rengine-sim's --dt refuse more.
+  static constexpr RScalar kMaxDt = 1;
+
+  // Advances every enabled body by dt seconds. dt must be finite, > 0 and at most kMaxDt:
+  // anything else throws std::invalid_argument before anything moves (a negative dt would
+  // run time backwards, zero would divide by zero). Contact memory and sleeping islands are keyed by
   // handle (see RBodies): adding, removing or disabling bodies between calls forgets nothing
   // else and wakes only what they touched.
   void Update(RBodies& bodies, RScalar dt);

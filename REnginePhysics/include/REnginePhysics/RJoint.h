@@ -49,7 +49,9 @@ struct RJointHandle {
 // Drives a hinge's angle or a slider's travel towards a relative speed (b's relative to
 // a's, about or along the axis: rad/s or m/s) with at most maxForce (N m or N), as Jolt's
 // and Bullet's velocity motors do: maxForce dt of impulse a step, half at each end of it
-// (so a motor at its force is a constant force, integrated as gravity is).
+// (so a motor at its force is a constant force, integrated as gravity is). speed must be
+// finite and within 1e15, maxForce finite, >= 0 and at most 1e30: beyond them no game means
+// it, and a step's motor impulse stays within what a saved state may hold.
 struct RJointMotor {
   bool enabled = false;
   RScalar speed = 0;

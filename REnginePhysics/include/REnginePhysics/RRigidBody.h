@@ -275,8 +275,9 @@ class alignas(64) RRigidBody {
   // Accumulators, cleared by each step after use (a kinematic or static body ignores them).
   // Forces and torques act over the whole
   // next step (N, N m, world frame); impulses act at its start (N s, N m s, world frame).
-  // A non-zero one wakes the body and its island. A non-finite argument, or one that makes
-  // the accumulated sum overflow, throws RBodyError and changes nothing.
+  // A non-zero one wakes the body and its island. A non-finite argument, an impulse beyond
+  // 1e30 (N s, N m s) in a component, or one that makes the accumulated sum overflow,
+  // throws RBodyError and changes nothing.
   void AddForce_W(const RVec3& f_W);
   void AddTorque_W(const RVec3& t_W);
   // Force at a world point: the force plus its torque about the centre of mass.
