@@ -14,6 +14,7 @@
 #include "events.h"
 #include "rays.h"
 #include "state.h"
+#include "trajectory.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -42,6 +43,8 @@
 
 using namespace REngine;
 using REngine::sim::CsvField;
+using REngine::sim::StateHash;
+using REngine::sim::TrajectoryWriter;
 
 namespace {
 
@@ -89,75 +92,6 @@ double ParseSeconds(const std::string& text, const char* option, bool step) {
   return x;
 }
 
-// What the CSV reports of a body, in its column order: the pose of the shape frame S
-// (x, y, z, qw, qx, qy, qz), then the world velocity and angular velocity.
-std::array<RScalar, 13> State(const RRigidBody& b) {
-  const RVec3 x = b.ShapePosition_W();
-  const RQuat q = b.ShapeOrientation_WS();
-  const RVec3& v = b.Velocity_W();
-  const RVec3 w = b.AngularVelocity_W();
-  return {x.x(), x.y(), x.z(), q.w(), q.x(), q.y(), q.z(),
-          v.x(), v.y(), v.z(), w.x(), w.y(), w.z()};
-}
-
-// The trajectory CSV, formatted into one large buffer written in large chunks. Rows are the
-// live bodies in order of creation (RSceneWorld::Live).
-class TrajectoryWriter {
- public:
-  explicit TrajectoryWriter(std::FILE* out) : m_out(out) {
-    m_buffer = "step,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
-    m_buffer.reserve(kChunk + 4096);
-  }
-
-  void Rows(std::uint64_t step, RScalar dt, const RSceneWorld& world) {
-    char stepText[24];
-    const auto stepLength = static_cast<std::size_t>(
-        std::to_chars(stepText, stepText + sizeof stepText, step).ptr - stepText);
-    // A product, not a running sum, so that time carries no accumulated rounding.
-    const RScalar time = static_cast<RScalar>(step) * dt;
-    for (RBodyHandle h : world.Live()) {
-      const RRigidBody& b = world.Bodies()[h];
-      m_buffer.append(stepText, stepLength);
-      sim::AppendNumber(m_buffer, time);
-      m_buffer += ',';
-      m_buffer += CsvName(h, b);
-      for (RScalar value : State(b)) sim::AppendNumber(m_buffer, value);
-      m_buffer += '\n';
-      if (m_buffer.size() >= kChunk) Flush();
-    }
-  }
-
-  // Writes what is buffered; false when any write failed.
-  bool Flush() {
-    if (std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_out) != m_buffer.size()) {
-      m_failed = true;
-    }
-    m_buffer.clear();
-    return !m_failed && std::fflush(m_out) == 0;
-  }
-
- private:
-  static constexpr std::size_t kChunk = std::size_t(1) << 20;
-
-  // The body's name as a CSV field, kept per slot (and generation) once made.
-  const std::string& CsvName(RBodyHandle h, const RRigidBody& b) {
-    if (h.index >= m_names.size()) m_names.resize(h.index + 1);
-    Name& n = m_names[h.index];
-    if (!n.valid || n.generation != h.generation) n = {true, h.generation, CsvField(b.Name())};
-    return n.text;
-  }
-
-  struct Name {
-    bool valid = false;
-    std::uint32_t generation = 0;
-    std::string text;
-  };
-  std::FILE* m_out;
-  std::vector<Name> m_names;
-  std::string m_buffer;
-  bool m_failed = false;
-};
-
 // An output file opened for writing, or null after saying why (the caller exits 2).
 std::FILE* OpenOutput(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
@@ -189,19 +123,6 @@ class Progress {
   std::uint64_t m_total;
   Clock::time_point m_next = Clock::now() + std::chrono::milliseconds(100);
 };
-
-// FNV-1a, 64 bit, over the raw bytes (native byte order) of each live body's State in
-// order of creation: equal for bit-identical states, and cheap enough to print on every run.
-std::uint64_t StateHash(const RSceneWorld& world) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (RBodyHandle handle : world.Live()) {
-    const std::array<RScalar, 13> state = State(world.Bodies()[handle]);
-    unsigned char bytes[sizeof state];
-    std::memcpy(bytes, state.data(), sizeof state);
-    for (unsigned char byte : bytes) h = (h ^ byte) * 0x100000001b3ULL;
-  }
-  return h;
-}
 
 // Mass properties in world terms. Moments ascend, and the axes are permuted to match: the
 // body frame's own order is an implementation choice, the sorted order is not.
