@@ -101,16 +101,24 @@ TEST(Actions, BadOnesAreRefusedNamingThePath) {
 
 // The scene runs 100 steps: an action at step 100 applies (after the last step's motion, in
 // the last row), one at 101 would never apply and is refused as a ray there is, by the path
-// of its step. A run shortened afterwards (rengine-sim's --steps, then CheckSceneLimits) only
-// leaves the later actions out.
+// of its step; so is one that a run shortened afterwards (rengine-sim's --steps, then
+// CheckSceneLimits) would never reach.
 TEST(Actions, AnActionAfterTheLastStepIsRefused) {
   EXPECT_NO_THROW(ParseScene(Scene(R"({"step": 100, "remove": "a"})"), "a.json"));
   ExpectBadAt(Scene(R"({"step": 3, "remove": "wall"}, {"step": 101, "remove": "a"},
                        {"step": 2, "impulse": {"body": "a", "impulse": [1, 0, 0]}})"),
               "actions[1].step", "is after the last step (100): the action would never be applied (got 101)");
   RScene scene = ParseScene(Scene(R"({"step": 3, "remove": "wall"}, {"step": 2, "remove": "a"})"), "a.json");
-  scene.steps = 2;
+  scene.steps = 3;
   EXPECT_NO_THROW(CheckSceneLimits(scene, RSceneLimits{}));
+  scene.steps = 2;
+  try {
+    CheckSceneLimits(scene, RSceneLimits{});
+    ADD_FAILURE() << "an action after the last step was accepted";
+  } catch (const RSceneError& e) {
+    EXPECT_EQ(e.JsonPath(), "actions[0].step") << e.what();
+    EXPECT_NE(std::string(e.what()).find("after the last step (2)"), std::string::npos) << e.what();
+  }
 }
 
 // add at step k with velocity v: after N steps the body is at x0 + v (N - k) dt.

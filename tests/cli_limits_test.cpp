@@ -62,9 +62,8 @@ TEST_F(Cli, StepsBeyondTheLimitsBlameTheOption) {
   EXPECT_NE(r.LastErrLine().find("long.json: steps: must be at most 100000000"), std::string::npos) << r.err;
 }
 
-// An action after the scene's last step would never apply: refused like a ray there, by its
-// path. --steps that stops the run before an action only leaves it out (a shorter look at a
-// scene, or a state saved before it).
+// An action after the last step would never apply: refused like a ray there, by its path,
+// whether the scene's steps or --steps end the run before it.
 TEST_F(Cli, AnActionAfterTheLastStepExitsTwoNamingIt) {
   const std::string late = Quote(Write("late.json", SceneOf({{"ball", kSphere}}, R"("dt": 0.01, "steps": 10,
       "actions": [{"step": 10, "impulse": {"body": "ball", "impulse": [1, 0, 0]}},
@@ -76,17 +75,23 @@ TEST_F(Cli, AnActionAfterTheLastStepExitsTwoNamingIt) {
                                  "(got 11)");
   EXPECT_FALSE(fs::exists(Path("t.csv")));
   EXPECT_EQ(Run(late + " --steps 11").code, 2) << "--steps does not mend the scene";
-  // The ball is set moving at step 4 and faster at step 10, the last row, unless --steps 9
-  // ends the run first.
+  // The ball is set moving at step 4 and faster at step 10, the last row; --steps 12 runs
+  // on past it, --steps 9 would never reach it.
   const std::string cut = Quote(Write("cut.json", SceneOf({{"ball", kSphere}}, R"("dt": 0.01, "steps": 10,
       "actions": [{"step": 10, "set_velocity": {"body": "ball", "velocity": [3, 0, 0]}},
                   {"step": 4, "set_velocity": {"body": "ball", "velocity": [1, 0, 0]}}])")));
   r = Run(cut);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(Velocity(ParseCsv(r.out).back()), RVec3(3, 0, 0));
-  r = Run(cut + " --steps 9");
+  r = Run(cut + " --steps 12");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(Velocity(ParseCsv(r.out).back()), RVec3(1, 0, 0));
+  EXPECT_EQ(Velocity(ParseCsv(r.out).back()), RVec3(3, 0, 0));
+  r = Run(cut + " --steps 9 --out " + Quote(Path("t.csv")));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.LastErrLine(), "error: " + Path("cut.json").string() +
+                                 ": actions[0].step: is after the last step (9): the action would never be applied "
+                                 "(got 10)");
+  EXPECT_FALSE(fs::exists(Path("t.csv")));
 }
 
 // The step size is at most RIntegrator::kMaxDt (1 s), from --dt or the scene's "dt": a step

@@ -140,7 +140,14 @@ void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits) {
                           std::to_string(bodies) + " bodies exceed " + limit +
                           " body-steps");
   }
-  // Rays are sorted by step: the last is the latest.
+  // Actions and rays are sorted by step: the last is the latest. One after the last step
+  // would silently never happen: a scene (or a run shortened by --steps) that ends first.
+  if (!scene.actions.empty() && scene.actions.back().step > scene.steps) {
+    const RSceneAction& a = scene.actions.back();
+    throw RSceneError(scene.fileName, a.path + ".step",
+                      "is after the last step (" + std::to_string(scene.steps) +
+                          "): the action would never be applied (got " + std::to_string(a.step) + ")");
+  }
   if (!scene.rays.empty() && scene.rays.back().step > scene.steps) {
     const RSceneRay& r = scene.rays.back();
     throw RSceneError(scene.fileName, r.path + ".step",

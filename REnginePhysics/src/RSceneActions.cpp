@@ -133,13 +133,6 @@ void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits) {
   }
   std::stable_sort(scene.actions.begin(), scene.actions.end(),
                    [](const RSceneAction& x, const RSceneAction& y) { return x.step < y.step; });
-  // An action after the scene's last step could never apply: a scene whose steps cut its end
-  // off. (A run shortened by rengine-sim's --steps only leaves the later actions out.)
-  if (!scene.actions.empty() && scene.actions.back().step > scene.steps) {
-    const RSceneAction& a = scene.actions.back();
-    Fail(Field(a.path, "step"), "is after the last step (" + std::to_string(scene.steps) +
-                                    "): the action would never be applied (got " + std::to_string(a.step) + ")");
-  }
 
   // Replay the names: every action names a body that exists at its step, an added body's
   // name is new among them, and an added body's ignore list names bodies that exist; an added

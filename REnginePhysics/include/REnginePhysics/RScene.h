@@ -144,8 +144,8 @@ RScene ParseScene(const std::string& jsonText, const std::string& fileNameForMes
 
 // Checks a scene's size against the limits (ParseScene does; call it again after changing
 // steps or bodies). Throws RSceneError naming "steps", "bodies" or "joints" ("actions" when
-// the bodies or joints the actions add go beyond the limit), or a ray asked after the last
-// step (it would never be answered: "rays[3].step").
+// the bodies or joints the actions add go beyond the limit), or an action or a ray after the
+// last step (it would never be applied or answered: "actions[3].step", "rays[3].step").
 void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits);
 
 // The scene's bodies, in scene order. A definition that parses but has no valid mass
