@@ -2,12 +2,23 @@
 // definition of the bodies' velocities; see RIntegrator.h for the scheme.
 #include "RWorldStep.h"
 
+#include "RLimits.h"
+
 #include <REngineMath/RQuaternion.h>
 
 #include <algorithm>
 #include <cmath>
 
 namespace REngine {
+
+// Whether a body's new state is one the world can hold: finite, and inside the positions the
+// API accepts (kMaxPosition). A body past them has run away (a joint island blown up, an
+// impulse of 1e300): it is put back and reported, as a non-finite one, rather than carried
+// on to 1e60 m.
+bool RWorldStep::Kept(const RRigidBody& b) {
+  return AllFinite(b.m_v_W) && AllFinite(b.m_w_B) && AllFinite(b.m_q_WB) &&
+         b.m_x_W.cwiseAbs().maxCoeff() <= kMaxPosition;  // (false for NaN)
+}
 
 void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
@@ -37,14 +48,14 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
           const RVec3 x0 = b.m_x_W, w0 = b.m_w_B;
           const RQuat q0 = b.m_q_WB;
           MoveKinematic(b, dt);
-          if (!(AllFinite(b.m_x_W) && AllFinite(b.m_q_WB) && AllFinite(b.m_w_B))) {
+          if (!Kept(b)) {  // (its velocities are the game's: kept, and reported each step)
             b.m_x_W = x0, b.m_q_WB = q0, b.m_w_B = w0;
             m_putBack[i] = 1;
           }
         }
         continue;
       }
-      const RVec3 x0 = b.m_x_W, v0 = b.m_v_W, w0 = b.m_w_B, wWorld0 = b.m_w_W;
+      const RVec3 x0 = b.m_x_W;
       const RQuat q0 = b.m_q_WB;
 
       // Linear: impulse, then kick-drift-kick with constant acceleration (drag's first half
@@ -118,9 +129,12 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       const RScalar speed = std::max(b.m_v_W.norm() + b.m_w_B.norm() * b.m_boundingRadius, pseudoSpeed);
       b.m_restTime = speed < m_settings.sleepSpeed ? b.m_restTime + dt : 0;
 
-      if (!(AllFinite(b.m_x_W) && AllFinite(b.m_v_W) && AllFinite(b.m_w_B) &&
-            AllFinite(b.m_q_WB))) {
-        b.m_x_W = x0, b.m_v_W = v0, b.m_w_B = w0, b.m_q_WB = q0, b.m_w_W = wWorld0;
+      if (!Kept(b)) {
+        // Put back where it was, at rest: with the velocities that carried it out it would
+        // leave again at every step, each one reported and each one paying for sweeps and
+        // pair tests at 1e300 m.
+        b.m_x_W = x0, b.m_q_WB = q0;
+        b.m_v_W.setZero(), b.m_w_B.setZero(), b.m_w_W.setZero();
         b.m_restTime = 0;
         m_putBack[i] = 1;
       }

@@ -9,6 +9,8 @@
 #include "RSkyline.h"
 #include "RSolverRows.h"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -75,9 +77,99 @@ inline void BeginJointBlocks(const RJointRow* rows, std::size_t count, RIslandSc
   sc.blockStale = true;
 }
 
-// The rows in the block (sc.jointActive) in groups solved as one block each, their skyline
-// factors in the scratch. One group when the island has at most blockRows of them, else
-// one a joint. mark: per body, kNone (left so on return).
+// Row ri's change of relative velocity per unit impulse at row rj through body x alone
+// (one of JointCoupling's terms).
+template <class Body>
+RScalar CouplingThrough(const RJointRow& ri, const RJointRow& rj, std::uint32_t x, const Body& body) {
+  const RScalar l = LinearCoupling(body, ri.dir.d, rj.dir.d, ri.dir.d.dot(rj.dir.d));
+  RScalar k = 0;
+  if (ri.a == x && rj.a == x) k += l + ri.dir.rAxd.dot(rj.dir.iA);
+  if (ri.a == x && rj.b == x) k -= l + ri.dir.rAxd.dot(rj.dir.iB);
+  if (ri.b == x && rj.a == x) k -= l + ri.dir.rBxd.dot(rj.dir.iA);
+  if (ri.b == x && rj.b == x) k += l + ri.dir.rBxd.dot(rj.dir.iB);
+  return k;
+}
+
+// The block's rows (sc.eq) as the sparse system of RJointSparse.h, factored. A movable body
+// without locks is an unknown of its own (its 6 velocity changes, its mass and inertia
+// on the diagonal, negated); a body with locks (its inverse mass or inertia singular) is
+// not, and its rows couple directly through it. The ridge is the skyline block's.
+template <class Body>
+bool FactorSparse(const RJointRow* rows, const Body* bodies, RIslandScratch& sc, std::vector<std::uint32_t>& mark,
+                  RScalar& ridge) {
+  constexpr std::uint32_t kCoupled = kNone - 1;  // mark of a body whose rows couple directly
+  const int m = static_cast<int>(sc.eq.size());
+  int size = m;
+  RScalar maxDiag = 0;
+  sc.sparseBodies.clear(), sc.sparseLinks.clear();
+  for (int i = 0; i < m; ++i) {
+    const RJointRow& r = rows[sc.eq[i]];
+    maxDiag = std::max(maxDiag, r.dir.k);
+    for (std::uint32_t x : {r.a, r.b}) {
+      const Body& body = bodies[x];
+      if (body.invM == 0) continue;
+      if (mark[x] == kNone) {
+        // Angular locks leave the world inverse inertia singular (a zero pivot, or rounding's
+        // 1e-16 of the others); the inertia ratio is at most 1e9 otherwise.
+        bool free = !body.linLocked;
+        if (free) {
+          const Eigen::LDLT<RMat3> pivots(body.invI);
+          free = pivots.vectorD().minCoeff() > RScalar(1e-13) * pivots.vectorD().maxCoeff();
+        }
+        mark[x] = free ? static_cast<std::uint32_t>(size) : kCoupled;
+        if (free) size += 6;
+        sc.sparseBodies.push_back(x);
+      }
+      if (mark[x] == kCoupled) sc.sparseLinks.push_back((std::uint64_t(x) << 32) | std::uint32_t(i));
+    }
+  }
+  RJointSparse& S = sc.sparse.Get();
+  S.Begin(size);
+  ridge = RScalar(1e-9) * maxDiag;
+  for (int i = 0; i < m; ++i) {
+    const RJointRow& r = rows[sc.eq[i]];
+    S.Add(i, i, ridge);
+    for (int side = 0; side < 2; ++side) {
+      const std::uint32_t x = side == 0 ? r.a : r.b;
+      if (bodies[x].invM == 0 || mark[x] == kCoupled) continue;
+      const int base = static_cast<int>(mark[x]);
+      const RScalar sign = side == 0 ? -1 : 1;
+      const RVec3& arm = side == 0 ? r.dir.rAxd : r.dir.rBxd;
+      for (int p = 0; p < 3; ++p) S.Add(i, base + p, sign * r.dir.d[p]);
+      for (int p = 0; p < 3; ++p) S.Add(i, base + 3 + p, sign * arm[p]);
+    }
+  }
+  for (std::uint32_t x : sc.sparseBodies) {
+    if (mark[x] == kCoupled) continue;
+    const Body& body = bodies[x];
+    const int base = static_cast<int>(mark[x]);
+    for (int p = 0; p < 3; ++p) S.Add(base + p, base + p, -1 / body.invM);
+    const RMat3 inertia = body.invI.inverse();
+    for (int p = 0; p < 3; ++p) {
+      for (int q = p; q < 3; ++q) S.Add(base + 3 + p, base + 3 + q, -inertia(p, q));
+    }
+  }
+  std::sort(sc.sparseLinks.begin(), sc.sparseLinks.end());
+  for (std::size_t u = 0; u < sc.sparseLinks.size();) {
+    std::size_t v = u + 1;
+    while (v < sc.sparseLinks.size() && sc.sparseLinks[v] >> 32 == sc.sparseLinks[u] >> 32) ++v;
+    const std::uint32_t x = static_cast<std::uint32_t>(sc.sparseLinks[u] >> 32);
+    for (std::size_t p = u; p < v; ++p) {
+      const int i = static_cast<int>(sc.sparseLinks[p] & 0xffffffffu);
+      for (std::size_t q = u; q <= p; ++q) {
+        const int j = static_cast<int>(sc.sparseLinks[q] & 0xffffffffu);
+        S.Add(i, j, CouplingThrough(rows[sc.eq[i]], rows[sc.eq[j]], x, bodies[x]));
+      }
+    }
+    u = v;
+  }
+  for (std::uint32_t x : sc.sparseBodies) mark[x] = kNone;
+  return maxDiag > 0 && S.Factor();
+}
+
+// The rows in the block (sc.jointActive) solved as one block, their factor in the scratch:
+// a skyline factor of J M^-1 J^T when the island has at most blockRows of them, else the
+// sparse system of FactorSparse. mark: per body, kNone (left so on return).
 template <class Body>
 void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, RIslandScratch& sc,
                   std::vector<std::uint32_t>& mark, int blockRows) {
@@ -87,15 +179,13 @@ void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, 
     if (sc.jointActive[i] && rows[i].dir.k > 0) sc.eq.push_back(i);
   }
   const std::uint32_t total = static_cast<std::uint32_t>(sc.eq.size());
-  if (total <= static_cast<std::uint32_t>(blockRows)) {
-    if (total > 0) sc.eqGroups.emplace_back(0, total);
-  } else {
-    for (std::uint32_t e = 0; e < total;) {
-      std::uint32_t f = e + 1;
-      while (f < total && sc.eq[f] / kRows == sc.eq[e] / kRows) ++f;
-      sc.eqGroups.emplace_back(e, f);
-      e = f;
-    }
+  sc.eqSparse = total > static_cast<std::uint32_t>(blockRows);
+  if (total > 0) sc.eqGroups.emplace_back(0, total);
+  sc.eqRhs.resize(total), sc.eqNull.resize(total);
+  if (sc.eqSparse) {
+    sc.eqRidge.assign(1, 0);
+    sc.eqGroupOk.assign(1, FactorSparse(rows, bodies, sc, mark, sc.eqRidge[0]) ? 1 : 0);
+    return;
   }
   sc.eqFirst.resize(total), sc.eqOffset.resize(total + 1);
   sc.eqInvDiag.resize(total), sc.eqRhs.resize(total);
@@ -119,6 +209,7 @@ void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, 
   sc.eqOffset[total] = static_cast<std::uint32_t>(size);
   sc.eqL.resize(size);
   sc.eqGroupOk.assign(sc.eqGroups.size(), 1);
+  sc.eqRidge.assign(sc.eqGroups.size(), 0);
   for (std::size_t g = 0; g < sc.eqGroups.size(); ++g) {
     const auto [e0, e1] = sc.eqGroups[g];
     const int m = static_cast<int>(e1 - e0);
@@ -135,10 +226,44 @@ void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, 
     // relative 1e-9 on its diagonal makes it definite, and the refinement through the
     // bodies' velocities (JointPass) takes out the bias that leaves.
     const RScalar ridge = RScalar(1e-9) * maxDiag;
+    sc.eqRidge[g] = ridge;
     for (int i = 0; i < m; ++i) sc.eqL[sc.eqOffset[e0 + i] + (i - sc.eqFirst[e0 + i])] += ridge;
     // (Offsets are global; the factor works on the group's rows with local columns.)
     sc.eqGroupOk[g] = maxDiag > 0 && SkylineCholesky(sc.eqL.data(), m, sc.eqFirst.data() + e0,
                                                       sc.eqOffset.data() + e0, sc.eqInvDiag.data() + e0);
+  }
+}
+
+// Solves group g's block for rhs (its rows' velocity misses), in place: the impulses that
+// take the misses out. Less what the ridge makes of a miss no impulse can take out: with
+// redundant rows (a loop of joints, a mesh) J^T has a null space, a self-stress, and a miss
+// along it (the second-order part of a loop's predicted error, rounding) comes out of the
+// ridged factor as miss / ridge, 1e9 times its size. It moves no body now, but carried to
+// the next step as a warm start, along rows that have turned, it is a blow: a 3 x 3 mesh
+// spinning at 1 rad/s had impulses of 3e3 N s at its second step and 1e9 at its third. The
+// ridge's solution x = (A + r I)^-1 b holds it as b0 / r; r x is then b0 plus r / s of the
+// rest (s: A's eigenvalues, r / s <= 1e-5 up to the joints' mass-ratio limit), and a second
+// solve of r x is x's null-space part, which is taken away. The rest's change is in the
+// refinement's reach. Only the equality rows' share: a limit and a motor on one axis are
+// redundant too, and there the blow-up is what the active set needs (the row whose target
+// cannot be met is driven to its bound and leaves the block).
+inline void SolveGroup(const RJointRow* rows, RIslandScratch& sc, std::size_t g, RScalar* rhs) {
+  const auto [e0, e1] = sc.eqGroups[g];
+  const int m = static_cast<int>(e1 - e0);
+  auto solve = [&](RScalar* x) {
+    if (sc.eqSparse) {
+      sc.sparse.Get().Solve(x, m);
+    } else {
+      SkylineSolve(sc.eqL.data(), m, sc.eqFirst.data() + e0, sc.eqOffset.data() + e0, sc.eqInvDiag.data() + e0, x);
+    }
+  };
+  solve(rhs);
+  RScalar* null = sc.eqNull.data() + e0;
+  const RScalar ridge = sc.eqRidge[g];
+  for (int i = 0; i < m; ++i) null[i] = ridge * rhs[i];
+  solve(null);
+  for (int i = 0; i < m; ++i) {
+    if (rows[sc.eq[e0 + i]].kind == Kind::kEquality) rhs[i] -= null[i];
   }
 }
 
@@ -182,7 +307,7 @@ RScalar JointPass(RJointRow* rows, std::size_t count, Body* bodies, RIslandScrat
       // the answer in the stiff directions and more in the soft ones (a heavy weight's): it
       // is solved again while it shrinks.
       for (int refine = 0; refine < 8 && worst > kAtTarget; ++refine) {
-        SkylineSolve(sc.eqL.data(), m, sc.eqFirst.data() + e0, sc.eqOffset.data() + e0, sc.eqInvDiag.data() + e0, rhs);
+        SolveGroup(rows, sc, g, rhs);
         for (int i = 0; i < m; ++i) apply(rows[sc.eq[e0 + i]], rhs[i]);
         const RScalar before = worst;
         worst = 0;

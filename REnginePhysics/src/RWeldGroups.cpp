@@ -24,6 +24,8 @@
 // stay RATTLE's.
 #include "RWorldStep.h"
 
+#include "RLimits.h"
+
 #include <REngineMath/RQuaternion.h>
 
 #include <Eigen/Eigenvalues>
@@ -266,9 +268,10 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
   if (root.m_linearDamping != 0) v *= Decay(root.m_linearDamping, halfDt);
   if (root.m_angularDamping != 0) w_C *= Decay(root.m_angularDamping, halfDt);
 
-  // The members on the composite; a composite whose new state is not finite stays where it
-  // was, its members reported as Integrate reports a body (m_putBack).
-  const bool finite = AllFinite(c) && AllFinite(v) && AllFinite(w_C) && AllFinite(q);
+  // The members on the composite; a composite whose new state is not finite, or whose centre
+  // left kMaxPosition, stays where it was, at rest, its members reported as Integrate reports
+  // a body (m_putBack, RWorldStep::Kept).
+  const bool finite = AllFinite(v) && AllFinite(w_C) && AllFinite(q) && c.cwiseAbs().maxCoeff() <= kMaxPosition;
   const RVec3 w_W = q * w_C;
   const RScalar pseudoSpin = wp.norm(), spin = w_C.norm();
   for (std::uint32_t k = 0; k < g.count; ++k) {
@@ -277,6 +280,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
     b.m_force_W.setZero(), b.m_torque_W.setZero();
     b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
     if (!finite) {
+      b.m_v_W.setZero(), b.m_w_B.setZero(), b.m_w_W.setZero();
       b.m_restTime = 0;
       m_putBack[m.body] = 1;
       continue;

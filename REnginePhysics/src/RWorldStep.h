@@ -30,6 +30,7 @@
 #include <REnginePhysics/RJoint.h>
 
 #include "RBoundsTree.h"
+#include "RJointSparse.h"
 #include "RUnionFind.h"
 
 #include <Eigen/Core>
@@ -152,6 +153,8 @@ class RWorldStep {
                              const RVec3& gravity_W);
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
   static void MoveKinematic(RRigidBody& b, RScalar dt);
+  // Whether a body's state after its motion is finite and within kMaxPosition (Integrate).
+  static bool Kept(const RRigidBody& b);
   // A body with angular locks: its world spin, drag and kicks, turned about the world axis
   // of its spin (exact with one free axis). Integrate's angular part for such bodies.
   static void TurnLocked(RRigidBody& b, RScalar dt);
@@ -560,9 +563,16 @@ class RWorldStep {
     std::vector<std::uint32_t> eq, eqFirst, eqOffset;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> eqGroups;
     std::vector<char> eqGroupOk;  // factored (else its rows are solved one at a time)
+    // Past kJointBlockRows rows the one group is solved as a sparse system (RJointSparse.h):
+    // its explicit bodies (the island's movable bodies without locks), and the (body, row)
+    // links of the others, whose rows couple directly.
+    bool eqSparse = false;
+    joints::RJointSparseSlot sparse;
+    std::vector<std::uint32_t> sparseBodies;
+    std::vector<std::uint64_t> sparseLinks;
     std::vector<char> jointActive;  // per row: in the block (equality, pushing limit, motor within its force)
     bool blockStale = true;         // the block's factor is not the active set's
-    std::vector<RScalar> eqL, eqInvDiag, eqRhs;
+    std::vector<RScalar> eqL, eqInvDiag, eqRhs, eqNull, eqRidge;  // (eqRidge: per group)
     std::vector<std::uint32_t> jointBodies;  // the island's movable joint bodies
     // Per solver body (mark) and per end body (endMark): scratch, kNone between uses.
     std::vector<std::uint32_t> mark, endMark;

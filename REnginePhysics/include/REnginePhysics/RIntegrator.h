@@ -128,9 +128,11 @@ struct RStepProfile {
 };
 
 // A body whose state stopped being finite: which, and in which step (1-based count of
-// Update calls on this integrator). The body is left at its last finite state, its pending
-// forces and impulses are dropped, and so is the contact memory of its pairs, so the next
-// step starts it afresh.
+// Update calls on this integrator), or whose position left the ±1e15 m the API accepts (it
+// ran away). A dynamic body is put back at its last pose, at rest (velocities zero: with
+// those that carried it out it would leave again at every step); a kinematic body at its last
+// pose, its velocities the game's. Its pending forces and impulses are dropped, and so is the
+// contact memory of its pairs, so the next step starts it afresh. It stays in the world.
 struct RNonFiniteBody {
   std::size_t bodyIndex = 0;  // dense index in the step (RBodies: position, see HandleAt)
   RBodyHandle handle;         // RBodies' handle (a plain vector's: index, generation 0)
