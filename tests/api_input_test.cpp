@@ -28,7 +28,8 @@ TEST(ApiInput, UpdateRefusesAStepThatIsNotFiniteAndPositive) {
   std::vector<RRigidBody> bodies{RRigidBody(UnitBoxDef(RVec3::Zero()))};
   bodies[0].SetVelocity_W(RVec3(1, 0, 0));
   RIntegrator integrator;
-  for (RScalar dt : {RScalar(0), RScalar(-1) / 60, kNaN, kInf, -kInf}) {
+  for (RScalar dt : {RScalar(0), RScalar(-1) / 60, kNaN, kInf, -kInf, std::nextafter(RIntegrator::kMaxDt, RScalar(2)),
+                     RScalar(1e300)}) {
     EXPECT_THROW(integrator.Update(bodies, dt), std::invalid_argument) << dt;
   }
   // Nothing moved, and the integrator still steps: x = v t exactly.
@@ -36,6 +37,56 @@ TEST(ApiInput, UpdateRefusesAStepThatIsNotFiniteAndPositive) {
   EXPECT_EQ(bodies[0].Position_W(), RVec3::Zero());
   integrator.Update(bodies, 0.5);
   EXPECT_EQ(bodies[0].Position_W(), RVec3(0.5, 0, 0));
+}
+
+// Settings no step can run: solver iterations outside 1 to kMaxSolverIterations (2^31 - 1 of
+// them was a step that never ended), a combine mode no enumerator names. Refused before
+// anything moves; the world steps again once they are right.
+TEST(ApiInput, UpdateRefusesSettingsOutsideTheirRanges) {
+  std::vector<RRigidBody> bodies{RRigidBody(UnitBoxDef(RVec3::Zero()))};
+  bodies[0].SetVelocity_W(RVec3(1, 0, 0));
+  RIntegrator integrator;
+  for (int iterations : {0, -1, RWorldSettings::kMaxSolverIterations + 1, 2147483647}) {
+    integrator.Settings().solverIterations = iterations;
+    EXPECT_THROW(integrator.Update(bodies, 0.5), std::invalid_argument) << iterations;
+  }
+  integrator.Settings().solverIterations = RWorldSettings::kMaxSolverIterations;
+  integrator.Settings().frictionCombine = static_cast<RCombineMode>(99);
+  EXPECT_THROW(integrator.Update(bodies, 0.5), std::invalid_argument);
+  integrator.Settings().frictionCombine = RCombineMode::kGeometric;
+  integrator.Settings().restitutionCombine = static_cast<RCombineMode>(5);
+  EXPECT_THROW(integrator.Update(bodies, 0.5), std::invalid_argument);
+  integrator.Settings().restitutionCombine = RCombineMode::kMin;
+  EXPECT_EQ(integrator.StepCount(), 0u);
+  EXPECT_EQ(bodies[0].Position_W(), RVec3::Zero());
+  integrator.Update(bodies, 0.5);
+  EXPECT_EQ(bodies[0].Position_W(), RVec3(0.5, 0, 0));
+}
+
+// A body the game sets moving at 1e17 m/s (finite: accepted) would leave the world, 1e15 m
+// of the origin, in its first step of 1/60 s: it is put back where it was, at rest, and
+// reported in that step only; the other body moves on untouched, and the steps after report
+// nothing (put back with its velocity, it would leave again at every step, each reported).
+TEST(ApiInput, ABodyThatRunsAwayIsPutBackAtRestAndReportedOnce) {
+  std::vector<RRigidBody> bodies{RRigidBody(UnitBoxDef(RVec3(0, 0, 0))), RRigidBody(UnitBoxDef(RVec3(0, 5, 0)))};
+  bodies[0].SetVelocity_W(RVec3(1e17, 0, 0));
+  bodies[0].SetAngularVelocity_W(RVec3(0, 0, 3));
+  bodies[1].SetVelocity_W(RVec3(0, 1, 0));
+  RIntegrator integrator;
+  const RScalar dt = RScalar(1) / 60;
+  integrator.Update(bodies, dt);
+  ASSERT_EQ(integrator.NonFiniteInLastStep().size(), 1u);
+  EXPECT_EQ(integrator.NonFiniteInLastStep()[0].bodyIndex, 0u);
+  EXPECT_EQ(bodies[0].Position_W(), RVec3::Zero());
+  EXPECT_EQ(bodies[0].Velocity_W(), RVec3::Zero());
+  EXPECT_EQ(bodies[0].AngularVelocity_W(), RVec3::Zero());
+  EXPECT_EQ(bodies[1].Position_W(), RVec3(0, 5 + dt, 0));
+  for (int i = 0; i < 10; ++i) {
+    integrator.Update(bodies, dt);
+    EXPECT_TRUE(integrator.NonFiniteInLastStep().empty()) << "step " << i + 2;
+  }
+  EXPECT_EQ(bodies[0].Position_W(), RVec3::Zero());
+  EXPECT_EQ(integrator.NonFinite()->step, 1u);
 }
 
 TEST(ApiInput, SetShapePoseRefusesZeroAndNonFiniteValues) {

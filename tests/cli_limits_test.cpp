@@ -125,3 +125,49 @@ TEST_F(Cli, AnImpulseBeyondTheLimitExitsTwoNamingIt) {
                                  ": actions[0].impulse.impulse[0]: must be a finite number within 1e30 (N s) (got 1e+300)");
   EXPECT_FALSE(fs::exists(Path("t.csv")));
 }
+
+// --max-seconds stops a step that runs on past it, not only between steps: a mesh of 1024
+// spheres on 1984 ball joints at the most solver iterations a scene may ask for (1000) takes
+// seconds a step here. Past 0.01 s of stepping and the watchdog's grace of 1 s, the run stops
+// inside its first step with exit 1, the rows written before it kept (step 0's); without
+// the watchdog it would run its 3 steps (a hang here ends in timeout's 124, a failure).
+TEST_F(Cli, MaxSecondsStopsAStepThatRunsOnPastIt) {
+  const int k = 32;
+  std::string bodies, joints;
+  auto name = [](int i, int j) { return "\"b" + std::to_string(i) + "_" + std::to_string(j) + "\""; };
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) {
+      const double x = 0.5 * i, y = 0.5 * j;
+      // Spinning about an axis off the mesh's normal: the joints have work in every step.
+      bodies += std::string(bodies.empty() ? "" : ",") + "{\"name\": " + name(i, j) +
+                ", \"shape\": {\"type\": \"sphere\", \"radius\": 0.1}, \"mass\": 1, \"mask\": 0, \"position\": [" +
+                std::to_string(x) + ", " + std::to_string(y) + ", 0], \"angular_velocity\": [0.3, 0.2, 1], " +
+                "\"velocity\": [" + std::to_string(-y) + ", " + std::to_string(x) + ", " +
+                std::to_string(0.3 * y - 0.2 * x) + "]}";
+      if (i + 1 < k) {
+        joints += std::string(joints.empty() ? "" : ",") + "{\"name\": \"h" + std::to_string(i * k + j) +
+                  "\", \"type\": \"ball\", \"a\": " + name(i, j) + ", \"b\": " + name(i + 1, j) + ", \"anchor\": [" +
+                  std::to_string(x + 0.25) + ", " + std::to_string(y) + ", 0]}";
+      }
+      if (j + 1 < k) {
+        joints += std::string(joints.empty() ? "" : ",") + "{\"name\": \"v" + std::to_string(i * k + j) +
+                  "\", \"type\": \"ball\", \"a\": " + name(i, j) + ", \"b\": " + name(i, j + 1) + ", \"anchor\": [" +
+                  std::to_string(x) + ", " + std::to_string(y + 0.25) + ", 0]}";
+      }
+    }
+  }
+  const fs::path scene = Write("mesh.json", "{\"steps\": 3, \"solver\": {\"iterations\": 1000, \"sleeping\": false}, "
+                                            "\"bodies\": [" + bodies + "], \"joints\": [" + joints + "]}");
+  const std::string command = "bash -c 'exec timeout 60 " + std::string(RENGINE_SIM) + " " + scene.string() +
+                              " --max-seconds 0.01 --quiet --out " + Path("t.csv").string() + "' >" +
+                              Quote(Path("stdout")) + " 2>" + Quote(Path("stderr"));
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  const std::string err = ReadFile(Path("stderr"));
+  EXPECT_EQ(WEXITSTATUS(status), 1) << err;
+  EXPECT_EQ(err.rfind("error: stopped during step 1 of 3: --max-seconds 0.01 reached and the step still running 1 s after",
+                      0),
+            0u)
+      << err;
+  EXPECT_EQ(ParseCsv(ReadFile(Path("t.csv"))).size(), std::size_t(k * k));  // step 0's rows
+}

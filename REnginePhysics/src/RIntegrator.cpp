@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -86,6 +87,12 @@ void RIntegrator::PrepareJobs() {
                                 std::to_string(RWorldSettings::kMaxSolverIterations) + " (got " +
                                 std::to_string(w.m_settings.solverIterations) + ")");
   }
+  for (const RCombineMode mode : {w.m_settings.restitutionCombine, w.m_settings.frictionCombine}) {
+    if (static_cast<std::uint8_t>(mode) > static_cast<std::uint8_t>(RCombineMode::kGeometric)) {
+      throw std::invalid_argument("RIntegrator::Update: RWorldSettings::restitutionCombine and frictionCombine "
+                                  "must be an RCombineMode (got " + std::to_string(static_cast<int>(mode)) + ")");
+    }
+  }
   RJobSystem* jobs = m_gameJobs;
   if (!jobs) {
     const int threads = w.m_settings.threads > 0 ? w.m_settings.threads : RThreadPool::MachineThreads();
@@ -109,9 +116,11 @@ void RIntegrator::SetPairFilter(RPairFilter filter, void* user) {
 
 namespace {
 void CheckDt(RScalar dt) {
-  if (!(std::isfinite(dt) && dt > 0)) {
-    throw std::invalid_argument("RIntegrator::Update: dt must be finite and > 0 (got " +
-                                std::to_string(dt) + ")");
+  if (!(std::isfinite(dt) && dt > 0 && dt <= RIntegrator::kMaxDt)) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", dt);
+    throw std::invalid_argument("RIntegrator::Update: dt must be finite, > 0 and at most " +
+                                std::to_string(RIntegrator::kMaxDt) + " s (got " + text + ")");
   }
 }
 }  // namespace

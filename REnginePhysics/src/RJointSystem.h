@@ -244,9 +244,9 @@ void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, 
 // ridge's solution x = (A + r I)^-1 b holds it as b0 / r; r x is then b0 plus r / s of the
 // rest (s: A's eigenvalues, r / s <= 1e-5 up to the joints' mass-ratio limit), and a second
 // solve of r x is x's null-space part, which is taken away. The rest's change is in the
-// refinement's reach. Only the equality rows' share: a limit and a motor on one axis are
-// redundant too, and there the blow-up is what the active set needs (the row whose target
-// cannot be met is driven to its bound and leaves the block).
+// refinement's reach. Only a self-stress of the equality rows alone: a limit and a motor on
+// one axis are redundant too, and there the blow-up is what the active set needs (the row
+// whose target cannot be met is driven to its bound and leaves the block).
 inline void SolveGroup(const RJointRow* rows, RIslandScratch& sc, std::size_t g, RScalar* rhs) {
   const auto [e0, e1] = sc.eqGroups[g];
   const int m = static_cast<int>(e1 - e0);
@@ -262,9 +262,13 @@ inline void SolveGroup(const RJointRow* rows, RIslandScratch& sc, std::size_t g,
   const RScalar ridge = sc.eqRidge[g];
   for (int i = 0; i < m; ++i) null[i] = ridge * rhs[i];
   solve(null);
+  RScalar equality = 0, other = 0;
   for (int i = 0; i < m; ++i) {
-    if (rows[sc.eq[e0 + i]].kind == Kind::kEquality) rhs[i] -= null[i];
+    RScalar& part = rows[sc.eq[e0 + i]].kind == Kind::kEquality ? equality : other;
+    part = std::max(part, std::abs(null[i]));
   }
+  if (!(other <= RScalar(1e-9) * equality)) return;  // (none, or not the equality rows' alone)
+  for (int i = 0; i < m; ++i) rhs[i] -= null[i];
 }
 
 // One pass over the island's joints: the block solved exactly (and refined against the

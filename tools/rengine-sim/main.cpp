@@ -15,18 +15,21 @@
 #include "rays.h"
 #include "state.h"
 #include "trajectory.h"
+#include "watchdog.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <limits>
@@ -165,7 +168,8 @@ int Run(int argc, char** argv) {
                                "Write every K-th step (the first and last always), default 1");
   auto* maxSeconds = app.add_option(
       "--max-seconds", maxSecondsText,
-      "Stop with exit code 1 when stepping has taken this long (wall clock), rows so far kept");
+      "Stop with exit code 1 when stepping has taken this long (wall clock), rows so far kept; a step still "
+      "running 1 s after is stopped inside");
   auto* rays = app.add_option("--rays", raysPath,
                               "Answer the scene's rays into this CSV (step,ray,body,distance,x,y,z,"
                               "nx,ny,nz)");
@@ -346,9 +350,26 @@ int Run(int argc, char** argv) {
   Progress progress(!quiet && StderrIsTerminal(), scene.steps);
   Clock::duration stepping{};
   RStepProfile profileSum;
+  // --max-seconds inside a step that runs on past it (see watchdog.h): the rows written so
+  // far are kept, the step's own are not (its world is half stepped).
+  std::atomic<std::uint64_t> running{0};
+  std::optional<sim::StepWatchdog> watchdog;
+  if (std::isfinite(budget)) {
+    watchdog.emplace(budget, [&] {
+      finishOutput();
+      std::fprintf(stderr, "error: stopped during step %" PRIu64 " of %" PRIu64 ": --max-seconds %s reached and the "
+                   "step still running %lld s after\n", running.load(), scene.steps, maxSecondsText.c_str(),
+                   static_cast<long long>(sim::StepWatchdog::kGrace.count()));
+      std::fflush(stderr);
+      std::_Exit(kExitRunFailed);
+    });
+  }
   for (std::uint64_t step = startStep + 1; step <= scene.steps; ++step) {
     const Clock::time_point t0 = Clock::now();
+    running = step;
+    if (watchdog) watchdog->BeginStep();
     integrator.Update(world->Bodies(), scene.dt);
+    if (watchdog) watchdog->EndStep();
     const Clock::time_point t1 = Clock::now();
     stepping += t1 - t0;
     const RStepProfile& p = integrator.Profile();
@@ -370,7 +391,7 @@ int Run(int argc, char** argv) {
     if (const auto& bad = integrator.NonFinite()) {
       progress.Clear();
       finishOutput();  // the rows up to the failure help find its cause
-      std::fprintf(stderr, "error: body '%s' became non-finite at step %" PRIu64 "\n",
+      std::fprintf(stderr, "error: body '%s' became non-finite or left the world (1e15 m) at step %" PRIu64 "\n",
                    bad->bodyName.c_str(), bad->step);
       return kExitRunFailed;
     }
