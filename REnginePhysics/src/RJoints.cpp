@@ -22,8 +22,10 @@
 // The equality rows of an island are solved exactly together, as one block (a skyline
 // Cholesky of their matrix, a chain's banded), inside each pass of the sequential-impulse
 // passes that the contacts run: a 10-link chain holding a weight 100 times its links'
-// does not stretch, which iterative solvers (Bullet's, Jolt's) let it do. Limits and
-// motors are solved one row at a time within their bounds.
+// does not stretch, which iterative solvers (Bullet's, Jolt's) let it do; past
+// kJointBlockRows rows, as one sparse system with the bodies as unknowns (RJointSparse.h).
+// Limits and motors join the block while they push or hold within their force (an active
+// set, RJointSystem.h).
 #include "RWorldStep.h"
 
 #include "RJointRows.h"

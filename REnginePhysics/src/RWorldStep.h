@@ -557,9 +557,9 @@ class RWorldStep {
     std::vector<std::pair<int, int>> runs;  // the island's manifolds: [first, last)
     std::vector<char> active;
     bool kReady = false;
-    // The island's joints (RJoints.cpp): their equality rows (indices into the rows),
-    // groups of them solved as one block each ([first, last) of eq), the blocks' skyline
-    // factors, the end of the step's rows and bodies.
+    // The island's joints (RJoints.cpp): their equality rows (indices into the rows), the
+    // group of them solved as one block ([first, last) of eq), its skyline factor, the end
+    // of the step's rows and bodies.
     std::vector<std::uint32_t> eq, eqFirst, eqOffset;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> eqGroups;
     std::vector<char> eqGroupOk;  // factored (else its rows are solved one at a time)
@@ -762,8 +762,8 @@ class RWorldStep {
   bool IslandHasJoints(std::size_t island) const {
     return !m_islandJointStart.empty() && m_islandJointStart[island + 1] > m_islandJointStart[island];
   }
-  // Joints solved exactly as one block per island up to this many equality rows (a chain
-  // of 40 hinges), larger islands joint by joint.
+  // Joints solved exactly as one skyline block per island up to this many equality rows (a
+  // chain of 40 hinges), larger islands as one sparse system (RJointSparse.h).
   static constexpr int kJointBlockRows = 256;
   // Newton rounds of the joints' end-of-step prediction after the first, at most.
   static constexpr int kJointRounds = 6;
