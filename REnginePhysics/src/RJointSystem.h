@@ -248,7 +248,8 @@ void FactorBlocks(const RJointRow* rows, std::size_t count, const Body* bodies, 
 // one axis are redundant too, and there the blow-up is what the active set needs (the row
 // whose target cannot be met is driven to its bound and leaves the block).
 inline void SolveGroup(const RJointRow* rows, RIslandScratch& sc, std::size_t g, RScalar* rhs) {
-  const auto [e0, e1] = sc.eqGroups[g];
+  // (Not a structured binding: the lambda below captures them, which C++17 forbids.)
+  const std::uint32_t e0 = sc.eqGroups[g].first, e1 = sc.eqGroups[g].second;
   const int m = static_cast<int>(e1 - e0);
   auto solve = [&](RScalar* x) {
     if (sc.eqSparse) {
