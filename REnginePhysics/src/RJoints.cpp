@@ -197,10 +197,18 @@ void RWorldStep::JointRounds(const RStepBodies& bodies, std::size_t island, RSca
       // Not converging: the velocities of a diverging round are not physics. The plain
       // velocity constraint instead (no relative velocity along an equality row, a limit
       // closing no faster than its gap allows), which is always well posed; ProjectJoints
-      // takes the error it leaves out of the positions.
+      // takes the error it leaves out of the positions. Its equality rows solved from
+      // nothing: the rounds' impulses hold what they asked of the near-singular directions
+      // (a nearly flat mesh of joints, whose tension grows without bound as it flattens),
+      // which the plain constraint would leave in place, moving nothing now and flinging
+      // the bodies as the next step's warm start (a 6 x 6 mesh tumbling at 1 rad/s was
+      // asked 1e3 m of correction there, the step after a round 1e-5 m off).
       for (std::size_t i = 0; i < count; ++i) {
         RJointRow& r = rows[i];
-        if (r.kind == Kind::kEquality) r.target = 0;
+        if (r.kind == Kind::kEquality) {
+          r.target = 0;
+          if (r.lambda != 0) RowPush(r, -r.lambda, m_solverBodies.data()), r.lambda = 0;
+        }
         if (r.kind == Kind::kLimit) r.target = -sc.startC[i] / dt;
       }
       passes();
