@@ -117,10 +117,9 @@ void RIntegrator::SetPairFilter(RPairFilter filter, void* user) {
 namespace {
 void CheckDt(RScalar dt) {
   if (!(std::isfinite(dt) && dt > 0 && dt <= RIntegrator::kMaxDt)) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.17g", dt);
-    throw std::invalid_argument("RIntegrator::Update: dt must be finite, > 0 and at most " +
-                                std::to_string(RIntegrator::kMaxDt) + " s (got " + text + ")");
+    char text[96];
+    std::snprintf(text, sizeof text, "at most %g s (got %.17g)", RIntegrator::kMaxDt, dt);
+    throw std::invalid_argument(std::string("RIntegrator::Update: dt must be finite, > 0 and ") + text);
   }
 }
 }  // namespace
