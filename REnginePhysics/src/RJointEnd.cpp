@@ -36,6 +36,8 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
       REndBody e;
       const RMat3 R = p.q.toRotationMatrix();
       e.invI = b.m_angularLocked ? InvInertia_W(b, R) : RMat3(R * b.m_invI_B.asDiagonal() * R.transpose());
+      // (Stiffened: as the rounds solved it, RJointStiffness.cpp.)
+      if (sc.stiffened && sc.stiffness[i] > 0) e.invI = RMat3(e.invI.inverse() + sc.stiffness[i] * RMat3::Identity()).inverse();
       e.invM = s.invM, e.linMask = s.linMask, e.linLocked = s.linLocked;
       e.v.setZero(), e.w.setZero();
       if (atEnd) {
@@ -150,6 +152,26 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
   const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
   const RJointRow* midRows = m_jointRows.data() + std::size_t(j0) * kRows;
   BuildEndRows(bodies, island, dt, sc, true);
+  // (Stiffened: each joint body's spin before the projection, in keptW, which the rounds are
+  // done with.)
+  if (sc.stiffened) {
+    for (std::size_t k = 0; k < sc.jointBodies.size(); ++k) sc.keptW[k] = sc.endBodies[sc.mark[sc.jointBodies[k]]].w;
+  }
+  // What ProjectJoints' displacement, which moves no body's momentum, added to a free
+  // island's angular momentum (the end's projection keeps it, at the corrected poses): each
+  // centre's shift across its momentum, each body's own spin turned with it. EndStiffness
+  // takes it back.
+  RVec3 projected = RVec3::Zero();
+  if (FreeJointIsland(bodies, island, sc)) {
+    for (std::uint32_t i : sc.jointBodies) {
+      const RJointPose& p = m_jointPoses[i];
+      if (p.x == p.xPredicted && p.q.coeffs() == p.qPredicted.coeffs()) continue;
+      const RIslandScratch::REndBody& e = sc.endBodies[sc.mark[i]];
+      const RMat3 R = p.q.toRotationMatrix();
+      const RVec3 spin = R * bodies[i].m_invI_B.cwiseInverse().cwiseProduct(R.transpose() * e.w);
+      projected += (p.x - p.xPredicted).cross(RVec3(e.v / e.invM)) + spin - (p.qPredicted * p.q.conjugate()) * spin;
+    }
+  }
   for (int t = 0; t < nj; ++t) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[j0 + t]];
     const RJoint& J = bodies.joints[sj.joint];
@@ -240,6 +262,7 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
       break;
     }
   }
+  if (sc.stiffened || !projected.isZero(0)) EndStiffness(bodies, island, sc, sc.keptW.data(), projected);
   ClearJointMarks(sc);
   // The patches' friction, as the manifolds' end friction (at the centroid, moved with the
   // lighter body as ReportIsland moves a contact's end impulse), and in their report.

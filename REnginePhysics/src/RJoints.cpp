@@ -12,12 +12,15 @@
 // the constraint to the Newton tolerance), and both impulses are real ones acting at the
 // anchors, so momentum and angular momentum are conserved as in a collision.
 //
-// The Newton rounds use the rows of the start of the step. Where the step turns a joint's
-// arm far (a light link between two heavily loaded joints turns fast under any imbalance
-// of their pulls: its mode under the tension is faster than the step resolves), the
-// rounds stop converging: the plain velocity constraint takes over, and the error is taken
-// out of the positions alone (ProjectJoints, RJointEnd.cpp: projections with the rows
-// built again at each corrected pose, as Jolt's and Box2D's position passes do).
+// The Newton rounds use the rows of the start of the step, so a joint's pull acts along its
+// arm as it was: a light link between two heavily loaded joints turns under any imbalance of
+// their pulls by a mode faster than the step, which the rounds amplify. Where an arm's mode
+// is faster than the step follows, or the rounds stop converging, the island is solved
+// stiffened (RJointStiffness.cpp: each pull added to its body's inertia, the implicit
+// treatment of the arm's turn). Where even those rounds stop converging, the plain velocity
+// constraint takes over, and the error is taken out of the positions alone (ProjectJoints,
+// RJointEnd.cpp: projections with the rows built again at each corrected pose, as Jolt's and
+// Box2D's position passes do).
 //
 // The equality rows of an island are solved exactly together, as one block (a skyline
 // Cholesky of their matrix, a chain's banded), inside each pass of the sequential-impulse
@@ -177,7 +180,9 @@ void RWorldStep::SetJointTargets(std::size_t island, RScalar dt, RIslandScratch&
 // The rounds (see the top of the file): after the island's passes, the end poses predicted
 // again, and while some joint would end the step off its constraint, new targets and the
 // passes (and the island's direct solves: passes) again, as long as each round at least
-// halves the worst error.
+// halves the worst error. An island whose arms' modes the step cannot follow is solved
+// stiffened (RJointStiffness.cpp): its equality impulses solved again from nothing, the
+// rounds again.
 void RWorldStep::JointRounds(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
   // (Not a structured binding: the lambda below captures them, which C++17 forbids.)
   const std::uint32_t first = m_blockIslands[island].first, last = m_blockIslands[island].second;
@@ -189,37 +194,62 @@ void RWorldStep::JointRounds(const RStepBodies& bodies, std::size_t island, RSca
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   const std::size_t count = std::size_t(j1 - j0) * kRows;
-  RScalar previous = std::numeric_limits<RScalar>::infinity();
-  for (int round = 0;; ++round) {
-    const RScalar worst = PredictJoints(bodies, island, dt, sc);
-    if (worst == 0) return;
-    if (!(worst < RScalar(0.5) * previous)) {
-      // Not converging: the velocities of a diverging round are not physics. The plain
-      // velocity constraint instead (no relative velocity along an equality row, a limit
-      // closing no faster than its gap allows), which is always well posed; ProjectJoints
-      // takes the error it leaves out of the positions. Its equality rows solved from
-      // nothing: the rounds' impulses hold what they asked of the near-singular directions
-      // (a nearly flat mesh of joints, whose tension grows without bound as it flattens),
-      // which the plain constraint would leave in place, moving nothing now and flinging
-      // the bodies as the next step's warm start (a 6 x 6 mesh tumbling at 1 rad/s was
-      // asked 1e3 m of correction there, the step after a round 1e-5 m off).
-      for (std::size_t i = 0; i < count; ++i) {
-        RJointRow& r = rows[i];
-        if (r.kind == Kind::kEquality) {
-          r.target = 0;
-          if (r.lambda != 0) RowPush(r, -r.lambda, m_solverBodies.data()), r.lambda = 0;
-        }
-        if (r.kind == Kind::kLimit) r.target = -sc.startC[i] / dt;
-      }
+  enum class RRounds { kMet, kLeft, kDiverged };
+  auto rounds = [&] {
+    RScalar previous = std::numeric_limits<RScalar>::infinity();
+    for (int round = 0;; ++round) {
+      const RScalar worst = PredictJoints(bodies, island, dt, sc);
+      if (worst == 0) return RRounds::kMet;
+      if (!(worst < RScalar(0.5) * previous)) return RRounds::kDiverged;
+      if (round == kJointRounds) return RRounds::kLeft;
+      previous = worst;
+      SetJointTargets(island, dt, sc);
       passes();
-      PredictJoints(bodies, island, dt, sc);
-      break;
     }
-    if (round == kJointRounds) break;
-    previous = worst;
-    SetJointTargets(island, dt, sc);
+  };
+  // The equality rows' impulses taken out (with the rows' masses they were given with).
+  auto clearEquality = [&] {
+    for (std::size_t i = 0; i < count; ++i) {
+      RJointRow& r = rows[i];
+      if (r.kind == Kind::kEquality && r.lambda != 0) RowPush(r, -r.lambda, m_solverBodies.data()), r.lambda = 0;
+    }
+  };
+  // Rounds as they are while the step follows the arms' modes; else, or when they diverge,
+  // stiffened from nothing.
+  RRounds outcome = RRounds::kDiverged;
+  if (!(JointStiffness(bodies, island, dt, sc) > kUnresolved)) {
+    outcome = rounds();
+    if (outcome != RRounds::kDiverged) {
+      for (std::uint32_t i : sc.jointBodies) sc.stiffness[i] = 0;
+      if (outcome == RRounds::kMet) return;
+    }
+  }
+  if (outcome == RRounds::kDiverged) {
+    clearEquality();
+    Stiffen(island, sc);
+    outcome = rounds();
+    if (outcome == RRounds::kDiverged) clearEquality();
+  }
+  if (outcome == RRounds::kDiverged) {
+    // Not converging: the velocities of a diverging round are not physics. The plain
+    // velocity constraint instead (no relative velocity along an equality row, a limit
+    // closing no faster than its gap allows), which is always well posed; ProjectJoints
+    // takes the error it leaves out of the positions. Its equality rows solved from
+    // nothing: the rounds' impulses hold what they asked of the near-singular directions
+    // (a nearly flat mesh of joints, whose tension grows without bound as it flattens),
+    // which the plain constraint would leave in place, moving nothing now and flinging
+    // the bodies as the next step's warm start (a 6 x 6 mesh tumbling at 1 rad/s was
+    // asked 1e3 m of correction there, the step after a round 1e-5 m off). Stiffened,
+    // as the rounds that could not follow the arms' modes are.
+    for (std::size_t i = 0; i < count; ++i) {
+      RJointRow& r = rows[i];
+      if (r.kind == Kind::kEquality) r.target = 0;
+      if (r.kind == Kind::kLimit) r.target = -sc.startC[i] / dt;
+    }
     passes();
   }
+  if (sc.stiffened) Unstiffen(bodies, island, sc);
+  PredictJoints(bodies, island, dt, sc);
   ProjectJoints(bodies, island, dt, sc);
 }
 

@@ -590,6 +590,13 @@ class RWorldStep {
       bool linLocked;
     };
     std::vector<REndBody> endBodies;
+    // The joints' geometric stiffness (RJointStiffness.cpp): per solver body, the rotational
+    // inertia added while an unresolved island is solved (kg m^2, 0 else); per joint body,
+    // its inverse inertia and spin kept meanwhile.
+    std::vector<RScalar> stiffness;
+    bool stiffened = false;
+    std::vector<RMat3> keptInvI;
+    std::vector<RVec3> keptW;
   };
   std::vector<RIslandScratch> m_islandScratch;
   bool SolveIslandDirect(RPhase phase, RIslandScratch& sc);
@@ -754,6 +761,21 @@ class RWorldStep {
   void BuildEndRows(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc, bool atEnd);
   void ClearJointMarks(RIslandScratch& sc);
   void IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool settled);
+  // The joints' geometric stiffness (RJointStiffness.cpp). JointStiffness fills sc.stiffness
+  // for the island's joint bodies and returns the largest (omega dt)^2 of their arms' modes;
+  // Stiffen solves with it from there on (rows' masses again); Unstiffen gives the bodies
+  // back their inertia, the motion the turn the solver gave them, and the island back what
+  // that took from its angular momentum; EndStiffness does the same at the end of the step,
+  // and takes back what the position projection added to a free island's.
+  RScalar JointStiffness(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc);
+  void Stiffen(std::size_t island, RIslandScratch& sc);
+  void Unstiffen(const RStepBodies& bodies, std::size_t island, RIslandScratch& sc);
+  void EndStiffness(const RStepBodies& bodies, std::size_t island, RIslandScratch& sc, const RVec3* wBefore,
+                    const RVec3& projected);
+  bool FreeJointIsland(const RStepBodies& bodies, std::size_t island, const RIslandScratch& sc) const;
+  // Above this (omega dt)^2 of an arm's mode an island's joints are solved stiffened
+  // (RJointStiffness.cpp); the rounds lose a chain's links past about 2.
+  static constexpr RScalar kUnresolved = 1;
   // A joint's tolerance (m or rad) near world point x: 1e-10, or a few ulps of x far from
   // the origin.
   static RScalar JointTolerance(const RVec3& x) {
