@@ -149,6 +149,23 @@ bool FactorSparse(const RJointRow* rows, const Body* bodies, RIslandScratch& sc,
       for (int q = p; q < 3; ++q) S.Add(base + 3 + p, base + 3 + q, -inertia(p, q));
     }
   }
+  // A forest: each joint (its rows consecutive, kRows apart) joins two sets (the immovable
+  // bodies one), never two already joined; a locked body's rows count as a loop.
+  sc.eqForest = sc.sparseLinks.empty();
+  if (sc.eqForest) {
+    sc.sparseSets.Reset(static_cast<std::size_t>(size) + 1);
+    std::uint32_t joint = kNone;
+    for (int i = 0; i < m && sc.eqForest; ++i) {
+      const RJointRow& r = rows[sc.eq[i]];
+      if (r.kind != Kind::kEquality) sc.eqForest = false;
+      if (sc.eq[i] / kRows == joint) continue;
+      joint = sc.eq[i] / kRows;
+      const std::uint32_t a = bodies[r.a].invM == 0 ? static_cast<std::uint32_t>(size) : mark[r.a];
+      const std::uint32_t b = bodies[r.b].invM == 0 ? static_cast<std::uint32_t>(size) : mark[r.b];
+      if (sc.sparseSets.Find(a) == sc.sparseSets.Find(b)) sc.eqForest = false;
+      sc.sparseSets.Union(a, b);
+    }
+  }
   std::sort(sc.sparseLinks.begin(), sc.sparseLinks.end());
   for (std::size_t u = 0; u < sc.sparseLinks.size();) {
     std::size_t v = u + 1;
@@ -259,6 +276,7 @@ inline void SolveGroup(const RJointRow* rows, RIslandScratch& sc, std::size_t g,
     }
   };
   solve(rhs);
+  if (sc.eqSparse && sc.eqForest) return;  // (no self-stress)
   RScalar* null = sc.eqNull.data() + e0;
   const RScalar ridge = sc.eqRidge[g];
   for (int i = 0; i < m; ++i) null[i] = ridge * rhs[i];

@@ -570,6 +570,10 @@ class RWorldStep {
     joints::RJointSparseSlot sparse;
     std::vector<std::uint32_t> sparseBodies;
     std::vector<std::uint64_t> sparseLinks;
+    // Whether the sparse block's rows are a forest of joints (equality rows only, no loop
+    // through bodies or the immovable ones): then they have no self-stress to take out.
+    bool eqForest = false;
+    RUnionFind sparseSets;
     std::vector<char> jointActive;  // per row: in the block (equality, pushing limit, motor within its force)
     bool blockStale = true;         // the block's factor is not the active set's
     std::vector<RScalar> eqL, eqInvDiag, eqRhs, eqNull, eqRidge;  // (eqRidge: per group)
