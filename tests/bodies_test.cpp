@@ -43,7 +43,7 @@ RBodyDef Sphere(const std::string& name, const RVec3& x, RScalar r = 0.25) {
 RBodyDef Ground() {
   RBodyDef g = Box("ground", RVec3(0, -0.5, 0));
   g.shape.halfExtents = RVec3(50, 0.5, 50);
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.mass.reset();
   return g;
 }

@@ -212,7 +212,7 @@ namespace {
 RRigidBody Ground(RScalar angle, RScalar friction) {
   RBodyDef g;
   g.name = "ground";
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.shape.type = RShapeType::kBox, g.shape.halfExtents = RVec3(200, 0.5, 5);
   g.q_WS = RQuat(Eigen::AngleAxisd(angle, RVec3::UnitZ()));
   g.position_W = g.q_WS * RVec3(0, -0.5, 0);
@@ -347,7 +347,7 @@ TEST(CapsuleRays, MeetTheSurfaceWhereItsSignedDistanceVanishes) {
 // (restitution 0), within the slop, in the step it arrives.
 TEST(CapsulePhysics, FastMissileDoesNotTunnelThroughAThinPlate) {
   RBodyDef plate;
-  plate.isStatic = true;
+  plate.kind = RBodyKind::kStatic;
   plate.shape.type = RShapeType::kBox, plate.shape.halfExtents = RVec3(0.025, 5, 5);
   plate.position_W = RVec3(1e6 + 100, 0, 0);  // far out, where space games are
   plate.restitution = 0;

@@ -221,7 +221,7 @@ namespace {
 RRigidBody Ground() {
   RBodyDef g;
   g.name = "ground";
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.shape = Box(RVec3(20, 0.5, 20));
   g.position_W = RVec3(0, -0.5, 0);
   g.friction = 0.6, g.restitution = 0;
@@ -265,7 +265,7 @@ TEST(CompoundPhysics, ABallFallsIntoTheHollowOfAU) {
   std::vector<RRigidBody> bodies{Ground()};
   RBodyDef u;
   u.shape = UShape();
-  u.isStatic = true;
+  u.kind = RBodyKind::kStatic;
   u.position_W = RVec3(0, 0.25, 0);
   bodies.emplace_back(u);
   RBodyDef ball;
@@ -434,7 +434,7 @@ TEST(CompoundPhysics, TwoChildrenHittingAWallBounceAsOneBody) {
       for (const int split : {1, 2}) {
         std::vector<RRigidBody> bodies;
         RBodyDef wall;
-        wall.isStatic = true;
+        wall.kind = RBodyKind::kStatic;
         wall.shape = Box(RVec3(0.05, 5, 5));
         wall.position_W = RVec3(5, 0, 0);
         wall.restitution = e, wall.friction = 0;

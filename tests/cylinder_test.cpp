@@ -322,7 +322,7 @@ namespace {
 RRigidBody Ground(RScalar angle, RScalar friction) {
   RBodyDef g;
   g.name = "ground";
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.shape.type = RShapeType::kBox, g.shape.halfExtents = RVec3(200, 0.5, 5);
   g.q_WS = RQuat(Eigen::AngleAxisd(angle, RVec3::UnitZ()));
   g.position_W = g.q_WS * RVec3(0, -0.5, 0);

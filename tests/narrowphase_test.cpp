@@ -200,7 +200,7 @@ TEST(Collision, FeatureIdsAreStableUnderSmallMotion) {
 // so the pair is reported (speculatively) with its positive separation.
 TEST(Collision, SpeculativeContactWithinTheStep) {
   RBodyDef plate = BoxDef(RVec3(2, 2, 0.05));
-  plate.isStatic = true;
+  plate.kind = RBodyKind::kStatic;
   RBodyDef bullet = SphereDef(0.1).At(RVec3(0, 0, 20));
   bullet.velocity_W = RVec3(0, 0, -2000);
   RContactManifold m;

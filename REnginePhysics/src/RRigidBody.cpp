@@ -141,15 +141,9 @@ RRigidBody::RRigidBody(const RBodyDef& def)
           "must be a finite number >= 0");
   Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
           "must be a finite number >= 0");
-  RBodyKind kind = def.isStatic ? RBodyKind::kStatic : RBodyKind::kDynamic;
-  if (def.kind) {
-    Require(*def.kind == RBodyKind::kDynamic || *def.kind == RBodyKind::kStatic ||
-                *def.kind == RBodyKind::kKinematic,
-            "kind", "must be dynamic, static or kinematic");
-    Require(!def.isStatic || *def.kind == RBodyKind::kStatic, "kind",
-            "contradicts static: true (give one, or both meaning the same)");
-    kind = *def.kind;
-  }
+  RBodyKind kind = def.kind;
+  Require(kind == RBodyKind::kDynamic || kind == RBodyKind::kStatic || kind == RBodyKind::kKinematic,
+          "kind", "must be dynamic, static or kinematic");
   Require(std::isfinite(def.linearDamping) && def.linearDamping >= 0, "linear_damping",
           "must be a finite number >= 0");
   Require(std::isfinite(def.angularDamping) && def.angularDamping >= 0, "angular_damping",

@@ -87,7 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (int k = 0; k < points; ++k) d.shape.points.push_back(s * in.Vec(-1, 1));
       }
     }
-    d.isStatic = in.Byte() % 4 == 0;
+    d.kind = in.Byte() % 4 == 0 ? RBodyKind::kStatic : RBodyKind::kDynamic;
     d.mass = in.Decades(-3, 4);
     d.position_W = in.Vec(-3, 3) + (in.Byte() % 8 == 0 ? RVec3::Constant(1e7) : RVec3::Zero());
     d.q_WS = in.Rotation();

@@ -38,7 +38,7 @@ struct BodyDef : RBodyDef {
   BodyDef& Restitution(RScalar e) { return restitution = e, *this; }
   BodyDef& Friction(RScalar mu) { return friction = mu, *this; }
   // Static: never moves, mass 0 whatever `mass` says.
-  BodyDef& Static() { return isStatic = true, *this; }
+  BodyDef& Static() { return kind = RBodyKind::kStatic, *this; }
   // Kinematic: moves with its velocities (Moving, Spinning) and nothing else, mass 0.
   BodyDef& Kinematic() { return kind = RBodyKind::kKinematic, *this; }
   BodyDef& Damping(RScalar linear, RScalar angular) {  // 1/s

@@ -45,7 +45,7 @@ std::vector<RBodyDef> PileDefs() {
   RBodyDef ground = BoxDef(RVec3(0, -0.5, 0));
   ground.name = "ground";
   ground.shape.halfExtents = RVec3(100, 0.5, 100);
-  ground.isStatic = true;
+  ground.kind = RBodyKind::kStatic;
   ground.mass.reset();
   defs.push_back(ground);
   for (int c = 0; c < 100; ++c) {

@@ -106,10 +106,8 @@ struct RBodyDef {
   RShape shape;
   // When set, the body is made from this shape and `shape` is not read: no hull is built.
   std::shared_ptr<const RPreparedShape> prepared;
-  // The body's kind. `isStatic = true` is the same as kind kStatic; giving isStatic = true
-  // with another kind is an error ("kind"). When unset: kStatic if isStatic, else kDynamic.
-  bool isStatic = false;
-  std::optional<RBodyKind> kind;
+  // How the body moves (RBodyKind). The scene format's `"static": true` is kind kStatic.
+  RBodyKind kind = RBodyKind::kDynamic;
   std::optional<RScalar> mass;  // kg; when unset, density * volume
   RScalar density = 1;          // kg/m^3, used when mass is unset
   RVec3 position_W = RVec3::Zero();           // origin of S in the world, m (|x_i| <= 1e15)
