@@ -89,6 +89,7 @@ TEST(CapsuleMass, MatchesQuadratureOfTheSolidOfRevolution) {
 
 TEST(CapsuleMass, BodyReportsItsAxisAsAPrincipalAxis) {
   RBodyDef def;
+  def.restitution = 0.5;
   def.shape.type = RShapeType::kCapsule, def.shape.radius = 0.5, def.shape.halfHeight = 1;
   def.mass = 2;
   const RRigidBody b(def);
@@ -102,6 +103,7 @@ TEST(CapsuleMass, BadSizesAreRefusedNamingTheField) {
            {0.5, -1, "shape.half_height"}, {0.5, 0, "shape.half_height"}, {NAN, 1, "shape.radius"},
            {1e-9, 1, "shape.radius"}, {0.5, INFINITY, "shape.half_height"}}) {
     RBodyDef def;
+    def.restitution = 0.5;
     def.shape.type = RShapeType::kCapsule, def.shape.radius = r, def.shape.halfHeight = h;
     try {
       RRigidBody b(def);
@@ -268,6 +270,7 @@ RScalar RollDownIncline(RBodyDef c, RScalar r, RRigidBody& out) {
 TEST(CapsulePhysics, RollsDownAnInclineAtTheRollingAcceleration) {
   const RScalar theta = kInclineTheta, g = kInclineG, T = kInclineT, r = 0.5;
   RBodyDef c;
+  c.restitution = 0.5;
   c.shape.type = RShapeType::kCapsule, c.shape.radius = r, c.shape.halfHeight = 1;
   c.q_WS = RQuat(Eigen::AngleAxisd(kPi / 2, RVec3::UnitX()));  // axis along z, across the slope
   RRigidBody body(c);
@@ -370,6 +373,7 @@ TEST(CapsulePhysics, FastMissileDoesNotTunnelThroughAThinPlate) {
 TEST(CapsulePhysics, BallRollsDownTheSameInclineAtFiveSeventhsOfGSinTheta) {
   const RScalar r = 0.5;
   RBodyDef c;
+  c.restitution = 0.5;
   c.shape.type = RShapeType::kSphere, c.shape.radius = r;
   RRigidBody body(c);
   const RScalar s = RollDownIncline(c, r, body);

@@ -154,6 +154,7 @@ TEST(Collision, VertexContactIsOnePoint) {
 // deepest point and span the patch.
 TEST(Collision, ManifoldReducedToFourKeepsDeepestAndArea) {
   RBodyDef prism;
+  prism.restitution = 0.5;
   prism.name = "prism";
   prism.shape.type = RShapeType::kHull;
   for (int k = 0; k < 6; ++k) {

@@ -61,6 +61,7 @@ TEST(SpaceGame, AMissileSpawnedInsideItsLauncherNeverTouchesIt) {
   ASSERT_TRUE(missile.IsValid());
 
   RBodyDef control;
+  control.restitution = 0.5;
   control.prepared = world.Shapes().missile;
   control.mass = 200;
   control.responds = false;

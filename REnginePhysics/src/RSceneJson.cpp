@@ -430,7 +430,7 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   def.q_WS = body.Get("orientation", def.q_WS, ReadOrientation);
   def.velocity_W = body.Get("velocity", def.velocity_W, ReadVec3);
   def.angularVelocity_W = body.Get("angular_velocity", def.angularVelocity_W, ReadVec3);
-  def.restitution = body.Get("restitution", def.restitution, ReadUnitInterval);
+  def.restitution = body.Get("restitution", RScene::kDefaultRestitution, ReadUnitInterval);
   def.friction = body.Get("friction", def.friction, ReadNonNegative);
   def.responds = body.Get("responds", def.responds, ReadBool);
   def.category = body.Get("category", def.category, ReadBits);

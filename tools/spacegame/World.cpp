@@ -51,6 +51,7 @@ void SpaceWorld::BuildScene() {
   station.kind = RBodyKind::kKinematic;
   station.position_W = O;
   station.angularVelocity_W = RVec3(0, m_config.stationSpin, 0);
+  station.restitution = 0.5;  // the station's hull and bay give back half an approach speed
   station.id = NextId();
   station.category = category::kStation;
   station.userData = PackUserData(Role::kStation);
@@ -60,6 +61,7 @@ void SpaceWorld::BuildScene() {
   bay.prepared = m_shapes.bay;
   bay.kind = RBodyKind::kStatic;
   bay.position_W = O + RVec3(0, GameShapes::kBayY, 0);
+  bay.restitution = 0.5;
   bay.id = NextId();
   bay.category = category::kStation;
   bay.userData = PackUserData(Role::kBay);

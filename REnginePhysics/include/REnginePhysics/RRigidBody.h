@@ -114,7 +114,11 @@ struct RBodyDef {
   RQuat q_WS = RQuat::Identity();             // orientation of S in the world
   RVec3 velocity_W = RVec3::Zero();           // centre-of-mass velocity, world, m/s
   RVec3 angularVelocity_W = RVec3::Zero();    // world frame, rad/s
-  RScalar restitution = RScalar(0.5);         // coefficient of restitution, [0, 1]
+  // Coefficient of restitution, [0, 1]: the fraction of the approach speed a collision gives
+  // back (RWorldSettings::restitutionCombine makes a pair's from the two bodies'). 0 by
+  // default, as in Jolt and Box2D: a body bounces only where the game says so. (A scene file
+  // body without "restitution" has 0.5: RScene::kDefaultRestitution.)
+  RScalar restitution = 0;
   RScalar friction = RScalar(0.5);            // Coulomb coefficient, >= 0
   bool responds = true;  // false: collisions are reported, not resolved (missiles, sensors)
   // Drag rates c, 1/s, finite and >= 0 ("linear_damping", "angular_damping"): with no other

@@ -91,6 +91,11 @@ struct RSceneRay {
 };
 
 struct RScene {
+  // A body's restitution when its entry gives none: the scene format's contract
+  // (docs/scene-format.md), kept apart from RBodyDef's own default of 0 so that a scene file
+  // means what it always has.
+  static constexpr RScalar kDefaultRestitution = 0.5;
+
   RWorldSettings settings;
   RScalar dt = RScalar(1) / 60;  // s
   std::uint64_t steps = 600;
