@@ -29,7 +29,7 @@ RBodyHandle RBodies::Add(const RBodyDef& def) { return Add(RRigidBody(def)); }
 
 RBodyHandle RBodies::Add(RRigidBody body) {
   if (m_bodies.size() >= kMaxBodies) {
-    throw std::length_error("RBodies::Add: the container holds its maximum of 2^31 bodies");
+    throw RError("bodies", "hold their maximum of 2^31", "RBodies::Add: the container holds its maximum of 2^31 bodies");
   }
   RBodyHandle h;
   if (!m_free.empty()) {

@@ -78,19 +78,21 @@ void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
 void RIntegrator::PrepareJobs() {
   RWorldStep& w = *m_w;
   if (w.m_settings.threads < 0 || w.m_settings.threads > RWorldSettings::kMaxThreads) {
-    throw std::invalid_argument("RIntegrator::Update: RWorldSettings::threads must be 0 (what the "
-                                "machine has) to " + std::to_string(RWorldSettings::kMaxThreads) + " (got " +
-                                std::to_string(w.m_settings.threads) + ")");
+    const std::string problem = "must be 0 (what the machine has) to " +
+                                std::to_string(RWorldSettings::kMaxThreads) + " (got " +
+                                std::to_string(w.m_settings.threads) + ")";
+    throw RError("threads", problem, "RIntegrator::Update: RWorldSettings::threads " + problem);
   }
   if (w.m_settings.solverIterations < 1 || w.m_settings.solverIterations > RWorldSettings::kMaxSolverIterations) {
-    throw std::invalid_argument("RIntegrator::Update: RWorldSettings::solverIterations must be 1 to " +
-                                std::to_string(RWorldSettings::kMaxSolverIterations) + " (got " +
-                                std::to_string(w.m_settings.solverIterations) + ")");
+    const std::string problem = "must be 1 to " + std::to_string(RWorldSettings::kMaxSolverIterations) +
+                                " (got " + std::to_string(w.m_settings.solverIterations) + ")";
+    throw RError("solverIterations", problem, "RIntegrator::Update: RWorldSettings::solverIterations " + problem);
   }
   for (const RCombineMode mode : {w.m_settings.restitutionCombine, w.m_settings.frictionCombine}) {
     if (static_cast<std::uint8_t>(mode) > static_cast<std::uint8_t>(RCombineMode::kGeometric)) {
-      throw std::invalid_argument("RIntegrator::Update: RWorldSettings::restitutionCombine and frictionCombine "
-                                  "must be an RCombineMode (got " + std::to_string(static_cast<int>(mode)) + ")");
+      const std::string problem = "must be an RCombineMode (got " + std::to_string(static_cast<int>(mode)) + ")";
+      throw RError(mode == w.m_settings.restitutionCombine ? "restitutionCombine" : "frictionCombine", problem,
+                   "RIntegrator::Update: RWorldSettings::restitutionCombine and frictionCombine " + problem);
     }
   }
   RJobSystem* jobs = m_gameJobs;
@@ -119,7 +121,8 @@ void CheckDt(RScalar dt) {
   if (!(std::isfinite(dt) && dt > 0 && dt <= RIntegrator::kMaxDt)) {
     char text[96];
     std::snprintf(text, sizeof text, "at most %g s (got %.17g)", RIntegrator::kMaxDt, dt);
-    throw std::invalid_argument(std::string("RIntegrator::Update: dt must be finite, > 0 and ") + text);
+    const std::string problem = std::string("must be finite, > 0 and ") + text;
+    throw RError("dt", problem, "RIntegrator::Update: dt " + problem);
   }
 }
 }  // namespace

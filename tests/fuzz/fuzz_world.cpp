@@ -2,7 +2,7 @@
 // hulls, static or dynamic, with fuzzed masses, velocities, gravity and step), with fuzzed
 // API calls between the steps (forces, torques, impulses, velocities, poses; any bit
 // pattern, so NaN and infinities too). Invariants: invalid arguments are refused with an
-// exception derived from std::invalid_argument; after every step each body is finite, or
+// exception derived from RError; after every step each body is finite, or
 // listed by NonFiniteInLastStep() (and then put back, finite); nothing crashes.
 #include <REnginePhysics/RIntegrator.h>
 
@@ -130,7 +130,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             b.SetShapePose(x, RQuat(qw, qx, qy, qz));
           }
         }
-      } catch (const std::invalid_argument&) {
+      } catch (const RError&) {
       }
     }
     integrator.Update(bodies, dt);

@@ -20,6 +20,8 @@
 // touched it), and every other pair keeps its warm start.
 #pragma once
 
+#include <REnginePhysics/RError.h>
+
 #include <REnginePhysics/RAbi.h>
 #include <REnginePhysics/RBodyHandle.h>
 #include <REnginePhysics/RJoint.h>
@@ -47,10 +49,11 @@ class RBodiesStamp {
   std::uint64_t m_value;
 };
 
-// A handle that names no body (never issued, or its body was removed).
-class RHandleError : public std::out_of_range {
+// A handle that names no body or joint (never issued, or its body was removed). Field() is
+// "handle"; what() says which handle and which call.
+class RHandleError : public RError {
  public:
-  explicit RHandleError(const std::string& what) : std::out_of_range(what) {}
+  explicit RHandleError(const std::string& what) : RError("handle", what, what) {}
 };
 
 class RBodies {
@@ -108,7 +111,7 @@ class RBodies {
   void Clear();
 
   // Joints (RJoint.h). AddJoint checks the definition, its type included (throws RJointError,
-  // a std::invalid_argument, naming the field; RHandleError for a body that is not here; and
+  // an RError, naming the field; RHandleError for a body that is not here; and
   // adds nothing), fixes the anchors and axes in the bodies' frames as they stand, and
   // wakes both bodies. A joint whose body is
   // disabled does nothing until it is enabled again; removing a body removes its joints.

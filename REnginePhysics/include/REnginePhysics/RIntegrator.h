@@ -42,7 +42,7 @@ struct RWorldSettings {
   RCombineMode frictionCombine = RCombineMode::kGeometric;
   // Solver passes per step (contacts and joints), 1 to kMaxSolverIterations: past a few
   // hundred the passes change nothing a game can see, and a step must stay bounded in time.
-  // Update throws std::invalid_argument outside that range, and the scene and state loaders
+  // Update throws RError ("solverIterations") outside that range, and the scene and state loaders
   // refuse it.
   int solverIterations = 10;
   static constexpr int kMaxSolverIterations = 1000;
@@ -105,7 +105,7 @@ struct RWorldSettings {
   // Threads the step runs on, the caller's included: 0 is what the machine has
   // (std::thread::hardware_concurrency), 1 runs everything on the caller. The results are
   // bit-identical for every value (see RJobSystem.h). Ignored while a job system of the
-  // game's is set (RIntegrator::SetJobSystem). Update throws std::invalid_argument for a
+  // game's is set (RIntegrator::SetJobSystem). Update throws RError ("threads") for a
   // value below 0 or above kMaxThreads.
   int threads = 0;
   static constexpr int kMaxThreads = 1024;
@@ -225,7 +225,7 @@ class RIntegrator {
   static constexpr RScalar kMaxDt = 1;
 
   // Advances every enabled body by dt seconds. dt must be finite, > 0 and at most kMaxDt:
-  // anything else throws std::invalid_argument before anything moves (a negative dt would
+  // anything else throws RError ("dt") before anything moves (a negative dt would
   // run time backwards, zero would divide by zero). Contact memory and sleeping islands are keyed by
   // handle (see RBodies): adding, removing or disabling bodies between calls forgets nothing
   // else and wakes only what they touched.

@@ -86,9 +86,9 @@ struct RJointDef {
 };
 
 // A joint definition that cannot make a joint: which field and why.
-class RJointError : public RFieldError {
+class RJointError : public RError {
  public:
-  using RFieldError::RFieldError;
+  using RError::RError;
 };
 
 // A joint as RBodies holds it: its definition, the anchors and axes fixed in each body's

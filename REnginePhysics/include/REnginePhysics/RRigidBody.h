@@ -11,6 +11,7 @@
 #include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RError.h>
 #include <REnginePhysics/RFreeRotation.h>
 #include <REnginePhysics/RShape.h>
 #include <REnginePhysics/RTriangleMesh.h>
@@ -38,25 +39,10 @@ struct RWorldForm {
   RScalar sphereRadius = 0;
 };
 
-// Input refused at the door: which field or argument (named as the scene format or the API
-// names it) and what is wrong with it. The engine's errors of this kind derive from it.
-class RFieldError : public std::invalid_argument {
- public:
-  RFieldError(std::string field, std::string problem)
-      : std::invalid_argument(field + ": " + problem),
-        m_field(std::move(field)),
-        m_problem(std::move(problem)) {}
-  const std::string& Field() const { return m_field; }
-  const std::string& Problem() const { return m_problem; }
-
- private:
-  std::string m_field, m_problem;
-};
-
 // A body definition that cannot make a body: which field (e.g. "shape.radius") and why.
-class RBodyError : public RFieldError {
+class RBodyError : public RError {
  public:
-  using RFieldError::RFieldError;
+  using RError::RError;
 };
 
 // A collision shape prepared once and shared, immutable, by every body made from it: the
