@@ -3,6 +3,7 @@
 
 #include <REnginePhysics/RIntegrator.h>  // NextCacheStamp
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -131,6 +132,31 @@ void RBodies::Reserve(std::size_t n) {
   m_handles.reserve(n);
   m_generation.reserve(n);
   m_denseOfSlot.reserve(n);
+}
+
+void RBodies::IgnoreCollisions(RBodyHandle a, RBodyHandle b) {
+  RRigidBody& bodyA = m_bodies[DenseIndex(a)];
+  RRigidBody& bodyB = m_bodies[DenseIndex(b)];
+  if (a == b) throw RBodyError("ignore", "a body cannot ignore itself");
+  for (RRigidBody* body : {&bodyA, &bodyB}) {
+    if (body->m_id != RRigidBody::kNoId) continue;
+    // The least id no body here holds: ids stay small, and a game's own ids are left alone.
+    std::vector<std::uint32_t> taken;
+    taken.reserve(m_bodies.size());
+    for (const RRigidBody& other : m_bodies) {
+      if (other.m_id != RRigidBody::kNoId) taken.push_back(other.m_id);
+    }
+    std::sort(taken.begin(), taken.end());
+    std::uint32_t id = 0;
+    for (std::uint32_t t : taken) {
+      if (t > id) break;
+      if (t == id) ++id;
+    }
+    if (id == RRigidBody::kNoId) throw RError("id", "every id is taken");
+    body->m_id = id;
+  }
+  // Waking a (IgnoreCollisionsWith) is enough: a sleeping pair that touches is one island.
+  bodyA.IgnoreCollisionsWith(bodyB.m_id);
 }
 
 void RBodies::Clear() {

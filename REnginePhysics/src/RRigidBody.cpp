@@ -131,9 +131,11 @@ RRigidBody::RRigidBody(const RBodyDef& def)
       m_restitution(def.restitution),
       m_friction(def.friction),
       m_name(def.name),
-      m_id(def.id),
+      m_id(def.id.value_or(kNoId)),
       m_ignore(def.ignore),
       m_userData(def.userData) {
+  Require(!def.id || *def.id != kNoId, "id", "must be 0 to 2^32 - 2");
+  for (std::uint32_t other : m_ignore) Require(other != kNoId, "ignore", "ids must be 0 to 2^32 - 2");
   std::sort(m_ignore.begin(), m_ignore.end());
   m_ignore.erase(std::unique(m_ignore.begin(), m_ignore.end()), m_ignore.end());
   m_ignores = !m_ignore.empty();
@@ -335,6 +337,7 @@ bool RRigidBody::ShouldCheckCollision(const RRigidBody& other) const {
 }
 
 void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
+  Require(otherId != kNoId, "ignore", "ids must be 0 to 2^32 - 2");
   const auto it = std::lower_bound(m_ignore.begin(), m_ignore.end(), otherId);
   if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
   m_ignores = true;

@@ -165,7 +165,8 @@ RRigidBody RStateAccess::ReadBody(RReader& r, const RShapeCatalog& shapes, std::
   const RVec3 inertia = r.Vec3("inertia");
   def.restitution = r.F64("restitution");
   def.friction = r.F64("friction");
-  def.id = r.U32("id");
+  const std::uint32_t id = r.U32("id");
+  if (id != 0xFFFFFFFFu) def.id = id;  // 2^32 - 1: the body has no id
   def.ignore.resize(r.Count("ignore", 4));
   for (std::size_t k = 0; k < def.ignore.size(); ++k) {
     def.ignore[k] = r.U32("ignore");

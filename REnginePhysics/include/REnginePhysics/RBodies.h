@@ -98,6 +98,15 @@ class RBodies {
   RRigidBody& At(std::size_t dense) { return m_bodies.at(dense); }
   const RRigidBody& At(std::size_t dense) const { return m_bodies.at(dense); }
   RBodyHandle HandleAt(std::size_t dense) const { return m_handles.at(dense); }
+
+  // a and b never collide with each other from now on (a missile and its launcher), whatever
+  // their ids: a body without an id (RBodyDef::id unset) is first given one unused in this
+  // container (a search over the bodies, once per body), then a's ignore list takes b's id
+  // (RRigidBody::IgnoreCollisionsWith). A body that shares its id with others on purpose
+  // brings its group along. Wakes a as IgnoreCollisionsWith does. Throws RHandleError
+  // for a stale handle, RBodyError ("ignore") when a and b are the same body, and RError
+  // ("id") when every id is taken.
+  void IgnoreCollisions(RBodyHandle a, RBodyHandle b);
   // The enabled bodies, as contiguous storage (what the integrator steps).
   RRigidBody* begin() { return m_bodies.data(); }
   RRigidBody* end() { return m_bodies.data() + m_enabled; }

@@ -116,9 +116,15 @@ struct RBodyDef {
   RScalar gravityScale = 1;
   // World axes the body can neither move along nor turn about (see RBodyLocks).
   RBodyLocks locks;
-  // Game-chosen id, used by ignore lists (a scene uses the body's index in its list).
-  std::uint32_t id = 0;
-  // Ids of bodies this one never collides with (a missile and its launcher).
+  // The body's name in ignore lists, 0 to 2^32 - 2 (a scene gives each body its index in
+  // its list). Unset by default: the body has no id, and no ignore list names it, so an
+  // ignore list never matches bodies the game did not mean (ids that all default to one
+  // value would make `ignore = {launcherId}` ignore everything). Several bodies may share
+  // an id on purpose (a group ignored as one). In an RBodies, RBodies::IgnoreCollisions
+  // takes handles instead and gives a body without an id one of its own.
+  std::optional<std::uint32_t> id;
+  // Ids of bodies this one never collides with (a missile and its launcher), each 0 to
+  // 2^32 - 2.
   std::vector<std::uint32_t> ignore;
   // Collision filter bits, Box2D's rule: two bodies are tested against each other only if
   // (a.category & b.mask) != 0 and (b.category & a.mask) != 0 (both directions agree), and
@@ -161,12 +167,17 @@ class alignas(64) RRigidBody {
   RScalar Restitution() const { return m_restitution; }
   RScalar Friction() const { return m_friction; }
 
-  std::uint32_t Id() const { return m_id; }
+  // RBodyDef::id; unset for a body without one.
+  std::optional<std::uint32_t> Id() const {
+    return m_id == kNoId ? std::nullopt : std::optional<std::uint32_t>(m_id);
+  }
   // False when this body must never be tested against `other`: their category and mask bits
   // disagree in either direction (RBodyDef::category), or other's id is in this body's
   // ignore list or this one's in other's. Static pairs are rejected by the integrator before
   // this is asked.
   bool ShouldCheckCollision(const RRigidBody& other) const;
+  // Never collide with the bodies whose id is otherId (0 to 2^32 - 2; RBodyError "ignore"
+  // otherwise). In an RBodies, RBodies::IgnoreCollisions(a, b) does this by handle.
   void IgnoreCollisionsWith(std::uint32_t otherId);
   // Collision filter bits (RBodyDef::category, mask). Setting them wakes the body, and a
   // static or kinematic body wakes the sleepers whose boxes touch it, as IgnoreCollisionsWith
@@ -395,7 +406,10 @@ class alignas(64) RRigidBody {
   RBodyLocks m_locks;
   RVec3 m_wakeFromMin_W = RVec3::Zero(), m_wakeFromMax_W = RVec3::Zero();
   std::string m_name;
-  std::uint32_t m_id = 0;
+  // kNoId: no id (RBodyDef::id unset). No ignore list holds it, so the pair loop's search
+  // needs no test of its own; saved states store it as it is.
+  static constexpr std::uint32_t kNoId = 0xFFFFFFFFu;
+  std::uint32_t m_id = kNoId;
   std::vector<std::uint32_t> m_ignore;  // sorted
   std::uintptr_t m_userData = 0;
   std::shared_ptr<const RPreparedShape> m_prepared;  // never null
