@@ -17,6 +17,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace REngine {
 
@@ -72,6 +73,36 @@ const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
 }
 const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
 const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_events; }
+
+RBodyContactEvents RIntegrator::EventsOf(RBodyHandle body) const {
+  const RWorldStep& w = *m_w;
+  // (Empty when the index does not describe m_events: a load cleared them.)
+  if (body.index + std::size_t(1) >= w.m_eventsBySlot.size() || w.m_eventsByBody.size() != 2 * w.m_events.size()) {
+    return {};
+  }
+  const std::uint32_t* first = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index];
+  const std::uint32_t* last = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index + 1];
+  const auto names = [&](std::uint32_t k) {
+    const RContactEvent& e = w.m_events[k];
+    return e.handleA == body || e.handleB == body;
+  };
+  first = std::find_if(first, last, names);
+  return {w.m_events.data(), first, std::find_if_not(first, last, names)};
+}
+
+RContactEventSpan RIntegrator::EventsBetween(RBodyHandle a, RBodyHandle b) const {
+  const std::vector<RContactEvent>& events = m_w->m_events;
+  if (b.index < a.index) std::swap(a, b);  // handleA has the lower slot
+  const auto before = [](const RContactEvent& e, std::pair<RBodyHandle, RBodyHandle> key) {
+    return e.handleA < key.first || (e.handleA == key.first && e.handleB < key.second);
+  };
+  const auto after = [](std::pair<RBodyHandle, RBodyHandle> key, const RContactEvent& e) {
+    return key.first < e.handleA || (key.first == e.handleA && key.second < e.handleB);
+  };
+  const auto first = std::lower_bound(events.begin(), events.end(), std::make_pair(a, b), before);
+  const auto last = std::upper_bound(first, events.end(), std::make_pair(a, b), after);
+  return {events.data() + (first - events.begin()), events.data() + (last - events.begin())};
+}
 const RPairStats& RIntegrator::PairStats() const { return m_w->m_pairStats; }
 void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
 

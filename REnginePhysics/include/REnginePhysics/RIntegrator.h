@@ -258,6 +258,13 @@ class RIntegrator {
   // each means), sorted by handleA, handleB, then begin, persist, end. Empty when
   // RWorldSettings::contactEvents is off.
   const std::vector<RContactEvent>& Events() const;
+  // The last Update's events that name `body`, as handleA or handleB, in the order of
+  // Events() (a handle whose body was removed names its end events). Update indexes the
+  // events by body as it finds them, O(events + bodies), so a call is a lookup.
+  RBodyContactEvents EventsOf(RBodyHandle body) const;
+  // The last Update's events between a and b (either order): begin, persist or end, or a
+  // begin then an end (RContactEvents.h). A binary search in Events().
+  RContactEventSpan EventsBetween(RBodyHandle a, RBodyHandle b) const;
   const RPairStats& PairStats() const;
   // Asked only for pairs whose bounding boxes, grown by the step's motion, overlap.
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose
