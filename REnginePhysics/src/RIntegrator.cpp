@@ -161,17 +161,17 @@ void CheckDt(RScalar dt) {
 void RIntegrator::Update(RBodies& bodies, RScalar dt) {
   CheckDt(dt);
   RStepBodies view;
-  view.data = bodies.m_bodies.data();
+  view.data = bodies.m_slots.items.data();
   view.count = bodies.m_enabled;
-  view.handles = bodies.m_handles.data();
-  view.denseOfSlot = bodies.m_denseOfSlot.data();
-  view.slotCount = bodies.m_denseOfSlot.size();
+  view.handles = bodies.m_slots.handles.data();
+  view.denseOfSlot = bodies.m_slots.denseOfSlot.data();
+  view.slotCount = bodies.m_slots.denseOfSlot.size();
   view.byIndex = false;
   view.wakeIslands = &bodies.m_wakeIslands;
   view.wakeAll = &bodies.m_wakeAll;
   view.wakeBoxes = &bodies.m_wakeBoxes;
-  view.joints = bodies.m_joints.data();
-  view.jointCount = bodies.m_joints.size();
+  view.joints = bodies.m_jointSlots.items.data();
+  view.jointCount = bodies.m_jointSlots.items.size();
   view.noCollidePairs = bodies.m_noCollide.data();
   view.noCollideCount = bodies.m_noCollide.size();
   // Queries' caches of the poses (RQueries) see the bodies moved, also when the step throws
