@@ -22,6 +22,7 @@ const RVec3 kGravity_W(0, -9.81, 0);
 
 RBodyDef Box(const std::string& name, const RVec3& x, RScalar half = 0.5) {
   RBodyDef d;
+  d.restitution = 0.5;
   d.name = name;
   d.shape.type = RShapeType::kBox;
   d.shape.halfExtents = RVec3::Constant(half);
@@ -32,6 +33,7 @@ RBodyDef Box(const std::string& name, const RVec3& x, RScalar half = 0.5) {
 
 RBodyDef Sphere(const std::string& name, const RVec3& x, RScalar r = 0.25) {
   RBodyDef d;
+  d.restitution = 0.5;
   d.name = name;
   d.shape.type = RShapeType::kSphere;
   d.shape.radius = r;
@@ -43,7 +45,7 @@ RBodyDef Sphere(const std::string& name, const RVec3& x, RScalar r = 0.25) {
 RBodyDef Ground() {
   RBodyDef g = Box("ground", RVec3(0, -0.5, 0));
   g.shape.halfExtents = RVec3(50, 0.5, 50);
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.mass.reset();
   return g;
 }
@@ -301,6 +303,7 @@ TEST(Bodies, PreparedShapesAreSharedNotRebuilt) {
   hull.points = {RVec3(0, 0, 0), RVec3(2, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 3), RVec3(1, 1, 1)};
   const std::shared_ptr<const RPreparedShape> prepared = PrepareShape(hull);
   RBodyDef own;
+  own.restitution = 0.5;
   own.shape = hull;
   own.density = 7;
   own.position_W = RVec3(1, 2, 3);

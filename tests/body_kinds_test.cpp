@@ -472,14 +472,10 @@ TEST(BodyKindsInput, InvalidFieldsThrowNamingTheField) {
       {"angular_damping", SphereDef(1).Damping(0, HUGE_VAL)},
       {"gravity_scale", SphereDef(1).GravityScale(nan)},
       {"gravity_scale", SphereDef(1).GravityScale(-HUGE_VAL)},
-      {"kind", SphereDef(1).Static().Kinematic()},
   };
   BodyDef unknown = SphereDef(1);
   unknown.kind = static_cast<RBodyKind>(7);
   cases.push_back({"kind", unknown});
-  BodyDef dynamicStatic = SphereDef(1).Static();
-  dynamicStatic.kind = RBodyKind::kDynamic;
-  cases.push_back({"kind", dynamicStatic});
   for (const Case& c : cases) {
     try {
       RRigidBody b(c.def);
@@ -488,10 +484,6 @@ TEST(BodyKindsInput, InvalidFieldsThrowNamingTheField) {
       EXPECT_EQ(e.Field(), c.field) << e.what();
     }
   }
-  // Static given both ways, meaning the same, is fine.
-  BodyDef both = SphereDef(1).Static();
-  both.kind = RBodyKind::kStatic;
-  EXPECT_EQ(RRigidBody(both).Kind(), RBodyKind::kStatic);
   // Setters refuse the same values and leave the body as it was.
   RRigidBody b(SphereDef(1).Damping(0.5, 0.25).GravityScale(2));
   EXPECT_THROW(b.SetLinearDamping(-1), RBodyError);

@@ -142,7 +142,7 @@ TEST(BroadPhase, FindsTheSamePairsThroughChurnAndSleep) {
   std::vector<std::size_t> movable;
   for (std::size_t k = 0; k < defs.size(); ++k) {
     ha.push_back(a.Add(defs[k])), hb.push_back(b.Add(defs[k]));
-    if (!defs[k].isStatic) movable.push_back(k);
+    if (defs[k].kind != RBodyKind::kStatic) movable.push_back(k);
   }
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<std::size_t> pickMovable(0, movable.size() - 1);

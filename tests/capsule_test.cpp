@@ -89,6 +89,7 @@ TEST(CapsuleMass, MatchesQuadratureOfTheSolidOfRevolution) {
 
 TEST(CapsuleMass, BodyReportsItsAxisAsAPrincipalAxis) {
   RBodyDef def;
+  def.restitution = 0.5;
   def.shape.type = RShapeType::kCapsule, def.shape.radius = 0.5, def.shape.halfHeight = 1;
   def.mass = 2;
   const RRigidBody b(def);
@@ -102,6 +103,7 @@ TEST(CapsuleMass, BadSizesAreRefusedNamingTheField) {
            {0.5, -1, "shape.half_height"}, {0.5, 0, "shape.half_height"}, {NAN, 1, "shape.radius"},
            {1e-9, 1, "shape.radius"}, {0.5, INFINITY, "shape.half_height"}}) {
     RBodyDef def;
+    def.restitution = 0.5;
     def.shape.type = RShapeType::kCapsule, def.shape.radius = r, def.shape.halfHeight = h;
     try {
       RRigidBody b(def);
@@ -212,7 +214,7 @@ namespace {
 RRigidBody Ground(RScalar angle, RScalar friction) {
   RBodyDef g;
   g.name = "ground";
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.shape.type = RShapeType::kBox, g.shape.halfExtents = RVec3(200, 0.5, 5);
   g.q_WS = RQuat(Eigen::AngleAxisd(angle, RVec3::UnitZ()));
   g.position_W = g.q_WS * RVec3(0, -0.5, 0);
@@ -268,6 +270,7 @@ RScalar RollDownIncline(RBodyDef c, RScalar r, RRigidBody& out) {
 TEST(CapsulePhysics, RollsDownAnInclineAtTheRollingAcceleration) {
   const RScalar theta = kInclineTheta, g = kInclineG, T = kInclineT, r = 0.5;
   RBodyDef c;
+  c.restitution = 0.5;
   c.shape.type = RShapeType::kCapsule, c.shape.radius = r, c.shape.halfHeight = 1;
   c.q_WS = RQuat(Eigen::AngleAxisd(kPi / 2, RVec3::UnitX()));  // axis along z, across the slope
   RRigidBody body(c);
@@ -347,7 +350,7 @@ TEST(CapsuleRays, MeetTheSurfaceWhereItsSignedDistanceVanishes) {
 // (restitution 0), within the slop, in the step it arrives.
 TEST(CapsulePhysics, FastMissileDoesNotTunnelThroughAThinPlate) {
   RBodyDef plate;
-  plate.isStatic = true;
+  plate.kind = RBodyKind::kStatic;
   plate.shape.type = RShapeType::kBox, plate.shape.halfExtents = RVec3(0.025, 5, 5);
   plate.position_W = RVec3(1e6 + 100, 0, 0);  // far out, where space games are
   plate.restitution = 0;
@@ -370,6 +373,7 @@ TEST(CapsulePhysics, FastMissileDoesNotTunnelThroughAThinPlate) {
 TEST(CapsulePhysics, BallRollsDownTheSameInclineAtFiveSeventhsOfGSinTheta) {
   const RScalar r = 0.5;
   RBodyDef c;
+  c.restitution = 0.5;
   c.shape.type = RShapeType::kSphere, c.shape.radius = r;
   RRigidBody body(c);
   const RScalar s = RollDownIncline(c, r, body);

@@ -102,6 +102,7 @@ TEST(CompoundMass, DensitiesMoveTheCentreAndTheMoments) {
   // A body made of it: its mass from the children's densities, its centre where the scene
   // puts the compound's frame plus the centre's offset.
   RBodyDef def;
+  def.restitution = 0.5;
   def.shape = s;
   def.position_W = RVec3(10, 0, 0);
   const RRigidBody body(def);
@@ -124,6 +125,7 @@ TEST(CompoundMass, BadChildrenAreRefusedNamingTheField) {
   };
   for (const auto& [shape, field] : cases) {
     RBodyDef def;
+    def.restitution = 0.5;
     def.shape = shape;
     try {
       RRigidBody b(def);
@@ -142,6 +144,7 @@ TEST(CompoundCrosscheck, DistanceIsTheLeastOverTheChildrenAgainstFcl) {
   cap.type = RShapeType::kCapsule, cap.radius = 0.2, cap.halfHeight = 0.5;
   cyl.type = RShapeType::kCylinder, cyl.radius = 0.3, cyl.halfHeight = 0.2;
   RBodyDef def;
+  def.restitution = 0.5;
   def.shape = Compound({Child(Box(RVec3(0.4, 0.3, 0.2)), RVec3(-0.6, 0, 0)),
                         Child(cap, RVec3(0.5, 0.2, 0), RQuat(Eigen::AngleAxisd(0.7, RVec3::UnitZ()))),
                         Child(cyl, RVec3(0, -0.5, 0.4), RQuat(Eigen::AngleAxisd(1.1, RVec3::UnitX())), 2)});
@@ -221,7 +224,7 @@ namespace {
 RRigidBody Ground() {
   RBodyDef g;
   g.name = "ground";
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.shape = Box(RVec3(20, 0.5, 20));
   g.position_W = RVec3(0, -0.5, 0);
   g.friction = 0.6, g.restitution = 0;
@@ -264,8 +267,9 @@ TEST(CompoundPhysics, ATableStandsOnItsFourLegs) {
 TEST(CompoundPhysics, ABallFallsIntoTheHollowOfAU) {
   std::vector<RRigidBody> bodies{Ground()};
   RBodyDef u;
+  u.restitution = 0.5;
   u.shape = UShape();
-  u.isStatic = true;
+  u.kind = RBodyKind::kStatic;
   u.position_W = RVec3(0, 0.25, 0);
   bodies.emplace_back(u);
   RBodyDef ball;
@@ -284,6 +288,7 @@ TEST(CompoundPhysics, ABallFallsIntoTheHollowOfAU) {
 // Rays: one down the U's hollow meets the plate, one beside a wall meets the wall's top.
 TEST(CompoundRays, MeetTheChildTheyReachFirst) {
   RBodyDef def;
+  def.restitution = 0.5;
   def.shape = UShape();
   const RRigidBody u(def);
   const RConvexShape shape = ShapeOf(u);
@@ -316,6 +321,7 @@ TEST(CompoundPhysics, TumblingConservesEnergyAndAngularMomentumFarOut) {
                                 Child(Sphere(0.4), RVec3(-1, -0.3, 0.6), RQuat::Identity(), 0.5)});
   for (const RScalar far : {0.0, 1e6}) {
     RBodyDef def;
+    def.restitution = 0.5;
     def.shape = ship;
     def.position_W = RVec3(far, far, -far);
     def.velocity_W = RVec3(3, -1, 2);
@@ -374,6 +380,7 @@ TEST(CompoundState, ASavedWorldOfCompoundsContinuesBitIdentically) {
     bodies.push_back(Ground());
     for (int i = 0; i < 4; ++i) {
       RBodyDef t;
+      t.restitution = 0.5;
       t.shape = Compound(parts);
       t.position_W = RVec3(0.3 * i, 1 + 1.2 * i, 0.1 * i);
       t.q_WS = RQuat(Eigen::AngleAxisd(0.4 * i, RVec3(1, 0.3, 0.2).normalized()));
@@ -390,6 +397,7 @@ TEST(CompoundState, ASavedWorldOfCompoundsContinuesBitIdentically) {
 TEST(CompoundQueries, OverlapsRaysAndCastsGoByTheChildren) {
   RBodies bodies;
   RBodyDef ball;
+  ball.restitution = 0.5;
   ball.shape = Sphere(0.4);
   ball.position_W = RVec3(0, 1.2, 0);
   const RBodyHandle h = bodies.Add(ball);
@@ -413,6 +421,7 @@ TEST(CompoundQueries, OverlapsRaysAndCastsGoByTheChildren) {
   EXPECT_NEAR(hit->fraction, 0.315, 1e-9);
   // A compound body hit by a ray through its hollow: the plate.
   RBodyDef ud;
+  ud.restitution = 0.5;
   ud.shape = UShape();
   ud.position_W = RVec3(10, 0, 0);
   bodies.Add(ud);
@@ -434,7 +443,7 @@ TEST(CompoundPhysics, TwoChildrenHittingAWallBounceAsOneBody) {
       for (const int split : {1, 2}) {
         std::vector<RRigidBody> bodies;
         RBodyDef wall;
-        wall.isStatic = true;
+        wall.kind = RBodyKind::kStatic;
         wall.shape = Box(RVec3(0.05, 5, 5));
         wall.position_W = RVec3(5, 0, 0);
         wall.restitution = e, wall.friction = 0;

@@ -76,6 +76,7 @@ TEST(CylinderMass, MatchesQuadratureOfTheSolidOfRevolution) {
 
 TEST(CylinderMass, BodyHasItsBoundingRadiusAndBox) {
   RBodyDef def;
+  def.restitution = 0.5;
   def.shape.type = RShapeType::kCylinder, def.shape.radius = 0.3, def.shape.halfHeight = 0.4;
   def.mass = 2;
   def.q_WS = RQuat(Eigen::AngleAxisd(0.7, RVec3(1, 2, 3).normalized()));
@@ -103,6 +104,7 @@ TEST(CylinderMass, BadSizesAreRefusedNamingTheField) {
            {0.5, -1, "shape.half_height"}, {0.5, 0, "shape.half_height"}, {NAN, 1, "shape.radius"},
            {1e-9, 1, "shape.radius"}, {1, 1e-9, "shape.half_height"}, {0.5, INFINITY, "shape.half_height"}}) {
     RBodyDef def;
+    def.restitution = 0.5;
     def.shape.type = RShapeType::kCylinder, def.shape.radius = r, def.shape.halfHeight = h;
     try {
       RRigidBody b(def);
@@ -322,7 +324,7 @@ namespace {
 RRigidBody Ground(RScalar angle, RScalar friction) {
   RBodyDef g;
   g.name = "ground";
-  g.isStatic = true;
+  g.kind = RBodyKind::kStatic;
   g.shape.type = RShapeType::kBox, g.shape.halfExtents = RVec3(200, 0.5, 5);
   g.q_WS = RQuat(Eigen::AngleAxisd(angle, RVec3::UnitZ()));
   g.position_W = g.q_WS * RVec3(0, -0.5, 0);

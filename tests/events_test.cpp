@@ -493,3 +493,63 @@ TEST(ContactEvents, KinematicSensorsSweepThroughStaticAndSleepingBodiesWithoutWa
   EXPECT_TRUE(bodies[box].IsSleeping());
   EXPECT_EQ(bodies[box].Velocity_W(), RVec3::Zero());
 }
+
+// The per-body and per-pair views give exactly the events of Events() that name the body
+// or the pair, in its order, whichever order the pair's handles are given in, also for a
+// slot that names two bodies in one step (a removed box's end, the begin of the body added
+// in its place); and looking them up allocates nothing.
+TEST(ContactEvents, PerBodyAndPerPairViewsSelectFromEventsInOrder) {
+  RBodies bodies;
+  const RBodyHandle ground = bodies.Add(GroundDef());
+  std::vector<RBodyHandle> boxes;
+  for (int i = 0; i < 4; ++i) boxes.push_back(bodies.Add(UnitBoxDef(RVec3(1.01 * i, 0.5, 0))));
+  boxes.push_back(bodies.Add(UnitBoxDef(RVec3(0, 1.5, 0))));
+  RIntegrator integrator(EarthGravity());
+  std::vector<RBodyHandle> named = {ground};
+  const auto check = [&] {
+    const std::vector<RContactEvent>& all = integrator.Events();
+    for (RBodyHandle h : named) {
+      std::vector<const RContactEvent*> expected, seen;
+      for (const RContactEvent& e : all) {
+        if (e.handleA == h || e.handleB == h) expected.push_back(&e);
+      }
+      for (const RContactEvent& e : integrator.EventsOf(h)) seen.push_back(&e);
+      EXPECT_EQ(seen, expected) << h.index << " " << h.generation;
+      EXPECT_EQ(integrator.EventsOf(h).size(), expected.size());
+      for (RBodyHandle other : named) {
+        std::vector<const RContactEvent*> pair;
+        for (const RContactEvent& e : all) {
+          if ((e.handleA == h && e.handleB == other) || (e.handleA == other && e.handleB == h)) pair.push_back(&e);
+        }
+        const RContactEventSpan span = integrator.EventsBetween(h, other);
+        std::vector<const RContactEvent*> between;
+        for (const RContactEvent& e : span) between.push_back(&e);
+        EXPECT_EQ(between, pair);
+        for (const RContactEvent& e : span) EXPECT_EQ(OtherBody(e, h), other);
+      }
+    }
+  };
+  for (RBodyHandle h : boxes) named.push_back(h);
+  for (int s = 0; s < 10; ++s) integrator.Update(bodies, kDt), check();
+  // The top box goes, and a ball takes its slot in the same step.
+  bodies.Remove(boxes.back());
+  const RBodyHandle ball = bodies.Add(SphereDef(0.5).Mass(1).At(RVec3(3.03, 1.5, 0)));
+  ASSERT_EQ(ball.index, boxes.back().index);
+  named.push_back(ball);
+  integrator.Update(bodies, kDt);
+  EXPECT_FALSE(integrator.EventsOf(boxes.back()).empty());
+  check();
+  for (int s = 0; s < 30; ++s) integrator.Update(bodies, kDt), check();
+  EXPECT_FALSE(integrator.EventsOf(ball).empty());
+  EXPECT_TRUE(integrator.EventsOf(RBodyHandle{}).empty());
+  g_allocations = 0;
+  g_countAllocations = true;
+  std::size_t total = 0;
+  for (RBodyHandle h : named) {
+    total += integrator.EventsOf(h).size();
+    for (RBodyHandle other : named) total += integrator.EventsBetween(h, other).size();
+  }
+  g_countAllocations = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(total, 0u);
+}

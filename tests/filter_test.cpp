@@ -81,6 +81,38 @@ TEST(Filter, ShouldCheckCollisionIsBox2DsRuleBesideTheIgnoreLists) {
   EXPECT_FALSE(b.ShouldCheckCollision(a));
 }
 
+// A body has no id unless given one, and an ignore list never matches a body without one:
+// `ignore = {launcherId}` cannot silently take in every body. IgnoreCollisions by handle
+// gives ids unused in the container and ignores exactly the pair named.
+TEST(Filter, IgnoreListsNameOnlyBodiesGivenIds) {
+  RBodies bodies;
+  const RBodyHandle ship = bodies.Add(SphereDef(0.5).Mass(1).At(RVec3(0, 0, 0)));
+  const RBodyHandle rock = bodies.Add(SphereDef(0.5).Mass(1).At(RVec3(5, 0, 0)));
+  const RBodyHandle crate = bodies.Add(SphereDef(0.5).Mass(1).At(RVec3(10, 0, 0)));
+  EXPECT_FALSE(bodies[ship].Id().has_value());
+  RBodyDef missileDef = SphereDef(0.1).Mass(1).At(RVec3(0, 5, 0));
+  missileDef.ignore = {0};  // names no body here: none has an id
+  const RBodyHandle missile = bodies.Add(missileDef);
+  for (RBodyHandle other : {ship, rock, crate}) {
+    EXPECT_TRUE(bodies[missile].ShouldCheckCollision(bodies[other]));
+  }
+  bodies[crate].IgnoreCollisionsWith(7);
+  bodies.IgnoreCollisions(missile, ship);
+  ASSERT_TRUE(bodies[ship].Id().has_value() && bodies[missile].Id().has_value());
+  EXPECT_NE(*bodies[ship].Id(), *bodies[missile].Id());
+  EXPECT_FALSE(bodies[missile].ShouldCheckCollision(bodies[ship]));
+  EXPECT_FALSE(bodies[ship].ShouldCheckCollision(bodies[missile]));
+  EXPECT_TRUE(bodies[missile].ShouldCheckCollision(bodies[rock]));
+  EXPECT_TRUE(bodies[missile].ShouldCheckCollision(bodies[crate]));
+  EXPECT_FALSE(bodies[rock].Id().has_value());
+  // Refused: the reserved id, a body ignoring itself.
+  RBodyDef reserved = SphereDef(0.5).Mass(1);
+  reserved.id = 0xFFFFFFFFu;
+  EXPECT_THROW(bodies.Add(reserved), RBodyError);
+  EXPECT_THROW(bodies[rock].IgnoreCollisionsWith(0xFFFFFFFFu), RBodyError);
+  EXPECT_THROW(bodies.IgnoreCollisions(rock, rock), RBodyError);
+}
+
 // A pair allowed by SetCollisionFilter before they meet collides: the body takes its new
 // bits at once, and the change is counted for the queries' caches.
 TEST(Filter, SetCollisionFilterAppliesFromTheNextStep) {

@@ -60,7 +60,7 @@ TEST(FreeMotion, ConstantForceFollowsTheClosedForm) {
 
 TEST(FreeMotion, StaticBodiesNeverMove) {
   RBodyDef def = Ball(RVec3(1, 2, 3), RVec3(5, 5, 5));
-  def.isStatic = true;
+  def.kind = RBodyKind::kStatic;
   def.angularVelocity_W = RVec3(1, 1, 1);
   std::vector<RRigidBody> bodies{RRigidBody(def)};
   EXPECT_EQ(bodies[0].Mass(), 0);

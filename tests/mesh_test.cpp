@@ -68,6 +68,7 @@ RShape Sphere(RScalar r) { return SphereDef(r).shape; }
 
 RBodyDef StaticBody(const RShape& shape, const RVec3& x = RVec3::Zero(), const RQuat& q = RQuat::Identity()) {
   RBodyDef d;
+  d.restitution = 0.5;
   d.name = "floor";
   d.kind = RBodyKind::kStatic;
   d.shape = shape;
@@ -117,6 +118,7 @@ std::string WriteScene(const std::string& name, const std::string& text) {
 TEST(MeshChecks, BadMeshesAreRefusedNamingTheField) {
   const auto refused = [](RShape s, RBodyKind kind, const std::string& field) {
     RBodyDef d;
+    d.restitution = 0.5;
     d.shape = std::move(s);
     d.kind = kind;
     try {
@@ -149,6 +151,7 @@ TEST(MeshChecks, BadMeshesAreRefusedNamingTheField) {
   compound.children[0].shape = good;
   refused(compound, RBodyKind::kStatic, "shape.children[0].shape.type");
   RBodyDef ok;
+  ok.restitution = 0.5;
   ok.shape = good, ok.kind = RBodyKind::kKinematic;
   EXPECT_NO_THROW(RRigidBody{ok});
 
@@ -447,6 +450,7 @@ TEST(MeshState, ASavedWorldOnAMeshContinuesBitIdentically) {
     bodies.emplace_back(StaticBody(terrain));
     for (int i = 0; i < 6; ++i) {
       RBodyDef b;
+      b.restitution = 0.5;
       b.shape = i % 2 ? Sphere(0.2) : Box(RVec3(0.3, 0.2, 0.25));
       b.position_W = RVec3(-1.5 + 0.6 * i, 0.8 + 0.3 * i, 0.2 * i - 0.5);
       b.q_WS = RQuat(Eigen::AngleAxisd(0.4 * i, RVec3(1, 0.3, 0.2).normalized()));

@@ -45,6 +45,7 @@ struct BodySpec {
 
 RRigidBody MakeBody(const BodySpec& spec, const RVec3& offset) {
   RBodyDef def;
+  def.restitution = 0.5;
   def.shape = spec.shape;
   def.position_W = spec.position_W + offset;
   def.q_WS = spec.q_WS;

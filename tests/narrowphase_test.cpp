@@ -154,6 +154,7 @@ TEST(Collision, VertexContactIsOnePoint) {
 // deepest point and span the patch.
 TEST(Collision, ManifoldReducedToFourKeepsDeepestAndArea) {
   RBodyDef prism;
+  prism.restitution = 0.5;
   prism.name = "prism";
   prism.shape.type = RShapeType::kHull;
   for (int k = 0; k < 6; ++k) {
@@ -200,7 +201,7 @@ TEST(Collision, FeatureIdsAreStableUnderSmallMotion) {
 // so the pair is reported (speculatively) with its positive separation.
 TEST(Collision, SpeculativeContactWithinTheStep) {
   RBodyDef plate = BoxDef(RVec3(2, 2, 0.05));
-  plate.isStatic = true;
+  plate.kind = RBodyKind::kStatic;
   RBodyDef bullet = SphereDef(0.1).At(RVec3(0, 0, 20));
   bullet.velocity_W = RVec3(0, 0, -2000);
   RContactManifold m;

@@ -48,10 +48,10 @@ std::vector<RRigidBody> Jumble(int n) {
 TEST(Collision, PairLoopFiltersAndCaches) {
   std::vector<RRigidBody> bodies;
   RBodyDef ground = BoxDef(RVec3(10, 0.5, 10)).At(RVec3(0, -0.5, 0)).Named("ground");
-  ground.isStatic = true;
+  ground.kind = RBodyKind::kStatic;
   ground.id = 0;
   RBodyDef wall = BoxDef(RVec3(0.5, 5, 10)).At(RVec3(10, 5, 0)).Named("wall");
-  wall.isStatic = true;
+  wall.kind = RBodyKind::kStatic;
   wall.id = 1;
   RBodyDef crate = BoxDef(RVec3(0.5, 0.5, 0.5)).At(RVec3(0, 0.45, 0)).Named("crate");
   crate.id = 2;

@@ -408,7 +408,7 @@ TEST(Response, ImpulseLaunchedBallDoesNotTunnel) {
   wall.name = "wall";
   wall.shape.type = RShapeType::kBox;
   wall.shape.halfExtents = RVec3(0.1, 1, 1);
-  wall.isStatic = true;
+  wall.kind = RBodyKind::kStatic;
   wall.position_W = RVec3(2, 0, 0);
   RBodyDef ball;
   ball.name = "ball";

@@ -378,6 +378,7 @@ TEST(FreeRotation, StepOverManyPeriodsMatchesSmallSteps) {
 // and the state stays finite.
 TEST(FreeRotation, HugeTorqueOnATinyBoxKeepsTheImpulse) {
   RBodyDef d;
+  d.restitution = 0.5;
   d.shape.type = RShapeType::kBox;
   d.shape.halfExtents = RVec3(0.002, 0.0015, 0.001);
   std::vector<RRigidBody> bodies{RRigidBody(d)};

@@ -62,7 +62,7 @@ TEST(Scene, ReferenceScenesLoadWithTheirValues) {
     const RScene s = LoadScene(ReferenceScenePath("box_stack_10"));
     ASSERT_EQ(s.bodies.size(), 11u);
     EXPECT_EQ(s.settings.gravity_W, RVec3(0, -9.81, 0));
-    EXPECT_TRUE(s.bodies[0].isStatic);
+    EXPECT_EQ(s.bodies[0].kind, RBodyKind::kStatic);
     EXPECT_EQ(s.bodies[0].shape.halfExtents, RVec3(50, 0.5, 50));
     EXPECT_EQ(s.bodies[10].name, "box9");
     EXPECT_EQ(s.bodies[10].position_W, RVec3(0, 9.5, 0));
@@ -85,7 +85,7 @@ TEST(Scene, ReferenceScenesLoadWithTheirValues) {
     const RScene s = LoadScene(ReferenceScenePath("box_pile_1000"));
     ASSERT_EQ(s.bodies.size(), 1001u);
     EXPECT_EQ(s.steps, 300u);
-    EXPECT_TRUE(s.bodies[0].isStatic);
+    EXPECT_EQ(s.bodies[0].kind, RBodyKind::kStatic);
     EXPECT_EQ(s.bodies[1000].name, "p999");
   }
 }
@@ -110,7 +110,7 @@ TEST(Scene, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(s.settings.solverIterations, RWorldSettings().solverIterations);
   ASSERT_EQ(s.bodies.size(), 1u);
   const RBodyDef& b = s.bodies[0];
-  EXPECT_FALSE(b.isStatic);
+  EXPECT_EQ(b.kind, RBodyKind::kDynamic);
   EXPECT_FALSE(b.mass.has_value());
   EXPECT_EQ(b.density, 1.0);
   EXPECT_EQ(b.position_W, RVec3::Zero());

@@ -61,14 +61,14 @@ TEST(SpaceGame, AMissileSpawnedInsideItsLauncherNeverTouchesIt) {
   ASSERT_TRUE(missile.IsValid());
 
   RBodyDef control;
+  control.restitution = 0.5;
   control.prepared = world.Shapes().missile;
   control.mass = 200;
   control.responds = false;
   control.gravityScale = 0;
   control.position_W = centre + RVec3(0, 0.2, 0);
-  control.id = world.NextId();
-  control.ignore = {world.Bodies()[missile].Id()};  // it is there to touch the ship alone
   const RBodyHandle unguarded = world.Bodies().Add(control);
+  world.Bodies().IgnoreCollisions(unguarded, missile);  // it is there to touch the ship alone
 
   int missileEvents = 0, controlEvents = 0, missileContacts = 0;
   for (int s = 0; s < 120; ++s) {

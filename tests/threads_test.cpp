@@ -244,7 +244,7 @@ TEST(Threads, AThreadCountOutOfRangeIsRefused) {
     std::vector<RRigidBody> bodies;
     bodies.emplace_back(SphereDef(0.5).At(RVec3(0, 0, 0)).Mass(1).Named("a"));
     bodies[0].SetVelocity_W(RVec3(1, 0, 0));
-    EXPECT_THROW(integrator.Update(bodies, 1.0 / 60), std::invalid_argument) << threads;
+    EXPECT_THROW(integrator.Update(bodies, 1.0 / 60), RError) << threads;
     EXPECT_EQ(bodies[0].Position_W(), RVec3(0, 0, 0)) << "the body moved";
   }
 }

@@ -3,6 +3,7 @@
 
 #include <REnginePhysics/RIntegrator.h>  // NextCacheStamp
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -22,24 +23,14 @@ std::uint32_t RBodies::DenseIndex(RBodyHandle h) const {
                        std::to_string(h.generation) + ") names no body: " +
                        (h.IsValid() ? "it was removed" : "it was never issued"));
   }
-  return m_denseOfSlot[h.index];
+  return m_slots.denseOfSlot[h.index];
 }
 
 RBodyHandle RBodies::Add(const RBodyDef& def) { return Add(RRigidBody(def)); }
 
 RBodyHandle RBodies::Add(RRigidBody body) {
-  if (m_bodies.size() >= kMaxBodies) {
-    throw std::length_error("RBodies::Add: the container holds its maximum of 2^31 bodies");
-  }
-  RBodyHandle h;
-  if (!m_free.empty()) {
-    h.index = m_free.back();
-    m_free.pop_back();
-    h.generation = m_generation[h.index];
-  } else {
-    h.index = static_cast<std::uint32_t>(m_generation.size());
-    m_generation.push_back(0);
-    m_denseOfSlot.push_back(kFree);
+  if (m_slots.items.size() >= kMaxBodies) {
+    throw RError("bodies", "hold their maximum of 2^31", "RBodies::Add: the container holds its maximum of 2^31 bodies");
   }
   // A new body sleeps with no island and has not been stepped yet; a static one appearing
   // beside a sleeper must wake it (a sleeping body is not paired with static geometry),
@@ -48,23 +39,13 @@ RBodyHandle RBodies::Add(RRigidBody body) {
   body.m_sleepIsland = RRigidBody::kNoIsland;
   body.m_slot = RRigidBody::kNoIsland, body.m_slotWorld = 0;
   if (body.Immovable()) body.m_staticMoved = true;
-  const std::uint32_t dense = static_cast<std::uint32_t>(m_bodies.size());
-  m_bodies.push_back(std::move(body));
-  m_handles.push_back(h);
-  m_denseOfSlot[h.index] = dense;
+  const std::uint32_t dense = static_cast<std::uint32_t>(m_slots.items.size());
+  const RBodyHandle h = m_slots.Insert(std::move(body));
   // Enabled: swap it from the end of the disabled range to the end of the enabled one.
-  SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
+  m_slots.SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
   ++m_enabled;
   LayoutChanged();
   return h;
-}
-
-void RBodies::SwapDense(std::uint32_t i, std::uint32_t j) {
-  if (i == j) return;
-  std::swap(m_bodies[i], m_bodies[j]);
-  std::swap(m_handles[i], m_handles[j]);
-  m_denseOfSlot[m_handles[i].index] = i;
-  m_denseOfSlot[m_handles[j].index] = j;
 }
 
 void RBodies::WakeForDeparture(RRigidBody& b) {
@@ -88,29 +69,25 @@ void RBodies::WakeForDeparture(RRigidBody& b) {
 
 void RBodies::Remove(RBodyHandle h) {
   std::uint32_t dense = DenseIndex(h);
-  if (!m_joints.empty()) RemoveJointsOf(h), dense = DenseIndex(h);
+  if (!m_jointSlots.items.empty()) RemoveJointsOf(h), dense = DenseIndex(h);
   if (dense < m_enabled) {
-    WakeForDeparture(m_bodies[dense]);
+    WakeForDeparture(m_slots.items[dense]);
     // To the end of the enabled range (its last body takes the removed one's place), then
     // to the end of the storage (the last disabled body takes that place).
-    SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
+    m_slots.SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
     dense = static_cast<std::uint32_t>(--m_enabled);
   }
-  SwapDense(dense, static_cast<std::uint32_t>(m_bodies.size() - 1));
-  m_bodies.pop_back();
-  m_handles.pop_back();
-  m_denseOfSlot[h.index] = kFree;
+  m_slots.SwapDense(dense, static_cast<std::uint32_t>(m_slots.items.size() - 1));
+  m_slots.PopBack();
   LayoutChanged();
-  // A slot whose generation would wrap is retired: its old handles must stay stale.
-  if (++m_generation[h.index] != 0) m_free.push_back(h.index);
 }
 
 void RBodies::Disable(RBodyHandle h) {
   const std::uint32_t dense = DenseIndex(h);
   if (dense >= m_enabled) return;
-  WakeForDeparture(m_bodies[dense]);
+  WakeForDeparture(m_slots.items[dense]);
   WakeJointPartners(h);
-  SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
+  m_slots.SwapDense(dense, static_cast<std::uint32_t>(m_enabled - 1));
   --m_enabled;
   LayoutChanged();
 }
@@ -118,23 +95,43 @@ void RBodies::Disable(RBodyHandle h) {
 void RBodies::Enable(RBodyHandle h) {
   const std::uint32_t dense = DenseIndex(h);
   if (dense < m_enabled) return;
-  RRigidBody& b = m_bodies[dense];
+  RRigidBody& b = m_slots.items[dense];
   if (b.Immovable()) b.m_staticMoved = true;
   WakeJointPartners(h);
-  SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
+  m_slots.SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
   ++m_enabled;
   LayoutChanged();
 }
 
-void RBodies::Reserve(std::size_t n) {
-  m_bodies.reserve(n);
-  m_handles.reserve(n);
-  m_generation.reserve(n);
-  m_denseOfSlot.reserve(n);
+void RBodies::Reserve(std::size_t n) { m_slots.Reserve(n); }
+
+void RBodies::IgnoreCollisions(RBodyHandle a, RBodyHandle b) {
+  RRigidBody& bodyA = m_slots.items[DenseIndex(a)];
+  RRigidBody& bodyB = m_slots.items[DenseIndex(b)];
+  if (a == b) throw RBodyError("ignore", "a body cannot ignore itself");
+  for (RRigidBody* body : {&bodyA, &bodyB}) {
+    if (body->m_id != RRigidBody::kNoId) continue;
+    // The least id no body here holds: ids stay small, and a game's own ids are left alone.
+    std::vector<std::uint32_t> taken;
+    taken.reserve(m_slots.items.size());
+    for (const RRigidBody& other : m_slots.items) {
+      if (other.m_id != RRigidBody::kNoId) taken.push_back(other.m_id);
+    }
+    std::sort(taken.begin(), taken.end());
+    std::uint32_t id = 0;
+    for (std::uint32_t t : taken) {
+      if (t > id) break;
+      if (t == id) ++id;
+    }
+    if (id == RRigidBody::kNoId) throw RError("id", "every id is taken");
+    body->m_id = id;
+  }
+  // Waking a (IgnoreCollisionsWith) is enough: a sleeping pair that touches is one island.
+  bodyA.IgnoreCollisionsWith(bodyB.m_id);
 }
 
 void RBodies::Clear() {
-  while (!m_bodies.empty()) Remove(m_handles.back());
+  while (!m_slots.items.empty()) Remove(m_slots.handles.back());
 }
 
 }  // namespace REngine

@@ -43,7 +43,7 @@ std::uint32_t RBodies::JointDenseIndex(RJointHandle h) const {
                        std::to_string(h.generation) + ") names no joint: " +
                        (h.IsValid() ? "it was removed" : "it was never issued"));
   }
-  return m_jointDenseOfSlot[h.index];
+  return m_jointSlots.denseOfSlot[h.index];
 }
 
 RJointHandle RBodies::AddJoint(const RJointDef& def) {
@@ -120,19 +120,7 @@ RJointHandle RBodies::AddJoint(const RJointDef& def) {
   j.perpA_B[1] = qA.conjugate() * p1;
   j.relative0 = qA.conjugate() * qB;
 
-  RJointHandle h;
-  if (!m_jointFree.empty()) {
-    h.index = m_jointFree.back();
-    m_jointFree.pop_back();
-    h.generation = m_jointGeneration[h.index];
-  } else {
-    h.index = static_cast<std::uint32_t>(m_jointGeneration.size());
-    m_jointGeneration.push_back(0);
-    m_jointDenseOfSlot.push_back(kFree);
-  }
-  m_jointDenseOfSlot[h.index] = static_cast<std::uint32_t>(m_joints.size());
-  m_joints.push_back(j);
-  m_jointHandles.push_back(h);
+  const RJointHandle h = m_jointSlots.Insert(j);
   if (B && !def.collideConnected) {
     const std::uint64_t key = SlotPair(def.a.index, def.b.index);
     m_noCollide.insert(std::upper_bound(m_noCollide.begin(), m_noCollide.end(), key), key);
@@ -145,18 +133,10 @@ RJointHandle RBodies::AddJoint(const RJointDef& def) {
 }
 
 void RBodies::RemoveJointAt(std::uint32_t dense) {
-  const RJointDef def = m_joints[dense].def;
-  const RJointHandle h = m_jointHandles[dense];
-  const std::uint32_t last = static_cast<std::uint32_t>(m_joints.size() - 1);
-  if (dense != last) {
-    m_joints[dense] = m_joints[last];
-    m_jointHandles[dense] = m_jointHandles[last];
-    m_jointDenseOfSlot[m_jointHandles[dense].index] = dense;
-  }
-  m_joints.pop_back();
-  m_jointHandles.pop_back();
-  m_jointDenseOfSlot[h.index] = kFree;
-  if (++m_jointGeneration[h.index] != 0) m_jointFree.push_back(h.index);
+  const RJointDef def = m_jointSlots.items[dense].def;
+  // The last joint takes its place.
+  m_jointSlots.SwapDense(dense, static_cast<std::uint32_t>(m_jointSlots.items.size() - 1));
+  m_jointSlots.PopBack();
   if (def.b.IsValid() && !def.collideConnected) {
     const auto it = std::lower_bound(m_noCollide.begin(), m_noCollide.end(), SlotPair(def.a.index, def.b.index));
     if (it != m_noCollide.end()) m_noCollide.erase(it);
@@ -170,15 +150,15 @@ void RBodies::RemoveJointAt(std::uint32_t dense) {
 void RBodies::RemoveJoint(RJointHandle h) { RemoveJointAt(JointDenseIndex(h)); }
 
 void RBodies::RemoveJointsOf(RBodyHandle body) {
-  for (std::size_t k = m_joints.size(); k-- > 0;) {
-    if (m_joints[k].def.a == body || m_joints[k].def.b == body) RemoveJointAt(static_cast<std::uint32_t>(k));
+  for (std::size_t k = m_jointSlots.items.size(); k-- > 0;) {
+    if (m_jointSlots.items[k].def.a == body || m_jointSlots.items[k].def.b == body) RemoveJointAt(static_cast<std::uint32_t>(k));
   }
 }
 
 // The bodies joined to this one: a sleeper hung from it (a hook far above, which no box
 // sweep finds) lets go or is held again.
 void RBodies::WakeJointPartners(RBodyHandle body) {
-  for (const RJoint& j : m_joints) {
+  for (const RJoint& j : m_jointSlots.items) {
     const RBodyHandle other = j.def.a == body ? j.def.b : j.def.b == body ? j.def.a : RBodyHandle{};
     if (RRigidBody* b = Find(other)) b->Wake();
   }
@@ -195,7 +175,7 @@ void RBodies::SetNoCollideFlags(RBodyHandle body) {
 }
 
 void RBodies::SetJointMotor(RJointHandle h, const RJointMotor& motor) {
-  RJoint& j = m_joints[JointDenseIndex(h)];
+  RJoint& j = m_jointSlots.items[JointDenseIndex(h)];
   Require(j.def.type == RJointType::kHinge || j.def.type == RJointType::kSlider, "motor",
           "only a hinge or a slider has a motor");
   if (motor.enabled) CheckMotor(motor);
@@ -205,7 +185,7 @@ void RBodies::SetJointMotor(RJointHandle h, const RJointMotor& motor) {
 }
 
 RScalar RBodies::JointPosition(RJointHandle h) const {
-  const RJoint& j = m_joints[JointDenseIndex(h)];
+  const RJoint& j = m_jointSlots.items[JointDenseIndex(h)];
   const RRigidBody& A = (*this)[j.def.a];
   const RRigidBody* B = Find(j.def.b);
   const RJointPoseIn pa{A.Position_W(), A.Orientation_WB()};

@@ -65,6 +65,7 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   m_touchingNext.clear();
   if (!m_settings.contactEvents) {
     m_touching.clear();  // turned on again, it starts afresh: every touching pair begins
+    IndexEventsByBody();
     return;
   }
   const std::size_t count = m_contacts.size();
@@ -231,6 +232,36 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   }
   while (p < m_touching.size()) lone(m_touching[p++]);
   std::swap(m_touching, m_touchingNext);
+  IndexEventsByBody();
+}
+
+// A counting sort of the events' two sides by slot, O(events + slots): a stable pass keeps
+// each slot's run in m_events' order.
+void RWorldStep::IndexEventsByBody() {
+  m_eventsBySlot.clear(), m_eventsByBody.clear();
+  if (m_events.empty()) return;
+  std::uint32_t slots = 0;
+  for (const RContactEvent& e : m_events) slots = std::max({slots, e.handleA.index + 1, e.handleB.index + 1});
+  m_eventsBySlot.assign(std::size_t(slots) + 1, 0);
+  for (const RContactEvent& e : m_events) ++m_eventsBySlot[e.handleA.index + 1], ++m_eventsBySlot[e.handleB.index + 1];
+  std::partial_sum(m_eventsBySlot.begin(), m_eventsBySlot.end(), m_eventsBySlot.begin());
+  m_eventsFill.assign(m_eventsBySlot.begin(), m_eventsBySlot.end() - 1);
+  m_eventsByBody.resize(2 * m_events.size());
+  for (std::uint32_t k = 0; k < m_events.size(); ++k) {
+    m_eventsByBody[m_eventsFill[m_events[k].handleA.index]++] = k;
+    m_eventsByBody[m_eventsFill[m_events[k].handleB.index]++] = k;
+  }
+  // A slot that named two bodies in one step (the end of a removed one, the begin of the one
+  // added in its place): its run by generation, each body's events together.
+  for (std::uint32_t s = 0; s < slots; ++s) {
+    const auto first = m_eventsByBody.begin() + m_eventsBySlot[s], last = m_eventsByBody.begin() + m_eventsBySlot[s + 1];
+    const auto generation = [&](std::uint32_t k) {
+      return m_events[k].handleA.index == s ? m_events[k].handleA.generation : m_events[k].handleB.generation;
+    };
+    if (last - first > 1 && !std::all_of(first, last, [&](std::uint32_t k) { return generation(k) == generation(*first); })) {
+      std::stable_sort(first, last, [&](std::uint32_t x, std::uint32_t y) { return generation(x) < generation(y); });
+    }
+  }
 }
 
 }  // namespace REngine

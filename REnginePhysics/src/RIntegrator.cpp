@@ -17,6 +17,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace REngine {
 
@@ -72,25 +73,57 @@ const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
 }
 const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
 const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_events; }
+
+RBodyContactEvents RIntegrator::EventsOf(RBodyHandle body) const {
+  const RWorldStep& w = *m_w;
+  // (Empty when the index does not describe m_events: a load cleared them.)
+  if (body.index + std::size_t(1) >= w.m_eventsBySlot.size() || w.m_eventsByBody.size() != 2 * w.m_events.size()) {
+    return {};
+  }
+  const std::uint32_t* first = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index];
+  const std::uint32_t* last = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index + 1];
+  const auto names = [&](std::uint32_t k) {
+    const RContactEvent& e = w.m_events[k];
+    return e.handleA == body || e.handleB == body;
+  };
+  first = std::find_if(first, last, names);
+  return {w.m_events.data(), first, std::find_if_not(first, last, names)};
+}
+
+RContactEventSpan RIntegrator::EventsBetween(RBodyHandle a, RBodyHandle b) const {
+  const std::vector<RContactEvent>& events = m_w->m_events;
+  if (b.index < a.index) std::swap(a, b);  // handleA has the lower slot
+  const auto before = [](const RContactEvent& e, std::pair<RBodyHandle, RBodyHandle> key) {
+    return e.handleA < key.first || (e.handleA == key.first && e.handleB < key.second);
+  };
+  const auto after = [](std::pair<RBodyHandle, RBodyHandle> key, const RContactEvent& e) {
+    return key.first < e.handleA || (key.first == e.handleA && key.second < e.handleB);
+  };
+  const auto first = std::lower_bound(events.begin(), events.end(), std::make_pair(a, b), before);
+  const auto last = std::upper_bound(first, events.end(), std::make_pair(a, b), after);
+  return {events.data() + (first - events.begin()), events.data() + (last - events.begin())};
+}
 const RPairStats& RIntegrator::PairStats() const { return m_w->m_pairStats; }
 void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
 
 void RIntegrator::PrepareJobs() {
   RWorldStep& w = *m_w;
   if (w.m_settings.threads < 0 || w.m_settings.threads > RWorldSettings::kMaxThreads) {
-    throw std::invalid_argument("RIntegrator::Update: RWorldSettings::threads must be 0 (what the "
-                                "machine has) to " + std::to_string(RWorldSettings::kMaxThreads) + " (got " +
-                                std::to_string(w.m_settings.threads) + ")");
+    const std::string problem = "must be 0 (what the machine has) to " +
+                                std::to_string(RWorldSettings::kMaxThreads) + " (got " +
+                                std::to_string(w.m_settings.threads) + ")";
+    throw RError("threads", problem, "RIntegrator::Update: RWorldSettings::threads " + problem);
   }
   if (w.m_settings.solverIterations < 1 || w.m_settings.solverIterations > RWorldSettings::kMaxSolverIterations) {
-    throw std::invalid_argument("RIntegrator::Update: RWorldSettings::solverIterations must be 1 to " +
-                                std::to_string(RWorldSettings::kMaxSolverIterations) + " (got " +
-                                std::to_string(w.m_settings.solverIterations) + ")");
+    const std::string problem = "must be 1 to " + std::to_string(RWorldSettings::kMaxSolverIterations) +
+                                " (got " + std::to_string(w.m_settings.solverIterations) + ")";
+    throw RError("solverIterations", problem, "RIntegrator::Update: RWorldSettings::solverIterations " + problem);
   }
   for (const RCombineMode mode : {w.m_settings.restitutionCombine, w.m_settings.frictionCombine}) {
     if (static_cast<std::uint8_t>(mode) > static_cast<std::uint8_t>(RCombineMode::kGeometric)) {
-      throw std::invalid_argument("RIntegrator::Update: RWorldSettings::restitutionCombine and frictionCombine "
-                                  "must be an RCombineMode (got " + std::to_string(static_cast<int>(mode)) + ")");
+      const std::string problem = "must be an RCombineMode (got " + std::to_string(static_cast<int>(mode)) + ")";
+      throw RError(mode == w.m_settings.restitutionCombine ? "restitutionCombine" : "frictionCombine", problem,
+                   "RIntegrator::Update: RWorldSettings::restitutionCombine and frictionCombine " + problem);
     }
   }
   RJobSystem* jobs = m_gameJobs;
@@ -119,7 +152,8 @@ void CheckDt(RScalar dt) {
   if (!(std::isfinite(dt) && dt > 0 && dt <= RIntegrator::kMaxDt)) {
     char text[96];
     std::snprintf(text, sizeof text, "at most %g s (got %.17g)", RIntegrator::kMaxDt, dt);
-    throw std::invalid_argument(std::string("RIntegrator::Update: dt must be finite, > 0 and ") + text);
+    const std::string problem = std::string("must be finite, > 0 and ") + text;
+    throw RError("dt", problem, "RIntegrator::Update: dt " + problem);
   }
 }
 }  // namespace
@@ -127,17 +161,17 @@ void CheckDt(RScalar dt) {
 void RIntegrator::Update(RBodies& bodies, RScalar dt) {
   CheckDt(dt);
   RStepBodies view;
-  view.data = bodies.m_bodies.data();
+  view.data = bodies.m_slots.items.data();
   view.count = bodies.m_enabled;
-  view.handles = bodies.m_handles.data();
-  view.denseOfSlot = bodies.m_denseOfSlot.data();
-  view.slotCount = bodies.m_denseOfSlot.size();
+  view.handles = bodies.m_slots.handles.data();
+  view.denseOfSlot = bodies.m_slots.denseOfSlot.data();
+  view.slotCount = bodies.m_slots.denseOfSlot.size();
   view.byIndex = false;
   view.wakeIslands = &bodies.m_wakeIslands;
   view.wakeAll = &bodies.m_wakeAll;
   view.wakeBoxes = &bodies.m_wakeBoxes;
-  view.joints = bodies.m_joints.data();
-  view.jointCount = bodies.m_joints.size();
+  view.joints = bodies.m_jointSlots.items.data();
+  view.jointCount = bodies.m_jointSlots.items.size();
   view.noCollidePairs = bodies.m_noCollide.data();
   view.noCollideCount = bodies.m_noCollide.size();
   // Queries' caches of the poses (RQueries) see the bodies moved, also when the step throws

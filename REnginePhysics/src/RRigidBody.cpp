@@ -131,9 +131,11 @@ RRigidBody::RRigidBody(const RBodyDef& def)
       m_restitution(def.restitution),
       m_friction(def.friction),
       m_name(def.name),
-      m_id(def.id),
+      m_id(def.id.value_or(kNoId)),
       m_ignore(def.ignore),
       m_userData(def.userData) {
+  Require(!def.id || *def.id != kNoId, "id", "must be 0 to 2^32 - 2");
+  for (std::uint32_t other : m_ignore) Require(other != kNoId, "ignore", "ids must be 0 to 2^32 - 2");
   std::sort(m_ignore.begin(), m_ignore.end());
   m_ignore.erase(std::unique(m_ignore.begin(), m_ignore.end()), m_ignore.end());
   m_ignores = !m_ignore.empty();
@@ -141,15 +143,9 @@ RRigidBody::RRigidBody(const RBodyDef& def)
           "must be a finite number >= 0");
   Require(std::isfinite(def.friction) && def.friction >= 0, "friction",
           "must be a finite number >= 0");
-  RBodyKind kind = def.isStatic ? RBodyKind::kStatic : RBodyKind::kDynamic;
-  if (def.kind) {
-    Require(*def.kind == RBodyKind::kDynamic || *def.kind == RBodyKind::kStatic ||
-                *def.kind == RBodyKind::kKinematic,
-            "kind", "must be dynamic, static or kinematic");
-    Require(!def.isStatic || *def.kind == RBodyKind::kStatic, "kind",
-            "contradicts static: true (give one, or both meaning the same)");
-    kind = *def.kind;
-  }
+  RBodyKind kind = def.kind;
+  Require(kind == RBodyKind::kDynamic || kind == RBodyKind::kStatic || kind == RBodyKind::kKinematic,
+          "kind", "must be dynamic, static or kinematic");
   Require(std::isfinite(def.linearDamping) && def.linearDamping >= 0, "linear_damping",
           "must be a finite number >= 0");
   Require(std::isfinite(def.angularDamping) && def.angularDamping >= 0, "angular_damping",
@@ -341,6 +337,7 @@ bool RRigidBody::ShouldCheckCollision(const RRigidBody& other) const {
 }
 
 void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
+  Require(otherId != kNoId, "ignore", "ids must be 0 to 2^32 - 2");
   const auto it = std::lower_bound(m_ignore.begin(), m_ignore.end(), otherId);
   if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
   m_ignores = true;

@@ -101,10 +101,8 @@ RScene ReadScene(const json& doc, const RSceneLimits& limits) {
 }  // namespace
 
 RSceneError::RSceneError(std::string file, std::string jsonPath, std::string problem)
-    : std::runtime_error(file + ": " + (jsonPath.empty() ? "" : jsonPath + ": ") + problem),
-      m_file(std::move(file)),
-      m_jsonPath(std::move(jsonPath)),
-      m_problem(std::move(problem)) {}
+    : RError(jsonPath, problem, file + ": " + (jsonPath.empty() ? "" : jsonPath + ": ") + problem),
+      m_file(std::move(file)) {}
 
 void CheckSceneLimits(const RScene& scene, const RSceneLimits& limits) {
   // Every body and joint the run may hold: the scene's and those its actions add.

@@ -51,7 +51,7 @@ RVec3 ReadAxis(const json& j, const std::string& path) {
 }  // namespace
 
 bool Immovable(const RBodyDef& def) {
-  const RBodyKind kind = def.kind.value_or(def.isStatic ? RBodyKind::kStatic : RBodyKind::kDynamic);
+  const RBodyKind kind = def.kind;
   if (kind != RBodyKind::kDynamic) return true;
   for (int k = 0; k < 3; ++k) {
     if (!def.locks.linear[k] || !def.locks.angular[k]) return false;

@@ -401,7 +401,8 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   RBodyDef def;
   def.name = ReadName(body.Required("name"), body.PathOf("name"));
   def.shape = ReadShape(body.Required("shape"), body.PathOf("shape"), limits);
-  def.isStatic = body.Get("static", def.isStatic, ReadBool);
+  const bool isStatic = body.Get("static", false, ReadBool);
+  def.kind = isStatic ? RBodyKind::kStatic : RBodyKind::kDynamic;
   if (body.Has("kind")) {
     def.kind = ReadChoice<RBodyKind>(body.Required("kind"), body.PathOf("kind"),
                                      {{"dynamic", RBodyKind::kDynamic},
@@ -409,11 +410,10 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
                                       {"kinematic", RBodyKind::kKinematic}});
     // "static": false with "kind": "static" says two things, as "static": true with another
     // kind does; "static": false beside "dynamic" or "kinematic" agrees.
-    if (body.Has("static") && def.isStatic != (*def.kind == RBodyKind::kStatic)) {
+    if (body.Has("static") && isStatic != (def.kind == RBodyKind::kStatic)) {
       Fail(body.PathOf("kind"), std::string("contradicts \"static\": ") +
-                                    (def.isStatic ? "true" : "false") + Got(body.Required("kind")));
+                                    (isStatic ? "true" : "false") + Got(body.Required("kind")));
     }
-    def.isStatic = *def.kind == RBodyKind::kStatic;  // one meaning, for readers of either
   }
   def.linearDamping = body.Get("linear_damping", def.linearDamping, ReadNonNegative);
   def.angularDamping = body.Get("angular_damping", def.angularDamping, ReadNonNegative);
@@ -430,7 +430,7 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   def.q_WS = body.Get("orientation", def.q_WS, ReadOrientation);
   def.velocity_W = body.Get("velocity", def.velocity_W, ReadVec3);
   def.angularVelocity_W = body.Get("angular_velocity", def.angularVelocity_W, ReadVec3);
-  def.restitution = body.Get("restitution", def.restitution, ReadUnitInterval);
+  def.restitution = body.Get("restitution", RScene::kDefaultRestitution, ReadUnitInterval);
   def.friction = body.Get("friction", def.friction, ReadNonNegative);
   def.responds = body.Get("responds", def.responds, ReadBool);
   def.category = body.Get("category", def.category, ReadBits);

@@ -80,14 +80,15 @@ void RSceneWorld::ApplyActions(std::uint64_t stepsRun) {
         case RSceneAction::Verb::kAdd: {
           field = "add";
           RBodyDef def = a.def;
-          def.id = m_nextId++;
+          const std::uint32_t id = m_nextId++;
+          def.id = id;
           for (const std::string& other : a.ignore) def.ignore.push_back(m_idByName.at(other));
           const RBodyHandle h = m_bodies.Add(def);
           // Ignoring is symmetric: the bodies it names learn to ignore it too.
           for (const std::string& other : a.ignore) {
-            m_bodies[m_byName.at(other)].IgnoreCollisionsWith(def.id);
+            m_bodies[m_byName.at(other)].IgnoreCollisionsWith(id);
           }
-          m_idByName[a.body] = def.id;
+          m_idByName[a.body] = id;
           m_byName.emplace(a.body, h);
           m_live.push_back(h);
           break;

@@ -29,14 +29,14 @@ void WriteDef(RWriter& w, const RJointDef& d) {
 }  // namespace
 
 void RStateAccess::WriteJoints(RWriter& w, const RBodies& c) {
-  w.U64(c.m_jointGeneration.size());
-  for (std::uint32_t g : c.m_jointGeneration) w.U32(g);
-  w.U64(c.m_jointFree.size());
-  for (std::uint32_t slot : c.m_jointFree) w.U32(slot);
-  w.U64(c.m_joints.size());
-  for (std::size_t k = 0; k < c.m_joints.size(); ++k) {
-    const RJoint& j = c.m_joints[k];
-    w.U32(c.m_jointHandles[k].index), w.U32(c.m_jointHandles[k].generation);
+  w.U64(c.m_jointSlots.generation.size());
+  for (std::uint32_t g : c.m_jointSlots.generation) w.U32(g);
+  w.U64(c.m_jointSlots.free.size());
+  for (std::uint32_t slot : c.m_jointSlots.free) w.U32(slot);
+  w.U64(c.m_jointSlots.items.size());
+  for (std::size_t k = 0; k < c.m_jointSlots.items.size(); ++k) {
+    const RJoint& j = c.m_jointSlots.items[k];
+    w.U32(c.m_jointSlots.handles[k].index), w.U32(c.m_jointSlots.handles[k].generation);
     WriteDef(w, j.def);
     w.Vec3(j.anchorA_B), w.Vec3(j.anchorB_B), w.Vec3(j.axisA_B), w.Vec3(j.axisB_B);
     w.Vec3(j.perpA_B[0]), w.Vec3(j.perpA_B[1]), w.Quat(j.relative0);
@@ -138,14 +138,14 @@ void RStateAccess::ReadJoints(RReader& r, RSavedBodies& out) {
 // The loaded joints into the container, and what follows from them: the pairs they keep
 // from colliding and their bodies' flags.
 void RStateAccess::CommitJoints(RBodies& bodies, RSavedBodies& saved) {
-  bodies.m_joints.swap(saved.joints);
-  bodies.m_jointHandles.swap(saved.jointHandles);
-  bodies.m_jointGeneration.swap(saved.jointGeneration);
-  bodies.m_jointDenseOfSlot.swap(saved.jointDenseOfSlot);
-  bodies.m_jointFree.swap(saved.jointFree);
+  bodies.m_jointSlots.items.swap(saved.joints);
+  bodies.m_jointSlots.handles.swap(saved.jointHandles);
+  bodies.m_jointSlots.generation.swap(saved.jointGeneration);
+  bodies.m_jointSlots.denseOfSlot.swap(saved.jointDenseOfSlot);
+  bodies.m_jointSlots.free.swap(saved.jointFree);
   bodies.m_noCollide.clear();
-  for (RRigidBody& b : bodies.m_bodies) b.m_jointNoCollide = false;
-  for (const RJoint& j : bodies.m_joints) {
+  for (RRigidBody& b : bodies.m_slots.items) b.m_jointNoCollide = false;
+  for (const RJoint& j : bodies.m_jointSlots.items) {
     if (!j.def.b.IsValid() || j.def.collideConnected) continue;
     const std::uint32_t a = j.def.a.index, b = j.def.b.index;
     bodies.m_noCollide.push_back(a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a);

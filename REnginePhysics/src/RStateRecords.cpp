@@ -165,7 +165,8 @@ RRigidBody RStateAccess::ReadBody(RReader& r, const RShapeCatalog& shapes, std::
   const RVec3 inertia = r.Vec3("inertia");
   def.restitution = r.F64("restitution");
   def.friction = r.F64("friction");
-  def.id = r.U32("id");
+  const std::uint32_t id = r.U32("id");
+  if (id != 0xFFFFFFFFu) def.id = id;  // 2^32 - 1: the body has no id
   def.ignore.resize(r.Count("ignore", 4));
   for (std::size_t k = 0; k < def.ignore.size(); ++k) {
     def.ignore[k] = r.U32("ignore");
@@ -225,19 +226,19 @@ void RStateAccess::WriteBodies(RWriter& w, const RWorldStep& s, const std::vecto
 
 void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const RBodies& c) {
   w.U8(0);  // an RBodies
-  w.U64(c.m_generation.size());
-  for (std::uint32_t g : c.m_generation) w.U32(g);
-  w.U64(c.m_free.size());
-  for (std::uint32_t slot : c.m_free) w.U32(slot);
+  w.U64(c.m_slots.generation.size());
+  for (std::uint32_t g : c.m_slots.generation) w.U32(g);
+  w.U64(c.m_slots.free.size());
+  for (std::uint32_t slot : c.m_slots.free) w.U32(slot);
   w.U64(c.m_enabled);
-  w.U64(c.m_bodies.size());
-  for (RBodyHandle h : c.m_handles) w.U32(h.index), w.U32(h.generation);
+  w.U64(c.m_slots.items.size());
+  for (RBodyHandle h : c.m_slots.handles) w.U32(h.index), w.U32(h.generation);
   w.U64(c.m_wakeIslands.size());
   for (std::uint32_t island : c.m_wakeIslands) w.U32(island);
   w.Bool(c.m_wakeAll);
   w.U64(c.m_wakeBoxes.size());
   for (const RVec3& corner : c.m_wakeBoxes) w.Vec3(corner);
-  WriteBodies(w, s, c.m_bodies);
+  WriteBodies(w, s, c.m_slots.items);
   WriteJoints(w, c);
 }
 

@@ -136,7 +136,7 @@ std::uint64_t RStateAccess::SerialAt(const RSavedBodies& saved, RBodyHandle h) {
 
 void RStateAccess::LoadInto(RIntegrator& integrator, RBodies& bodies, const std::uint8_t* data, std::size_t size,
                      const RLoadOptions& options) {
-  Load(integrator, bodies.m_bodies, data, size, options, false, [&bodies](RSavedBodies& saved) {
+  Load(integrator, bodies.m_slots.items, data, size, options, false, [&bodies](RSavedBodies& saved) {
     // Another world's state names a body the container holds as another body.
     RShapeKeys keys;
     for (std::size_t d = 0; d < saved.bodies.size(); ++d) {
@@ -153,11 +153,11 @@ void RStateAccess::LoadInto(RIntegrator& integrator, RBodies& bodies, const std:
                                                     "\" with another shape, kind or mass: a state of another world");
       }
     }
-    bodies.m_bodies.swap(saved.bodies);
-    bodies.m_handles.swap(saved.handles);
-    bodies.m_generation.swap(saved.generation);
-    bodies.m_denseOfSlot.swap(saved.denseOfSlot);
-    bodies.m_free.swap(saved.free);
+    bodies.m_slots.items.swap(saved.bodies);
+    bodies.m_slots.handles.swap(saved.handles);
+    bodies.m_slots.generation.swap(saved.generation);
+    bodies.m_slots.denseOfSlot.swap(saved.denseOfSlot);
+    bodies.m_slots.free.swap(saved.free);
     bodies.m_wakeIslands.swap(saved.wakeIslands);
     bodies.m_enabled = saved.enabled;
     bodies.m_wakeAll = saved.wakeAll;

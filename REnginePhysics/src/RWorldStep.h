@@ -676,6 +676,10 @@ class RWorldStep {
   std::vector<REventContact> m_eventContacts;
   std::vector<std::uint32_t> m_eventOrder;  // this step's contacts, sorted by handles
   std::vector<RContactEvent> m_events;
+  // m_events by body (RIntegrator::EventsOf): per slot, where its run of event positions
+  // starts in m_eventsByBody (by generation, then in m_events' order); two per event.
+  std::vector<std::uint32_t> m_eventsBySlot, m_eventsByBody, m_eventsFill;
+  void IndexEventsByBody();
   // Identity handles for the plain-vector path (RStepBodies::byIndex).
   std::vector<RBodyHandle> m_indexHandles;
   std::vector<std::uint32_t> m_indexSlots;

@@ -24,6 +24,7 @@ int main() {
   // A ball in a plain vector of bodies: y = -g t^2 / 2 after 1 s.
   {
     RBodyDef def;
+    def.restitution = 0.5;
     def.name = "ball";
     def.shape.type = RShapeType::kSphere;
     def.shape.radius = 0.5;
@@ -39,6 +40,7 @@ int main() {
   // A compound of two boxes side by side, densities 1 and 3 kg/m^3: mass 1 + 3 kg. Its
   // children carry quaternions (RQuat), the type whose alignment depends on SIMD flags.
   RBodyDef compound;
+  compound.restitution = 0.5;
   compound.name = "compound";
   compound.shape.type = RShapeType::kCompound;
   for (int k = 0; k < 2; ++k) {
@@ -55,6 +57,7 @@ int main() {
 
   // A hull: the cube of side 2 from its eight corners, density 2 kg/m^3: mass 16 kg.
   RBodyDef hull;
+  hull.restitution = 0.5;
   hull.name = "hull";
   hull.shape.type = RShapeType::kHull;
   for (int i = 0; i < 8; ++i)
@@ -66,6 +69,7 @@ int main() {
   // A pendulum: a 1 kg ball on a ball joint to the world, 2 m from its anchor, released
   // horizontally. The joint holds the distance; the ball swings down.
   RBodyDef bob;
+  bob.restitution = 0.5;
   bob.name = "bob";
   bob.shape.type = RShapeType::kSphere;
   bob.shape.radius = 0.1;

@@ -82,6 +82,7 @@ const Shapes& TheShapes() {
 RBodyHandle Add(RBodies& bodies, const char* name, const std::shared_ptr<const RPreparedShape>& shape,
                 const RVec3& at, RBodyKind kind = RBodyKind::kDynamic) {
   RBodyDef d;
+  d.restitution = 0.5;
   d.name = name, d.prepared = shape, d.kind = kind, d.position_W = at;
   return bodies.Add(d);
 }
@@ -99,11 +100,13 @@ void Build(RBodies& bodies) {
   Add(bodies, "terrain", s.mesh, RVec3(8, 0, 8), RBodyKind::kStatic);
   const RBodyHandle compound = Add(bodies, "compound", s.compound, RVec3(8, 2, 8));
   RBodyDef tumbler;
+  tumbler.restitution = 0.5;
   tumbler.name = "tumbler", tumbler.gravityScale = 0;
   tumbler.shape = Box(RVec3(0.2, 0.5, 0.9));
   tumbler.position_W = RVec3(0, 8, 4), tumbler.angularVelocity_W = RVec3(0.01, 3, 0.02);
   bodies.Add(tumbler);
   RBodyDef platform;
+  platform.restitution = 0.5;
   platform.name = "platform", platform.prepared = s.platform, platform.kind = RBodyKind::kKinematic;
   platform.position_W = RVec3(4, 0.1, 0), platform.angularVelocity_W = RVec3(0, 1, 0);
   bodies.Add(platform);

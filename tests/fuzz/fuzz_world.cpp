@@ -2,7 +2,7 @@
 // hulls, static or dynamic, with fuzzed masses, velocities, gravity and step), with fuzzed
 // API calls between the steps (forces, torques, impulses, velocities, poses; any bit
 // pattern, so NaN and infinities too). Invariants: invalid arguments are refused with an
-// exception derived from std::invalid_argument; after every step each body is finite, or
+// exception derived from RError; after every step each body is finite, or
 // listed by NonFiniteInLastStep() (and then put back, finite); nothing crashes.
 #include <REnginePhysics/RIntegrator.h>
 
@@ -87,7 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (int k = 0; k < points; ++k) d.shape.points.push_back(s * in.Vec(-1, 1));
       }
     }
-    d.isStatic = in.Byte() % 4 == 0;
+    d.kind = in.Byte() % 4 == 0 ? RBodyKind::kStatic : RBodyKind::kDynamic;
     d.mass = in.Decades(-3, 4);
     d.position_W = in.Vec(-3, 3) + (in.Byte() % 8 == 0 ? RVec3::Constant(1e7) : RVec3::Zero());
     d.q_WS = in.Rotation();
@@ -130,7 +130,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             b.SetShapePose(x, RQuat(qw, qx, qy, qz));
           }
         }
-      } catch (const std::invalid_argument&) {
+      } catch (const RError&) {
       }
     }
     integrator.Update(bodies, dt);

@@ -59,7 +59,7 @@ inline RBodyDef DrawRandomBody(std::mt19937_64& rng, const RVec3& origin, RScala
   d.velocity_W = (DrawVec3(u, rng) - RVec3::Constant(0.5)) * speed;
   d.angularVelocity_W = (DrawVec3(u, rng) - RVec3::Constant(0.5)) * 4;
   d.mass = 1 + 10 * u(rng);
-  d.isStatic = u(rng) < 0.1;
+  d.kind = u(rng) < 0.1 ? RBodyKind::kStatic : RBodyKind::kDynamic;
   d.responds = u(rng) > 0.05;
   d.name = "b" + std::to_string(i);
   return d;

@@ -2,7 +2,8 @@
 // "unit box on the ground" or "the kinetic energy of the world" is written once.
 //
 // A body is built in one expression from a shape and the fields that differ from RBodyDef's
-// defaults (density 1 kg/m^3, restitution 0.5, friction 0.5, at the origin, at rest):
+// defaults (density 1 kg/m^3, friction 0.5, at the origin, at rest), except restitution, 0.5
+// here (RBodyDef's is 0): the tests' worlds bounce unless they say otherwise:
 //
 //   BoxDef(RVec3::Constant(0.5)).At(RVec3(0, 0.5, 0)).Mass(1).Named("box")
 //
@@ -28,6 +29,7 @@ namespace REngine::test {
 
 // An RBodyDef with setters that chain. Each sets one field and says nothing of the others.
 struct BodyDef : RBodyDef {
+  BodyDef() { restitution = 0.5; }
   BodyDef& Named(std::string n) { return name = std::move(n), *this; }
   BodyDef& At(const RVec3& x_W) { return position_W = x_W, *this; }          // shape frame, m
   BodyDef& Oriented(const RQuat& q) { return q_WS = q, *this; }              // q_WS
@@ -38,7 +40,7 @@ struct BodyDef : RBodyDef {
   BodyDef& Restitution(RScalar e) { return restitution = e, *this; }
   BodyDef& Friction(RScalar mu) { return friction = mu, *this; }
   // Static: never moves, mass 0 whatever `mass` says.
-  BodyDef& Static() { return isStatic = true, *this; }
+  BodyDef& Static() { return kind = RBodyKind::kStatic, *this; }
   // Kinematic: moves with its velocities (Moving, Spinning) and nothing else, mass 0.
   BodyDef& Kinematic() { return kind = RBodyKind::kKinematic, *this; }
   BodyDef& Damping(RScalar linear, RScalar angular) {  // 1/s

@@ -221,7 +221,7 @@ bool RunScene(const std::string& path, const Options& opt) {
   }
   const std::uint64_t steps = opt.steps > 0 ? opt.steps : scene.steps;
   std::size_t dynamic = 0;
-  for (const RBodyDef& d : scene.bodies) dynamic += d.isStatic ? 0 : 1;
+  for (const RBodyDef& d : scene.bodies) dynamic += d.kind == RBodyKind::kStatic ? 0 : 1;
   const RVec3& g = scene.settings.gravity_W;
   std::printf("\n%s: %zu bodies (%zu dynamic), dt %.6g s, %llu steps, gravity (%g, %g, %g), "
               "solver iterations %d\n",

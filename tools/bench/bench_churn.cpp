@@ -33,6 +33,7 @@ constexpr int kPeriod = 10;
 
 RBodyDef BoxDef(const RVec3& x) {
   RBodyDef d;
+  d.restitution = 0.5;
   d.shape.type = RShapeType::kBox;
   d.shape.halfExtents = RVec3::Constant(0.5);
   d.position_W = x;
@@ -45,7 +46,7 @@ std::vector<RBodyDef> PileDefs() {
   RBodyDef ground = BoxDef(RVec3(0, -0.5, 0));
   ground.name = "ground";
   ground.shape.halfExtents = RVec3(100, 0.5, 100);
-  ground.isStatic = true;
+  ground.kind = RBodyKind::kStatic;
   ground.mass.reset();
   defs.push_back(ground);
   for (int c = 0; c < 100; ++c) {
@@ -60,6 +61,7 @@ std::vector<RBodyDef> PileDefs() {
 
 RBodyDef Debris(int i) {
   RBodyDef d;
+  d.restitution = 0.5;
   d.name = "debris";
   d.shape.type = RShapeType::kSphere;
   d.shape.radius = 0.1;
@@ -172,6 +174,7 @@ RShape FragmentShape() {
 void BM_Spawn_FromShape(benchmark::State& state) {
   RBodies bodies;
   RBodyDef def;
+  def.restitution = 0.5;
   def.name = "fragment";
   def.shape = FragmentShape();
   for (auto _ : state) bodies.Remove(bodies.Add(def));
@@ -181,6 +184,7 @@ void BM_Spawn_FromShape(benchmark::State& state) {
 void BM_Spawn_FromPreparedShape(benchmark::State& state) {
   RBodies bodies;
   RBodyDef def;
+  def.restitution = 0.5;
   def.name = "fragment";
   def.prepared = PrepareShape(FragmentShape());
   for (auto _ : state) bodies.Remove(bodies.Add(def));

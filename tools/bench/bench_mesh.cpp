@@ -72,6 +72,7 @@ World& WorldOf(int boxFloor) {
   if (w) return *w;
   w = std::make_unique<World>();
   RBodyDef floor;
+  floor.restitution = 0.5;
   floor.name = "floor";
   floor.kind = RBodyKind::kStatic;
   if (boxFloor) {
@@ -84,6 +85,7 @@ World& WorldOf(int boxFloor) {
   w->bodies.emplace_back(floor);
   for (int k = 0; k < 1024; ++k) {
     RBodyDef box;
+    box.restitution = 0.5;
     box.shape.type = RShapeType::kBox;
     box.shape.halfExtents = RVec3(0.4, 0.25, 0.3);
     box.position_W = RVec3(-24.3 + 1.6 * (k % 32), 0.25, -24.7 + 1.6 * (k / 32));

@@ -21,6 +21,7 @@ std::vector<RRigidBody> MakeBodies(int kind, int n) {
   bodies.reserve(n);
   for (int i = 0; i < n; ++i) {
     RBodyDef def;
+    def.restitution = 0.5;
     def.name = "b" + std::to_string(i);
     if (kind == 0) {
       def.shape.type = RShapeType::kSphere;

@@ -76,6 +76,7 @@ Field& FieldOf(int n) {
   f->side = 25 * std::cbrt(static_cast<RScalar>(n));
   for (int i = 0; i < n; ++i) {
     RBodyDef d;
+    d.restitution = 0.5;
     d.shape.type = RShapeType::kHull;
     d.shape.points = RockPoints(rng, 1 + 4 * u(rng));
     const RScalar z = u(rng), y = u(rng), x = u(rng);

@@ -232,7 +232,7 @@ bool RunScene(const ScalingScene& def, const RScene& scene, const ScalingOptions
   }
 
   std::size_t dynamic = 0;
-  for (const RBodyDef& d : scene.bodies) dynamic += d.isStatic ? 0 : 1;
+  for (const RBodyDef& d : scene.bodies) dynamic += d.kind == RBodyKind::kStatic ? 0 : 1;
   std::printf("\n%s: %zu bodies (%zu dynamic), %" PRIu64 " steps of %.6g s, sleeping %s\n",
               def.name, scene.bodies.size(), dynamic, scene.steps, scene.dt,
               OnOff(scene.settings.shortcuts.sleeping));

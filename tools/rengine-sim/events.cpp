@@ -18,7 +18,7 @@ const EventWriter::Known& EventWriter::Body(RBodyHandle h, const RBodies& bodies
   // First named: the body is alive (an event names a removed body only after one named it
   // alive, when its pair began).
   Known k;
-  if (const RRigidBody* b = bodies.Find(h)) k.id = b->Id(), k.name = CsvField(b->Name());
+  if (const RRigidBody* b = bodies.Find(h)) k.id = b->Id().value_or(0), k.name = CsvField(b->Name());
   return m_known.emplace(key, std::move(k)).first->second;
 }
 

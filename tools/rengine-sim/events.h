@@ -34,7 +34,7 @@ class EventWriter {
   // A body as the rows name it: creation order and CSV name, kept by (slot, generation)
   // from the first event that names it, so that an end after its removal still can.
   struct Known {
-    std::uint32_t id = 0;
+    std::uint32_t id = 0;  // a scene's bodies all have ids (their index)
     std::string name;
   };
   const Known& Body(RBodyHandle h, const RBodies& bodies);

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -73,7 +74,8 @@ struct SceneBody {
   RScalar restitution, friction, linearDamping, angularDamping, gravityScale;
   bool responds;
   RBodyLocks locks;
-  std::uint32_t id, category, mask;
+  std::optional<std::uint32_t> id;
+  std::uint32_t category, mask;
 };
 struct SceneJoint {
   RJointHandle handle;

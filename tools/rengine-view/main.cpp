@@ -124,7 +124,7 @@ struct Body {
 };
 
 bool Immovable(const RBodyDef& def) {
-  return def.isStatic || (def.kind && *def.kind != RBodyKind::kDynamic);
+  return def.kind != RBodyKind::kDynamic;
 }
 
 // Static bodies grey; the others spread round the colour wheel by the golden angle, so

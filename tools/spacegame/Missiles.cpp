@@ -21,7 +21,6 @@ Missiles::Missiles(SpaceWorld& world, int missiles, int debris, const MissileTun
     d.position_W = park + RVec3(10.0 * k, 0, 0);
     d.responds = false;
     d.gravityScale = 0;
-    d.id = world.NextId();
     d.category = category::kMissile;
     d.userData = PackUserData(Role::kMissile);
     Slot s;
@@ -37,7 +36,6 @@ Missiles::Missiles(SpaceWorld& world, int missiles, int debris, const MissileTun
     d.restitution = 0.2;
     d.friction = 0.8;
     d.gravityScale = 0;
-    d.id = world.NextId();
     d.category = category::kDebris;
     d.userData = PackUserData(Role::kDebris);
     const RBodyHandle h = bodies.Add(d);
@@ -62,14 +60,13 @@ RBodyHandle Missiles::Fire(RBodyHandle launcher, const RVec3& position_W, const 
   if (free == m_slots.end()) return {};
   RBodies& bodies = m_world.Bodies();
   // Read before Enable, which may move bodies in the container's storage.
-  const std::uint32_t launcherId = bodies[launcher].Id();
   const RVec3 launcherVelocity = bodies[launcher].Velocity_W();
   const RVec3 dir = direction_W.normalized();
   bodies.Enable(free->body);
   RRigidBody& m = bodies[free->body];
   // The pool keeps its bodies, so the ignore list only grows; the same launcher again adds
   // nothing (the engine keeps the list sorted and unique).
-  m.IgnoreCollisionsWith(launcherId);
+  bodies.IgnoreCollisions(free->body, launcher);
   // The capsule's axis is its S frame's y: turn y onto the flight direction.
   m.SetShapePose(position_W, RQuat::FromTwoVectors(RVec3::UnitY(), dir));
   m.SetVelocity_W(launcherVelocity + m_tuning.launchSpeed * dir);

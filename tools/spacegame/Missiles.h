@@ -1,6 +1,6 @@
 // Missiles and the debris they leave. A missile is a capsule that does not respond
 // (RBodyDef::responds = false: its contacts are reported, not resolved), ignores the body
-// that launched it (RRigidBody::IgnoreCollisionsWith, so it can leave from inside the hull),
+// that launched it (RBodies::IgnoreCollisions, by handle, so it can leave from inside the hull),
 // burns its motor for a few seconds, and explodes on the first contact event with anything
 // else: it is parked, the bodies within the blast radius get an impulse away from it, and
 // pieces of debris fly out.

@@ -33,7 +33,6 @@ RBodyHandle SpaceWorld::AddAsteroid(int sizeClass, int variant, const RVec3& pos
   d.restitution = 0.3;
   d.friction = 0.6;
   d.gravityScale = 0;
-  d.id = NextId();
   d.category = category::kAsteroid;
   d.userData = PackUserData(Role::kAsteroid, sizeClass);
   const RBodyHandle h = m_bodies.Add(d);
@@ -51,7 +50,7 @@ void SpaceWorld::BuildScene() {
   station.kind = RBodyKind::kKinematic;
   station.position_W = O;
   station.angularVelocity_W = RVec3(0, m_config.stationSpin, 0);
-  station.id = NextId();
+  station.restitution = 0.5;  // the station's hull and bay give back half an approach speed
   station.category = category::kStation;
   station.userData = PackUserData(Role::kStation);
   m_station = m_bodies.Add(station);
@@ -60,7 +59,7 @@ void SpaceWorld::BuildScene() {
   bay.prepared = m_shapes.bay;
   bay.kind = RBodyKind::kStatic;
   bay.position_W = O + RVec3(0, GameShapes::kBayY, 0);
-  bay.id = NextId();
+  bay.restitution = 0.5;
   bay.category = category::kStation;
   bay.userData = PackUserData(Role::kBay);
   m_bay = m_bodies.Add(bay);
@@ -72,7 +71,6 @@ void SpaceWorld::BuildScene() {
     crate.mass = 400;
     crate.position_W = O + RVec3(-6 + 4.0 * k, GameShapes::kBayY + 1.0, -4 + 2.0 * (k % 2));
     crate.restitution = 0.1;
-    crate.id = NextId();
     crate.category = category::kCrate;
     crate.userData = PackUserData(Role::kCrate);
     m_bodies.Add(crate);
@@ -85,7 +83,6 @@ void SpaceWorld::BuildScene() {
   ship.q_WS = RQuat(Eigen::AngleAxis<double>(0.35, RVec3::UnitY()));
   ship.restitution = 0.2;
   ship.gravityScale = 0;
-  ship.id = kShipId;
   ship.category = category::kShip;
   ship.userData = PackUserData(Role::kShip);
   m_ship = m_bodies.Add(ship);

@@ -86,11 +86,6 @@ class SpaceWorld {
   RBodyHandle Ship() const { return m_ship; }
   RBodyHandle Station() const { return m_station; }
   RBodyHandle Bay() const { return m_bay; }
-  std::uint32_t ShipId() const { return kShipId; }
-
-  // A fresh id for RBodyDef::id (ignore lists name bodies by id).
-  std::uint32_t NextId() { return m_nextId++; }
-
   // An asteroid of a size class from one of the shared rock shapes.
   RBodyHandle AddAsteroid(int sizeClass, int variant, const RVec3& position_W, const RQuat& q_WS,
                           const RVec3& velocity_W, const RVec3& angularVelocity_W);
@@ -121,8 +116,6 @@ class SpaceWorld {
   RScalar StepDt() const { return m_config.dt; }
   void Step();
 
-  static constexpr std::uint32_t kShipId = 1;
-
  private:
   void BuildScene();
   void NoteBody(const REngine::RRigidBody& b, double sign);
@@ -133,7 +126,6 @@ class SpaceWorld {
   REngine::RIntegrator m_integrator;
   REngine::RQueries m_queries;
   RBodyHandle m_ship, m_station, m_bay;
-  std::uint32_t m_nextId = 100;
   Conservation m_external;
   struct PendingForce {
     RBodyHandle body;

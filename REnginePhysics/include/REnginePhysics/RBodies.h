@@ -20,6 +20,8 @@
 // touched it), and every other pair keeps its warm start.
 #pragma once
 
+#include <REnginePhysics/RError.h>
+
 #include <REnginePhysics/RAbi.h>
 #include <REnginePhysics/RBodyHandle.h>
 #include <REnginePhysics/RJoint.h>
@@ -47,10 +49,11 @@ class RBodiesStamp {
   std::uint64_t m_value;
 };
 
-// A handle that names no body (never issued, or its body was removed).
-class RHandleError : public std::out_of_range {
+// A handle that names no body or joint (never issued, or its body was removed). Field() is
+// "handle"; what() says which handle and which call.
+class RHandleError : public RError {
  public:
-  explicit RHandleError(const std::string& what) : std::out_of_range(what) {}
+  explicit RHandleError(const std::string& what) : RError("handle", what, what) {}
 };
 
 class RBodies {
@@ -76,31 +79,37 @@ class RBodies {
   void Enable(RBodyHandle h);
   bool IsEnabled(RBodyHandle h) const { return DenseIndex(h) < m_enabled; }
 
-  bool Contains(RBodyHandle h) const {
-    return h.index < m_generation.size() && m_generation[h.index] == h.generation &&
-           m_denseOfSlot[h.index] != kFree;
-  }
+  bool Contains(RBodyHandle h) const { return m_slots.Contains(h); }
   // The body a handle names; throws RHandleError when stale. Find: nullptr instead.
-  RRigidBody& operator[](RBodyHandle h) { return m_bodies[DenseIndex(h)]; }
-  const RRigidBody& operator[](RBodyHandle h) const { return m_bodies[DenseIndex(h)]; }
-  RRigidBody* Find(RBodyHandle h) { return Contains(h) ? &m_bodies[m_denseOfSlot[h.index]] : nullptr; }
+  RRigidBody& operator[](RBodyHandle h) { return m_slots.items[DenseIndex(h)]; }
+  const RRigidBody& operator[](RBodyHandle h) const { return m_slots.items[DenseIndex(h)]; }
+  RRigidBody* Find(RBodyHandle h) { return Contains(h) ? &m_slots.items[m_slots.denseOfSlot[h.index]] : nullptr; }
   const RRigidBody* Find(RBodyHandle h) const {
-    return Contains(h) ? &m_bodies[m_denseOfSlot[h.index]] : nullptr;
+    return Contains(h) ? &m_slots.items[m_slots.denseOfSlot[h.index]] : nullptr;
   }
 
   // Every body, enabled first: Size() of them, dense positions 0 .. Size() - 1.
-  std::size_t Size() const { return m_bodies.size(); }
-  bool Empty() const { return m_bodies.empty(); }
+  std::size_t Size() const { return m_slots.items.size(); }
+  bool Empty() const { return m_slots.items.empty(); }
   std::size_t EnabledCount() const { return m_enabled; }
-  RRigidBody& At(std::size_t dense) { return m_bodies.at(dense); }
-  const RRigidBody& At(std::size_t dense) const { return m_bodies.at(dense); }
-  RBodyHandle HandleAt(std::size_t dense) const { return m_handles.at(dense); }
+  RRigidBody& At(std::size_t dense) { return m_slots.items.at(dense); }
+  const RRigidBody& At(std::size_t dense) const { return m_slots.items.at(dense); }
+  RBodyHandle HandleAt(std::size_t dense) const { return m_slots.handles.at(dense); }
+
+  // a and b never collide with each other from now on (a missile and its launcher), whatever
+  // their ids: a body without an id (RBodyDef::id unset) is first given one unused in this
+  // container (a search over the bodies, once per body), then a's ignore list takes b's id
+  // (RRigidBody::IgnoreCollisionsWith). A body that shares its id with others on purpose
+  // brings its group along. Wakes a as IgnoreCollisionsWith does. Throws RHandleError
+  // for a stale handle, RBodyError ("ignore") when a and b are the same body, and RError
+  // ("id") when every id is taken.
+  void IgnoreCollisions(RBodyHandle a, RBodyHandle b);
   // The enabled bodies, as contiguous storage (what the integrator steps).
-  RRigidBody* begin() { return m_bodies.data(); }
-  RRigidBody* end() { return m_bodies.data() + m_enabled; }
-  const RRigidBody* begin() const { return m_bodies.data(); }
-  const RRigidBody* end() const { return m_bodies.data() + m_enabled; }
-  const std::vector<RBodyHandle>& Handles() const { return m_handles; }
+  RRigidBody* begin() { return m_slots.items.data(); }
+  RRigidBody* end() { return m_slots.items.data() + m_enabled; }
+  const RRigidBody* begin() const { return m_slots.items.data(); }
+  const RRigidBody* end() const { return m_slots.items.data() + m_enabled; }
+  const std::vector<RBodyHandle>& Handles() const { return m_slots.handles; }
 
   // Room for n bodies without reallocating (spawning then allocates only the body's own
   // name, ignore list and world-form arrays).
@@ -108,26 +117,23 @@ class RBodies {
   void Clear();
 
   // Joints (RJoint.h). AddJoint checks the definition, its type included (throws RJointError,
-  // a std::invalid_argument, naming the field; RHandleError for a body that is not here; and
+  // an RError, naming the field; RHandleError for a body that is not here; and
   // adds nothing), fixes the anchors and axes in the bodies' frames as they stand, and
   // wakes both bodies. A joint whose body is
   // disabled does nothing until it is enabled again; removing a body removes its joints.
   RJointHandle AddJoint(const RJointDef& def);
   // Throws RHandleError for a stale or invalid handle. Wakes the joint's bodies.
   void RemoveJoint(RJointHandle h);
-  bool ContainsJoint(RJointHandle h) const {
-    return h.index < m_jointGeneration.size() && m_jointGeneration[h.index] == h.generation &&
-           m_jointDenseOfSlot[h.index] != kFree;
-  }
-  const RJoint& Joint(RJointHandle h) const { return m_joints[JointDenseIndex(h)]; }
+  bool ContainsJoint(RJointHandle h) const { return m_jointSlots.Contains(h); }
+  const RJoint& Joint(RJointHandle h) const { return m_jointSlots.items[JointDenseIndex(h)]; }
   // A motor's target speed and force (RJointMotor's checks: speed within 1e15, force in
   // [0, 1e30]; throws RJointError), for a hinge or slider; wakes the joint's bodies.
   void SetJointMotor(RJointHandle h, const RJointMotor& motor);
   // Every joint, in an order that depends only on the sequence of AddJoint and RemoveJoint
   // calls (a removed joint's place is taken by the last one).
-  std::size_t JointCount() const { return m_joints.size(); }
-  const RJoint& JointAt(std::size_t dense) const { return m_joints.at(dense); }
-  RJointHandle JointHandleAt(std::size_t dense) const { return m_jointHandles.at(dense); }
+  std::size_t JointCount() const { return m_jointSlots.items.size(); }
+  const RJoint& JointAt(std::size_t dense) const { return m_jointSlots.items.at(dense); }
+  RJointHandle JointHandleAt(std::size_t dense) const { return m_jointSlots.handles.at(dense); }
   // A hinge's angle (rad, b's turn about the axis relative to a since the joint was added)
   // and a slider's travel (m), at the bodies' present poses; 0 for other types.
   RScalar JointPosition(RJointHandle h) const;
@@ -143,18 +149,16 @@ class RBodies {
  private:
   friend class RIntegrator;
   friend struct RStateAccess;  // save and load (RWorldState.h)
-  static constexpr std::uint32_t kFree = std::numeric_limits<std::uint32_t>::max();
+  using RBodySlots = RSlotMap<RRigidBody, RBodyHandle>;
+  using RJointSlots = RSlotMap<RJoint, RJointHandle>;
+  static constexpr std::uint32_t kFree = RBodySlots::kFree;
   std::uint32_t DenseIndex(RBodyHandle h) const;
-  void SwapDense(std::uint32_t i, std::uint32_t j);
   // What leaving the step does to sleepers: a sleeping body's island wakes, a static or
   // kinematic body wakes the sleepers about it.
   void WakeForDeparture(RRigidBody& b);
 
-  std::vector<RRigidBody> m_bodies;   // dense: enabled [0, m_enabled), then disabled
-  std::vector<RBodyHandle> m_handles; // dense position -> handle
-  std::vector<std::uint32_t> m_generation;   // per slot: bumped when its body is removed
-  std::vector<std::uint32_t> m_denseOfSlot;  // per slot: dense position (kFree: free)
-  std::vector<std::uint32_t> m_free;  // free slots, reused last-freed first
+  // The bodies, dense: enabled [0, m_enabled), then disabled.
+  RBodySlots m_slots;
   std::size_t m_enabled = 0;
   // Read and cleared by the next Update: islands to wake (by island id), or all of them.
   std::vector<std::uint32_t> m_wakeIslands;
@@ -165,9 +169,7 @@ class RBodies {
   RBodiesStamp m_layoutStamp, m_poseStamp;
   // Joints: a slot map as the bodies', and the pairs of body slots a joint keeps from
   // colliding (lower << 32 | higher, sorted; a pair joined twice is there twice).
-  std::vector<RJoint> m_joints;
-  std::vector<RJointHandle> m_jointHandles;
-  std::vector<std::uint32_t> m_jointGeneration, m_jointDenseOfSlot, m_jointFree;
+  RJointSlots m_jointSlots;
   std::vector<std::uint64_t> m_noCollide;
   std::uint32_t JointDenseIndex(RJointHandle h) const;
   void RemoveJointAt(std::uint32_t dense);

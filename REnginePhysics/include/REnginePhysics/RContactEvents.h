@@ -24,13 +24,19 @@
 //
 // Order: by handleA, then handleB (RBodyHandle's operator<: slot, then generation), then
 // begin, persist, end. The same for any thread count and job system.
+//
+// Views, so that a game does not filter the whole list itself (RIntegrator::EventsOf, one
+// body's; RIntegrator::EventsBetween, one pair's): each reads the integrator's storage, is
+// valid until its next Update, and allocates nothing.
 #pragma once
 
 #include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 
 namespace REngine {
 
@@ -64,9 +70,76 @@ struct RContactEvent {
   RScalar frictionImpulse = 0;
 };
 
+// The body of an event that is not `body` (the other one of its pair).
+inline RBodyHandle OtherBody(const RContactEvent& event, RBodyHandle body) {
+  return event.handleA == body ? event.handleB : event.handleA;
+}
+
+// A contiguous run of events (RIntegrator::EventsBetween), in the order of Events().
+class RContactEventSpan {
+ public:
+  RContactEventSpan() = default;
+  RContactEventSpan(const RContactEvent* first, const RContactEvent* last) : m_first(first), m_last(last) {}
+  const RContactEvent* begin() const { return m_first; }
+  const RContactEvent* end() const { return m_last; }
+  std::size_t size() const { return static_cast<std::size_t>(m_last - m_first); }
+  bool empty() const { return m_first == m_last; }
+  const RContactEvent& operator[](std::size_t k) const { return m_first[k]; }
+
+ private:
+  const RContactEvent* m_first = nullptr;
+  const RContactEvent* m_last = nullptr;
+};
+
+// The events that name one body, as handleA or handleB (RIntegrator::EventsOf), in the order
+// of Events(): positions into it, read through an iterator.
+class RBodyContactEvents {
+ public:
+  class Iterator {
+   public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = RContactEvent;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const RContactEvent*;
+    using reference = const RContactEvent&;
+    Iterator() = default;
+    Iterator(const RContactEvent* events, const std::uint32_t* at) : m_events(events), m_at(at) {}
+    reference operator*() const { return m_events[*m_at]; }
+    pointer operator->() const { return &m_events[*m_at]; }
+    Iterator& operator++() { return ++m_at, *this; }
+    Iterator operator++(int) {
+      Iterator before = *this;
+      ++m_at;
+      return before;
+    }
+    friend bool operator==(const Iterator& a, const Iterator& b) { return a.m_at == b.m_at; }
+    friend bool operator!=(const Iterator& a, const Iterator& b) { return a.m_at != b.m_at; }
+
+   private:
+    const RContactEvent* m_events = nullptr;
+    const std::uint32_t* m_at = nullptr;
+  };
+
+  RBodyContactEvents() = default;
+  RBodyContactEvents(const RContactEvent* events, const std::uint32_t* first, const std::uint32_t* last)
+      : m_events(events), m_first(first), m_last(last) {}
+  Iterator begin() const { return {m_events, m_first}; }
+  Iterator end() const { return {m_events, m_last}; }
+  std::size_t size() const { return static_cast<std::size_t>(m_last - m_first); }
+  bool empty() const { return m_first == m_last; }
+  const RContactEvent& operator[](std::size_t k) const { return m_events[m_first[k]]; }
+
+ private:
+  const RContactEvent* m_events = nullptr;
+  const std::uint32_t* m_first = nullptr;
+  const std::uint32_t* m_last = nullptr;
+};
+
 }  // namespace REngine
 
 // This header's public types, whose layouts are checked against the library's (RAbi.h).
 #define RENGINE_ABI_TYPES_CONTACT_EVENTS(X) \
-  X(RContactEvent)
+  X(RContactEvent) \
+  X(RContactEventSpan) \
+  X(RBodyContactEvents)
 RENGINE_ABI_CHECK(kContactEvents, RENGINE_ABI_TYPES_CONTACT_EVENTS)

@@ -6,6 +6,8 @@
 // world form is one rotation and one translation away.
 #pragma once
 
+#include <REnginePhysics/RError.h>
+
 #include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 
@@ -34,10 +36,11 @@ struct REdge {
   std::uint32_t f0, f1;  // the two faces that share the edge
 };
 
-// Thrown when points do not span a solid: fewer than 4, or all (nearly) coplanar.
-class RHullError : public std::invalid_argument {
+// Thrown when points do not span a solid: fewer than 4, or all (nearly) coplanar. Field()
+// is "points"; what() is the problem alone (the caller knows which points it gave).
+class RHullError : public RError {
  public:
-  using std::invalid_argument::invalid_argument;
+  explicit RHullError(const std::string& problem) : RError("points", problem, problem) {}
 };
 
 // Mass properties of the solid of uniform density 1 kg/m^3, in the polyhedron's frame.

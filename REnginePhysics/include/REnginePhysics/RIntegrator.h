@@ -42,7 +42,7 @@ struct RWorldSettings {
   RCombineMode frictionCombine = RCombineMode::kGeometric;
   // Solver passes per step (contacts and joints), 1 to kMaxSolverIterations: past a few
   // hundred the passes change nothing a game can see, and a step must stay bounded in time.
-  // Update throws std::invalid_argument outside that range, and the scene and state loaders
+  // Update throws RError ("solverIterations") outside that range, and the scene and state loaders
   // refuse it.
   int solverIterations = 10;
   static constexpr int kMaxSolverIterations = 1000;
@@ -105,7 +105,7 @@ struct RWorldSettings {
   // Threads the step runs on, the caller's included: 0 is what the machine has
   // (std::thread::hardware_concurrency), 1 runs everything on the caller. The results are
   // bit-identical for every value (see RJobSystem.h). Ignored while a job system of the
-  // game's is set (RIntegrator::SetJobSystem). Update throws std::invalid_argument for a
+  // game's is set (RIntegrator::SetJobSystem). Update throws RError ("threads") for a
   // value below 0 or above kMaxThreads.
   int threads = 0;
   static constexpr int kMaxThreads = 1024;
@@ -225,7 +225,7 @@ class RIntegrator {
   static constexpr RScalar kMaxDt = 1;
 
   // Advances every enabled body by dt seconds. dt must be finite, > 0 and at most kMaxDt:
-  // anything else throws std::invalid_argument before anything moves (a negative dt would
+  // anything else throws RError ("dt") before anything moves (a negative dt would
   // run time backwards, zero would divide by zero). Contact memory and sleeping islands are keyed by
   // handle (see RBodies): adding, removing or disabling bodies between calls forgets nothing
   // else and wakes only what they touched.
@@ -258,6 +258,13 @@ class RIntegrator {
   // each means), sorted by handleA, handleB, then begin, persist, end. Empty when
   // RWorldSettings::contactEvents is off.
   const std::vector<RContactEvent>& Events() const;
+  // The last Update's events that name `body`, as handleA or handleB, in the order of
+  // Events() (a handle whose body was removed names its end events). Update indexes the
+  // events by body as it finds them, O(events + bodies), so a call is a lookup.
+  RBodyContactEvents EventsOf(RBodyHandle body) const;
+  // The last Update's events between a and b (either order): begin, persist or end, or a
+  // begin then an end (RContactEvents.h). A binary search in Events().
+  RContactEventSpan EventsBetween(RBodyHandle a, RBodyHandle b) const;
   const RPairStats& PairStats() const;
   // Asked only for pairs whose bounding boxes, grown by the step's motion, overlap.
   // Sleeping pairs are not asked: setting a filter wakes everything, and a filter whose

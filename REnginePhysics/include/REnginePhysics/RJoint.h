@@ -34,17 +34,10 @@ enum class RJointType : std::uint8_t {
   kDistance,  // the anchors stay between minDistance and maxDistance apart (a rope: min 0)
 };
 
-// A joint's name in an RBodies: slot index and generation. Default-constructed: invalid.
-struct RJointHandle {
-  static constexpr std::uint32_t kInvalidIndex = std::numeric_limits<std::uint32_t>::max();
-  std::uint32_t index = kInvalidIndex;
-  std::uint32_t generation = 0;
-  bool IsValid() const { return index != kInvalidIndex; }
-  friend bool operator==(RJointHandle a, RJointHandle b) {
-    return a.index == b.index && a.generation == b.generation;
-  }
-  friend bool operator!=(RJointHandle a, RJointHandle b) { return !(a == b); }
-};
+struct RJointTag;
+// A joint's name in an RBodies: slot index and generation (RSlotHandle). Default-constructed:
+// invalid.
+using RJointHandle = RSlotHandle<RJointTag>;
 
 // Drives a hinge's angle or a slider's travel towards a relative speed (b's relative to
 // a's, about or along the axis: rad/s or m/s) with at most maxForce (N m or N), as Jolt's
@@ -86,9 +79,9 @@ struct RJointDef {
 };
 
 // A joint definition that cannot make a joint: which field and why.
-class RJointError : public RFieldError {
+class RJointError : public RError {
  public:
-  using RFieldError::RFieldError;
+  using RError::RError;
 };
 
 // A joint as RBodies holds it: its definition, the anchors and axes fixed in each body's

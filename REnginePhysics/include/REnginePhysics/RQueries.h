@@ -67,9 +67,9 @@
 namespace REngine {
 
 // A query that cannot be answered: which argument ("ray.direction") and what is wrong.
-class RQueryError : public RFieldError {
+class RQueryError : public RError {
  public:
-  using RFieldError::RFieldError;
+  using RError::RError;
 };
 
 // The game's veto on a body a query hits: return false to skip it. A plain function pointer

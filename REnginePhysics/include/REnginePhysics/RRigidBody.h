@@ -11,6 +11,7 @@
 #include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RCollision.h>
+#include <REnginePhysics/RError.h>
 #include <REnginePhysics/RFreeRotation.h>
 #include <REnginePhysics/RShape.h>
 #include <REnginePhysics/RTriangleMesh.h>
@@ -38,25 +39,10 @@ struct RWorldForm {
   RScalar sphereRadius = 0;
 };
 
-// Input refused at the door: which field or argument (named as the scene format or the API
-// names it) and what is wrong with it. The engine's errors of this kind derive from it.
-class RFieldError : public std::invalid_argument {
- public:
-  RFieldError(std::string field, std::string problem)
-      : std::invalid_argument(field + ": " + problem),
-        m_field(std::move(field)),
-        m_problem(std::move(problem)) {}
-  const std::string& Field() const { return m_field; }
-  const std::string& Problem() const { return m_problem; }
-
- private:
-  std::string m_field, m_problem;
-};
-
 // A body definition that cannot make a body: which field (e.g. "shape.radius") and why.
-class RBodyError : public RFieldError {
+class RBodyError : public RError {
  public:
-  using RFieldError::RFieldError;
+  using RError::RError;
 };
 
 // A collision shape prepared once and shared, immutable, by every body made from it: the
@@ -106,17 +92,19 @@ struct RBodyDef {
   RShape shape;
   // When set, the body is made from this shape and `shape` is not read: no hull is built.
   std::shared_ptr<const RPreparedShape> prepared;
-  // The body's kind. `isStatic = true` is the same as kind kStatic; giving isStatic = true
-  // with another kind is an error ("kind"). When unset: kStatic if isStatic, else kDynamic.
-  bool isStatic = false;
-  std::optional<RBodyKind> kind;
+  // How the body moves (RBodyKind). The scene format's `"static": true` is kind kStatic.
+  RBodyKind kind = RBodyKind::kDynamic;
   std::optional<RScalar> mass;  // kg; when unset, density * volume
   RScalar density = 1;          // kg/m^3, used when mass is unset
   RVec3 position_W = RVec3::Zero();           // origin of S in the world, m (|x_i| <= 1e15)
   RQuat q_WS = RQuat::Identity();             // orientation of S in the world
   RVec3 velocity_W = RVec3::Zero();           // centre-of-mass velocity, world, m/s
   RVec3 angularVelocity_W = RVec3::Zero();    // world frame, rad/s
-  RScalar restitution = RScalar(0.5);         // coefficient of restitution, [0, 1]
+  // Coefficient of restitution, [0, 1]: the fraction of the approach speed a collision gives
+  // back (RWorldSettings::restitutionCombine makes a pair's from the two bodies'). 0 by
+  // default, as in Jolt and Box2D: a body bounces only where the game says so. (A scene file
+  // body without "restitution" has 0.5: RScene::kDefaultRestitution.)
+  RScalar restitution = 0;
   RScalar friction = RScalar(0.5);            // Coulomb coefficient, >= 0
   bool responds = true;  // false: collisions are reported, not resolved (missiles, sensors)
   // Drag rates c, 1/s, finite and >= 0 ("linear_damping", "angular_damping"): with no other
@@ -128,9 +116,15 @@ struct RBodyDef {
   RScalar gravityScale = 1;
   // World axes the body can neither move along nor turn about (see RBodyLocks).
   RBodyLocks locks;
-  // Game-chosen id, used by ignore lists (a scene uses the body's index in its list).
-  std::uint32_t id = 0;
-  // Ids of bodies this one never collides with (a missile and its launcher).
+  // The body's name in ignore lists, 0 to 2^32 - 2 (a scene gives each body its index in
+  // its list). Unset by default: the body has no id, and no ignore list names it, so an
+  // ignore list never matches bodies the game did not mean (ids that all default to one
+  // value would make `ignore = {launcherId}` ignore everything). Several bodies may share
+  // an id on purpose (a group ignored as one). In an RBodies, RBodies::IgnoreCollisions
+  // takes handles instead and gives a body without an id one of its own.
+  std::optional<std::uint32_t> id;
+  // Ids of bodies this one never collides with (a missile and its launcher), each 0 to
+  // 2^32 - 2.
   std::vector<std::uint32_t> ignore;
   // Collision filter bits, Box2D's rule: two bodies are tested against each other only if
   // (a.category & b.mask) != 0 and (b.category & a.mask) != 0 (both directions agree), and
@@ -173,12 +167,17 @@ class alignas(64) RRigidBody {
   RScalar Restitution() const { return m_restitution; }
   RScalar Friction() const { return m_friction; }
 
-  std::uint32_t Id() const { return m_id; }
+  // RBodyDef::id; unset for a body without one.
+  std::optional<std::uint32_t> Id() const {
+    return m_id == kNoId ? std::nullopt : std::optional<std::uint32_t>(m_id);
+  }
   // False when this body must never be tested against `other`: their category and mask bits
   // disagree in either direction (RBodyDef::category), or other's id is in this body's
   // ignore list or this one's in other's. Static pairs are rejected by the integrator before
   // this is asked.
   bool ShouldCheckCollision(const RRigidBody& other) const;
+  // Never collide with the bodies whose id is otherId (0 to 2^32 - 2; RBodyError "ignore"
+  // otherwise). In an RBodies, RBodies::IgnoreCollisions(a, b) does this by handle.
   void IgnoreCollisionsWith(std::uint32_t otherId);
   // Collision filter bits (RBodyDef::category, mask). Setting them wakes the body, and a
   // static or kinematic body wakes the sleepers whose boxes touch it, as IgnoreCollisionsWith
@@ -407,7 +406,10 @@ class alignas(64) RRigidBody {
   RBodyLocks m_locks;
   RVec3 m_wakeFromMin_W = RVec3::Zero(), m_wakeFromMax_W = RVec3::Zero();
   std::string m_name;
-  std::uint32_t m_id = 0;
+  // kNoId: no id (RBodyDef::id unset). No ignore list holds it, so the pair loop's search
+  // needs no test of its own; saved states store it as it is.
+  static constexpr std::uint32_t kNoId = 0xFFFFFFFFu;
+  std::uint32_t m_id = kNoId;
   std::vector<std::uint32_t> m_ignore;  // sorted
   std::uintptr_t m_userData = 0;
   std::shared_ptr<const RPreparedShape> m_prepared;  // never null

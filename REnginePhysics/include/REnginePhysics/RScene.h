@@ -6,6 +6,8 @@
 // wrong, so a scene that loads is the scene its author meant.
 #pragma once
 
+#include <REnginePhysics/RError.h>
+
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
@@ -25,16 +27,16 @@ namespace REngine {
 // A scene that cannot be used. what() is "<file>: <json path>: <problem>", e.g.
 // "scene.json: bodies[3].shape.radius: must be a finite number > 0 (got -1)"; the path is
 // left out when the problem is the file itself (cannot be read, not valid JSON).
-class RSceneError : public std::runtime_error {
+// Field() is the JSON path.
+class RSceneError : public RError {
  public:
   RSceneError(std::string file, std::string jsonPath, std::string problem);
 
   const std::string& File() const { return m_file; }
-  const std::string& JsonPath() const { return m_jsonPath; }  // "" for a file-level problem
-  const std::string& Problem() const { return m_problem; }
+  const std::string& JsonPath() const { return Field(); }  // "" for a file-level problem
 
  private:
-  std::string m_file, m_jsonPath, m_problem;
+  std::string m_file;
 };
 
 // A joint of the scene (docs/scene-format.md, "Joints"), added by RSceneWorld after the scene's
@@ -91,6 +93,11 @@ struct RSceneRay {
 };
 
 struct RScene {
+  // A body's restitution when its entry gives none: the scene format's contract
+  // (docs/scene-format.md), kept apart from RBodyDef's own default of 0 so that a scene file
+  // means what it always has.
+  static constexpr RScalar kDefaultRestitution = 0.5;
+
   RWorldSettings settings;
   RScalar dt = RScalar(1) / 60;  // s
   std::uint64_t steps = 600;

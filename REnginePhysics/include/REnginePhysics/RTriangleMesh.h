@@ -13,6 +13,8 @@
 // triangle's face normal instead (Jolt calls these active edges).
 #pragma once
 
+#include <REnginePhysics/RError.h>
+
 #include <REnginePhysics/RAbi.h>
 #include <REngineMath/RMath.h>
 
@@ -28,14 +30,9 @@ namespace REngine {
 
 // Thrown for a mesh the engine cannot use; what() says what is wrong and `field` names the
 // part ("vertices[3]", "triangles[12]").
-class RMeshError : public std::invalid_argument {
+class RMeshError : public RError {
  public:
-  RMeshError(std::string field, const std::string& what)
-      : std::invalid_argument(what), m_field(std::move(field)) {}
-  const std::string& Field() const { return m_field; }
-
- private:
-  std::string m_field;
+  RMeshError(std::string field, const std::string& what) : RError(std::move(field), what, what) {}
 };
 
 class RTriangleMesh {

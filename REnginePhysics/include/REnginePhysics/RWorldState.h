@@ -83,9 +83,9 @@ namespace REngine {
 
 // A state that cannot be loaded: Field() says where ("header.magic", "bodies[3].velocity",
 // "world_tag"), Problem() what is wrong.
-class RStateError : public RFieldError {
+class RStateError : public RError {
  public:
-  using RFieldError::RFieldError;
+  using RError::RError;
 };
 
 struct RLoadOptions {
