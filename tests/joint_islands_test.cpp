@@ -266,34 +266,42 @@ TEST(JointIslands, SpinningMeshesOf12And180Joints) {
 
 // The same meshes tumbling about an axis off their normal (36 and 64 spheres, 60 and 112
 // joints: the skyline block and the sparse system). A nearly flat mesh is nearly singular
-// across its plane (its tension grows without bound as it flattens), the Newton rounds stop
-// converging and the position projection takes over, which dissipates: what holds is that
-// nothing runs away. Momentum to rounding (the projection moves positions, by equal and
-// opposite impulses); energy never above the start's by more than the method's (w dt)^2;
-// no body (1 kg) faster than the whole energy could make it. (Joint by joint with warm starts carried
-// from diverged rounds, these reached thousands of metres a second in 30 steps.)
-TEST(JointIslands, TumblingMeshesOf60And112JointsStayBounded) {
+// across its plane (its tension grows without bound as it flattens): the Newton rounds,
+// which hold the rows of the step's start, stop converging, and the island is solved
+// stiffened (RJointStiffness.cpp) from nothing, whose rounds do converge. (Joint by joint
+// with warm starts carried from diverged rounds, these reached thousands of metres a second
+// in 30 steps; with the plain velocity constraint and the position projection after the
+// diverged rounds they lost 2 % of their energy in 2 s.) Angular momentum to 1e-7: the
+// stiffened steps of the sparse system keep it to about 1e-10 a step, not to rounding (the
+// 64-sphere mesh: 1.0e-8 in 120 steps); where that is lost is not yet found.
+TEST(JointIslands, TumblingMeshesOf60And112Joints) {
   for (int k : {6, 8}) {
     RBodies bodies;
     const RVec3 w(0.3, 0.2, 1.0);
     const int joints = MakeMesh(bodies, k, w);
     RIntegrator integrator(Space());
-    const Totals t0 = Measure(bodies, 0, RVec3::Zero());
-    RScalar worstP = 0, highestE = 0, lowestE = t0.e, fastest = 0;
-    for (int s = 0; s < 120; ++s) {
-      integrator.Update(bodies, kDt);
-      EXPECT_TRUE(integrator.NonFiniteInLastStep().empty()) << k << " step " << s;
-      const Totals t = Measure(bodies, 0, RVec3::Zero());
-      worstP = std::max(worstP, (t.p - t0.p).norm() / t0.scaleP);
-      highestE = std::max(highestE, t.e), lowestE = std::min(lowestE, t.e);
-      fastest = std::max(fastest, t.vMax);
-    }
+    const Kept kept = RunAndMeasure(bodies, integrator, 120, 0, 0, RVec3::Zero());
     const RScalar bound = (w.norm() * kDt) * (w.norm() * kDt);
-    std::printf("tumbling mesh of %d joints: momentum %.2e, energy from %.4g J between %.4g and %.4g J "
-                "(at most %.4g allowed), top speed %.3g m/s\n",
-                joints, worstP, t0.e, lowestE, highestE, t0.e * (1 + bound), fastest);
-    EXPECT_LT(worstP, 1e-12) << k;
-    EXPECT_LE(highestE, t0.e * (1 + bound)) << k;
-    EXPECT_LE(fastest, std::sqrt(2 * t0.e * (1 + bound) / 1.0)) << k;
+    Report("tumbling mesh", joints, kept, bound);
+    EXPECT_LT(kept.p, 1e-12) << k;
+    EXPECT_LT(kept.l, 1e-7) << k;
+    EXPECT_LT(kept.e, bound) << k;
   }
+}
+
+// The largest mesh, 32 x 32 spheres (1984 joints, loops everywhere: the sparse system with
+// its self-stresses taken out), tumbling as above for 12 steps (each about a second's work):
+// momentum to rounding, angular momentum to the Newton tolerance as the stars, energy within
+// the method's (w dt)^2.
+TEST(JointIslands, TumblingMeshOf1984Joints) {
+  RBodies bodies;
+  const RVec3 w(0.3, 0.2, 1.0);
+  const int joints = MakeMesh(bodies, 32, w);
+  RIntegrator integrator(Space());
+  const Kept k = RunAndMeasure(bodies, integrator, 12, 0, 0, RVec3::Zero());
+  const RScalar bound = (w.norm() * kDt) * (w.norm() * kDt);
+  Report("tumbling mesh", joints, k, bound);
+  EXPECT_LT(k.p, 1e-12);
+  EXPECT_LT(k.l, 1e-8);
+  EXPECT_LT(k.e, bound);
 }
