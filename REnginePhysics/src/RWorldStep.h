@@ -1,7 +1,8 @@
 // Private to REnginePhysics: the integrator's working state, the subsystems' scratch and
 // the step's outputs, behind RIntegrator (which holds one through a pointer, so none of this
 // is in an installed header). Each subsystem's functions are defined in its own file:
-//   RPairSweep.cpp      DetectPairs, TimeOfImpact
+//   RPairSweep.cpp      DetectPairs, SweepMotion, AllPairs, JoinSweep
+//   RPairNarrow.cpp     NarrowPairs, TimeOfImpact
 //   RBroadPhase.cpp     UpdateBroadPhase, RebuildFatPairs, SweepBox, FatBox, TreePairs
 //                       (trees: RBoundsTree.cpp)
 //   RContactSolver.cpp  FindImpulses, SolveIsland, MayImpact, ShiftArmsAfterImpacts,
@@ -165,6 +166,13 @@ class RWorldStep {
   // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
   // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
   bool DetectPairs(const RStepBodies& bodies, RScalar dt);
+  // Its parts: the set-up pass over the bodies (centres, step motion, reach, flags, sweep
+  // boxes); stage 2 (RPairNarrow.cpp), returning its task count; the tasks' results joined
+  // (returns whether a sleeping island was touched).
+  void SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allowance, bool sweepBoxes);
+  std::size_t NarrowPairs(const RStepBodies& bodies, RScalar dt, RScalar allowance, RScalar grow);
+  bool JoinSweep(std::size_t pairTasks);
+  static constexpr std::size_t kSweepPairGrain = 32;  // pairs per stage-2 task, at least
   // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
   // one of whose bodies the game woke (or all, when gravity or a plain vector's count changed);
   // after it, puts to sleep the islands that have rested long enough.
