@@ -245,8 +245,7 @@ TEST(ApiInput, ShapeSizesOutsideTheRangeAreRefused) {
   }
   d.shape.halfExtents = RVec3(1, 1, 1e-4);  // the thinnest box accepted
   EXPECT_NO_THROW(RRigidBody{d});
-  d.shape.type = RShapeType::kSphere;
-  d.shape.radius = 1.1e12;
+  d.shape = RShape::Sphere(1.1e12);
   EXPECT_THROW(RRigidBody{d}, RBodyError);
 }
 
@@ -278,9 +277,8 @@ TEST(ApiInput, EnumsOutsideTheirEnumeratorsAreRefused) {
     EXPECT_EQ(e.Field(), "shape.type");
   }
   RBodyDef compound = SphereDef(0.5).Mass(1);
-  compound.shape.type = RShapeType::kCompound;
-  compound.shape.children.push_back(RCompoundChild{});
-  compound.shape.children[0].shape = SphereDef(0.5).shape;
+  compound.shape = RShape::Compound({RCompoundChild{}});
+  compound.shape.children[0].shape = RShape::Sphere(0.5);
   compound.shape.children[0].shape.type = RShapeType(7);  // one past kMesh
   try {
     RRigidBody{compound};

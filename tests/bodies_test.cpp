@@ -24,8 +24,7 @@ RBodyDef Box(const std::string& name, const RVec3& x, RScalar half = 0.5) {
   RBodyDef d;
   d.restitution = 0.5;
   d.name = name;
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = RVec3::Constant(half);
+  d.shape = RShape::Box(RVec3::Constant(half));
   d.position_W = x;
   d.mass = 1;
   return d;
@@ -35,8 +34,7 @@ RBodyDef Sphere(const std::string& name, const RVec3& x, RScalar r = 0.25) {
   RBodyDef d;
   d.restitution = 0.5;
   d.name = name;
-  d.shape.type = RShapeType::kSphere;
-  d.shape.radius = r;
+  d.shape = RShape::Sphere(r);
   d.position_W = x;
   d.mass = 1;
   return d;
@@ -299,8 +297,7 @@ TEST(Bodies, ADisabledBodyIsParkedAndTouchesNothing) {
 // mass properties a body made from the shape itself has.
 TEST(Bodies, PreparedShapesAreSharedNotRebuilt) {
   RShape hull;
-  hull.type = RShapeType::kHull;
-  hull.points = {RVec3(0, 0, 0), RVec3(2, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 3), RVec3(1, 1, 1)};
+  hull = RShape::Hull({RVec3(0, 0, 0), RVec3(2, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 3), RVec3(1, 1, 1)});
   const std::shared_ptr<const RPreparedShape> prepared = PrepareShape(hull);
   RBodyDef own;
   own.restitution = 0.5;
@@ -321,8 +318,7 @@ TEST(Bodies, PreparedShapesAreSharedNotRebuilt) {
   EXPECT_EQ(bodies[b].Shape().points.size(), hull.points.size());
   // A bad shape is refused when prepared, naming the field.
   RShape bad;
-  bad.type = RShapeType::kSphere;
-  bad.radius = -1;
+  bad = RShape::Sphere(-1);
   try {
     PrepareShape(bad);
     ADD_FAILURE() << "a negative radius was accepted";

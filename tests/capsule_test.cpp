@@ -77,7 +77,7 @@ RConvexShape Capsule(RScalar r, RScalar h) { return CapsuleShape(r, h); }
 TEST(CapsuleMass, MatchesQuadratureOfTheSolidOfRevolution) {
   for (const auto& [r, h] : std::vector<std::pair<RScalar, RScalar>>{{0.5, 1}, {1, 0.01}, {0.2, 30}, {3, 3}}) {
     RShape s;
-    s.type = RShapeType::kCapsule, s.radius = r, s.halfHeight = h;
+    s = RShape::Capsule(r, h);
     const RMassProperties got = ComputeMassProperties(s), want = CapsuleByQuadrature(r, h);
     EXPECT_NEAR(got.volume, want.volume, 1e-13 * want.volume) << r << " " << h;
     for (int a = 0; a < 3; ++a) {
@@ -90,7 +90,7 @@ TEST(CapsuleMass, MatchesQuadratureOfTheSolidOfRevolution) {
 TEST(CapsuleMass, BodyReportsItsAxisAsAPrincipalAxis) {
   RBodyDef def;
   def.restitution = 0.5;
-  def.shape.type = RShapeType::kCapsule, def.shape.radius = 0.5, def.shape.halfHeight = 1;
+  def.shape = RShape::Capsule(0.5, 1);
   def.mass = 2;
   const RRigidBody b(def);
   const RMassProperties want = CapsuleByQuadrature(0.5, 1);
@@ -104,7 +104,7 @@ TEST(CapsuleMass, BadSizesAreRefusedNamingTheField) {
            {1e-9, 1, "shape.radius"}, {0.5, INFINITY, "shape.half_height"}}) {
     RBodyDef def;
     def.restitution = 0.5;
-    def.shape.type = RShapeType::kCapsule, def.shape.radius = r, def.shape.halfHeight = h;
+    def.shape = RShape::Capsule(r, h);
     try {
       RRigidBody b(def);
       ADD_FAILURE() << "accepted r=" << r << " h=" << h;
@@ -215,7 +215,7 @@ RRigidBody Ground(RScalar angle, RScalar friction) {
   RBodyDef g;
   g.name = "ground";
   g.kind = RBodyKind::kStatic;
-  g.shape.type = RShapeType::kBox, g.shape.halfExtents = RVec3(200, 0.5, 5);
+  g.shape = RShape::Box(RVec3(200, 0.5, 5));
   g.q_WS = RQuat(Eigen::AngleAxisd(angle, RVec3::UnitZ()));
   g.position_W = g.q_WS * RVec3(0, -0.5, 0);
   g.friction = friction, g.restitution = 0;
@@ -229,7 +229,7 @@ RRigidBody Ground(RScalar angle, RScalar friction) {
 TEST(CapsulePhysics, LyingCapsuleRestsOnTwoPointsAtItsRadius) {
   std::vector<RRigidBody> bodies{Ground(0, 0.5)};
   RBodyDef c;
-  c.shape.type = RShapeType::kCapsule, c.shape.radius = 0.5, c.shape.halfHeight = 1;
+  c.shape = RShape::Capsule(0.5, 1);
   c.q_WS = RQuat(Eigen::AngleAxisd(kPi / 2, RVec3::UnitZ()));
   c.position_W = RVec3(0, 0.8, 0);
   c.restitution = 0;
@@ -271,7 +271,7 @@ TEST(CapsulePhysics, RollsDownAnInclineAtTheRollingAcceleration) {
   const RScalar theta = kInclineTheta, g = kInclineG, T = kInclineT, r = 0.5;
   RBodyDef c;
   c.restitution = 0.5;
-  c.shape.type = RShapeType::kCapsule, c.shape.radius = r, c.shape.halfHeight = 1;
+  c.shape = RShape::Capsule(r, 1);
   c.q_WS = RQuat(Eigen::AngleAxisd(kPi / 2, RVec3::UnitX()));  // axis along z, across the slope
   RRigidBody body(c);
   const RScalar s = RollDownIncline(c, r, body);
@@ -351,11 +351,11 @@ TEST(CapsuleRays, MeetTheSurfaceWhereItsSignedDistanceVanishes) {
 TEST(CapsulePhysics, FastMissileDoesNotTunnelThroughAThinPlate) {
   RBodyDef plate;
   plate.kind = RBodyKind::kStatic;
-  plate.shape.type = RShapeType::kBox, plate.shape.halfExtents = RVec3(0.025, 5, 5);
+  plate.shape = RShape::Box(RVec3(0.025, 5, 5));
   plate.position_W = RVec3(1e6 + 100, 0, 0);  // far out, where space games are
   plate.restitution = 0;
   RBodyDef missile;
-  missile.shape.type = RShapeType::kCapsule, missile.shape.radius = 0.2, missile.shape.halfHeight = 1;
+  missile.shape = RShape::Capsule(0.2, 1);
   missile.q_WS = RQuat(Eigen::AngleAxisd(-kPi / 2, RVec3::UnitZ()));  // its axis along x
   missile.position_W = RVec3(1e6, 0.3, 0);
   missile.velocity_W = RVec3(2000, 0, 0);
@@ -374,7 +374,7 @@ TEST(CapsulePhysics, BallRollsDownTheSameInclineAtFiveSeventhsOfGSinTheta) {
   const RScalar r = 0.5;
   RBodyDef c;
   c.restitution = 0.5;
-  c.shape.type = RShapeType::kSphere, c.shape.radius = r;
+  c.shape = RShape::Sphere(r);
   RRigidBody body(c);
   const RScalar s = RollDownIncline(c, r, body);
   const RScalar want = 0.5 * (5.0 / 7 * kInclineG * std::sin(kInclineTheta)) * kInclineT * kInclineT;

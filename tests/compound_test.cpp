@@ -30,13 +30,13 @@ namespace {
 
 RShape Box(const RVec3& half) {
   RShape s;
-  s.type = RShapeType::kBox, s.halfExtents = half;
+  s = RShape::Box(half);
   return s;
 }
 
 RShape Sphere(RScalar r) {
   RShape s;
-  s.type = RShapeType::kSphere, s.radius = r;
+  s = RShape::Sphere(r);
   return s;
 }
 
@@ -48,7 +48,7 @@ RCompoundChild Child(const RShape& shape, const RVec3& position, const RQuat& q 
 
 RShape Compound(std::vector<RCompoundChild> children) {
   RShape s;
-  s.type = RShapeType::kCompound, s.children = std::move(children);
+  s = RShape::Compound(std::move(children));
   return s;
 }
 
@@ -141,8 +141,8 @@ TEST(CompoundMass, BadChildrenAreRefusedNamingTheField) {
 // witnesses lie on the children; a pair apart by more than the margin gives no manifold.
 TEST(CompoundCrosscheck, DistanceIsTheLeastOverTheChildrenAgainstFcl) {
   RShape cap, cyl;
-  cap.type = RShapeType::kCapsule, cap.radius = 0.2, cap.halfHeight = 0.5;
-  cyl.type = RShapeType::kCylinder, cyl.radius = 0.3, cyl.halfHeight = 0.2;
+  cap = RShape::Capsule(0.2, 0.5);
+  cyl = RShape::Cylinder(0.3, 0.2);
   RBodyDef def;
   def.restitution = 0.5;
   def.shape = Compound({Child(Box(RVec3(0.4, 0.3, 0.2)), RVec3(-0.6, 0, 0)),
@@ -315,7 +315,7 @@ TEST(CompoundRays, MeetTheChildTheyReachFirst) {
 // as at the origin.
 TEST(CompoundPhysics, TumblingConservesEnergyAndAngularMomentumFarOut) {
   RShape cap;
-  cap.type = RShapeType::kCapsule, cap.radius = 0.2, cap.halfHeight = 1;
+  cap = RShape::Capsule(0.2, 1);
   const RShape ship = Compound({Child(Box(RVec3(1, 0.3, 0.5)), RVec3::Zero()),
                                 Child(cap, RVec3(0.8, 0.4, 0.2), RQuat(Eigen::AngleAxisd(1.2, RVec3(1, 1, 0).normalized())), 3),
                                 Child(Sphere(0.4), RVec3(-1, -0.3, 0.6), RQuat::Identity(), 0.5)});

@@ -64,7 +64,7 @@ TEST(CylinderMass, MatchesQuadratureOfTheSolidOfRevolution) {
       across += wk * (kPi * r * r * r * r / 4 + kPi * r * r * y * y);
     }
     RShape s;
-    s.type = RShapeType::kCylinder, s.radius = r, s.halfHeight = h;
+    s = RShape::Cylinder(r, h);
     const RMassProperties got = ComputeMassProperties(s);
     EXPECT_NEAR(got.volume, V, 1e-13 * V) << r << " " << h;
     EXPECT_NEAR(got.principalMoments.y(), axial, 1e-13 * axial) << r << " " << h;
@@ -77,7 +77,7 @@ TEST(CylinderMass, MatchesQuadratureOfTheSolidOfRevolution) {
 TEST(CylinderMass, BodyHasItsBoundingRadiusAndBox) {
   RBodyDef def;
   def.restitution = 0.5;
-  def.shape.type = RShapeType::kCylinder, def.shape.radius = 0.3, def.shape.halfHeight = 0.4;
+  def.shape = RShape::Cylinder(0.3, 0.4);
   def.mass = 2;
   def.q_WS = RQuat(Eigen::AngleAxisd(0.7, RVec3(1, 2, 3).normalized()));
   const RRigidBody b(def);
@@ -105,7 +105,7 @@ TEST(CylinderMass, BadSizesAreRefusedNamingTheField) {
            {1e-9, 1, "shape.radius"}, {1, 1e-9, "shape.half_height"}, {0.5, INFINITY, "shape.half_height"}}) {
     RBodyDef def;
     def.restitution = 0.5;
-    def.shape.type = RShapeType::kCylinder, def.shape.radius = r, def.shape.halfHeight = h;
+    def.shape = RShape::Cylinder(r, h);
     try {
       RRigidBody b(def);
       ADD_FAILURE() << "accepted r=" << r << " h=" << h;
@@ -325,7 +325,7 @@ RRigidBody Ground(RScalar angle, RScalar friction) {
   RBodyDef g;
   g.name = "ground";
   g.kind = RBodyKind::kStatic;
-  g.shape.type = RShapeType::kBox, g.shape.halfExtents = RVec3(200, 0.5, 5);
+  g.shape = RShape::Box(RVec3(200, 0.5, 5));
   g.q_WS = RQuat(Eigen::AngleAxisd(angle, RVec3::UnitZ()));
   g.position_W = g.q_WS * RVec3(0, -0.5, 0);
   g.friction = friction, g.restitution = 0;
@@ -334,7 +334,7 @@ RRigidBody Ground(RScalar angle, RScalar friction) {
 
 RBodyDef CylinderDef(RScalar r, RScalar h) {
   RBodyDef c;
-  c.shape.type = RShapeType::kCylinder, c.shape.radius = r, c.shape.halfHeight = h;
+  c.shape = RShape::Cylinder(r, h);
   c.restitution = 0, c.friction = 0.6;
   return c;
 }

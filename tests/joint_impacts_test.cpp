@@ -117,7 +117,7 @@ TEST(JointImpacts, WeldedPairLandingFlatBouncesAsItsCompound) {
   twin.shape.type = RShapeType::kCompound;
   for (const auto& [x, m] : {std::pair<RScalar, RScalar>{-0.3, ma}, {0.3, mb}}) {
     RCompoundChild child;
-    child.shape.type = RShapeType::kBox, child.shape.halfExtents = he;
+    child.shape = RShape::Box(he);
     child.position_S = RVec3(x, 0, 0), child.density = m / volume;
     twin.shape.children.push_back(child);
   }

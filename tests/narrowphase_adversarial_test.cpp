@@ -455,12 +455,11 @@ TEST(CollisionAdversarial, BoxTouchingAHugeBoxAlongAnEdge) {
 // believed only where no support plane separates the shapes by more than the band.
 TEST(CollisionAdversarial, NeedleHullAndSmallBoxApart) {
   RShape needle;
-  needle.type = RShapeType::kHull;
-  needle.points = {{-0x1.378372959f036p+3, -0x1.363875a0e315bp+3, -0x1.377e9482f69a4p+3},
+  needle = RShape::Hull({{-0x1.378372959f036p+3, -0x1.363875a0e315bp+3, -0x1.377e9482f69a4p+3},
                    {0x1.f26bea88fe6bbp+0, 0x1.eaa040a74607fp-1, 0x1.f2622e63ad9ap-1},
                    {0x1.f64ce1673234cp+0, 0x1.e6dc7e3904b52p+0, 0x1.e6c905ee63109p+0},
                    {-0x1.360f16024b98p+3, -0x1.378372959f036p+3, -0x1.378372959f036p+3},
-                   {-0x1.378372959f036p+3, -0x1.378372959f036p+3, -0x1.378372959f036p+3}};
+                   {-0x1.378372959f036p+3, -0x1.378372959f036p+3, -0x1.378372959f036p+3}});
   const BodySpec a{needle, RVec3::Zero(),
                    RQuat(-0.5, -0.5, -0.5, -0.5)};
   const BodySpec b{BoxShape(RVec3::Constant(0.01)), RVec3(-4, -4, -4),

@@ -32,7 +32,7 @@ std::vector<RRigidBody> Jumble(int n) {
     const RVec3 x(uniform(-6, 6), uniform(-6, 6), uniform(-6, 6));
     const RVec3 halfExtents(uniform(0.2, 0.6), uniform(0.2, 0.6), uniform(0.2, 0.6));
     RBodyDef d = BoxDef(halfExtents).At(x).Mass(1).Named("b" + std::to_string(i));
-    if (i % 3 == 0) d.shape.type = RShapeType::kSphere, d.shape.radius = uniform(0.2, 0.6);
+    if (i % 3 == 0) d.shape = RShape::Sphere(uniform(0.2, 0.6));
     d.velocity_W = RVec3(uniform(-8, 8), uniform(-8, 8), uniform(-8, 8));
     d.angularVelocity_W = RVec3(uniform(-3, 3), uniform(-3, 3), uniform(-3, 3));
     d.restitution = 0.5;

@@ -39,17 +39,17 @@ RVec3 Unit(std::mt19937_64& rng) {
 
 std::shared_ptr<const RPreparedShape> Sphere(RScalar r) {
   RShape s;
-  s.type = RShapeType::kSphere, s.radius = r;
+  s = RShape::Sphere(r);
   return PrepareShape(s);
 }
 std::shared_ptr<const RPreparedShape> Box(const RVec3& half) {
   RShape s;
-  s.type = RShapeType::kBox, s.halfExtents = half;
+  s = RShape::Box(half);
   return PrepareShape(s);
 }
 std::shared_ptr<const RPreparedShape> Hull(const std::vector<RVec3>& points) {
   RShape s;
-  s.type = RShapeType::kHull, s.points = points;
+  s = RShape::Hull(points);
   return PrepareShape(s);
 }
 

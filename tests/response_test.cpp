@@ -406,14 +406,12 @@ TEST(Response, FlatImpactBouncesWithoutSpin) {
 TEST(Response, ImpulseLaunchedBallDoesNotTunnel) {
   RBodyDef wall;
   wall.name = "wall";
-  wall.shape.type = RShapeType::kBox;
-  wall.shape.halfExtents = RVec3(0.1, 1, 1);
+  wall.shape = RShape::Box(RVec3(0.1, 1, 1));
   wall.kind = RBodyKind::kStatic;
   wall.position_W = RVec3(2, 0, 0);
   RBodyDef ball;
   ball.name = "ball";
-  ball.shape.type = RShapeType::kSphere;
-  ball.shape.radius = 0.1;
+  ball.shape = RShape::Sphere(0.1);
   ball.mass = 1;
   ball.restitution = 0;
   wall.restitution = 0;
@@ -576,8 +574,7 @@ TEST(Response, SpinningBoxesCollideWithoutGainingEnergy) {
 TEST(Response, SpinningCubesInASpeculativeContactGainNoEnergy) {
   auto cube = [](const RVec3& x, const RQuat& q, const RVec3& v, const RVec3& w) {
     RBodyDef d;
-    d.shape.type = RShapeType::kBox;
-    d.shape.halfExtents = RVec3::Constant(0.5);
+    d.shape = RShape::Box(RVec3::Constant(0.5));
     d.mass = 1, d.restitution = 1, d.friction = 0;
     d.position_W = x, d.q_WS = q, d.velocity_W = v, d.angularVelocity_W = w;
     return RRigidBody(d);

@@ -379,8 +379,7 @@ TEST(FreeRotation, StepOverManyPeriodsMatchesSmallSteps) {
 TEST(FreeRotation, HugeTorqueOnATinyBoxKeepsTheImpulse) {
   RBodyDef d;
   d.restitution = 0.5;
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = RVec3(0.002, 0.0015, 0.001);
+  d.shape = RShape::Box(RVec3(0.002, 0.0015, 0.001));
   std::vector<RRigidBody> bodies{RRigidBody(d)};
   const RVec3 torque(60, 30, 70);
   RIntegrator integrator;

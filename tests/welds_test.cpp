@@ -32,7 +32,7 @@ BodyDef CompoundOf(const std::vector<std::pair<RVec3, RVec3>>& boxes, RScalar rh
   d.shape.type = RShapeType::kCompound;
   for (const auto& [he, c] : boxes) {
     RCompoundChild child;
-    child.shape.type = RShapeType::kBox, child.shape.halfExtents = he;
+    child.shape = RShape::Box(he);
     child.position_S = c, child.density = rho;
     d.shape.children.push_back(child);
   }

@@ -28,6 +28,19 @@ constexpr RScalar kMinThickness = 1e-4;  // of the largest size
 constexpr const char* kPositionRange = "must be finite and within 1e15 m of the origin";
 // (AllFinite first: Eigen's maxCoeff passes over a NaN.)
 bool InRange(const RVec3& p) { return AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition; }
+// A field the shape's kind does not read must be as RShape leaves it (0, empty): a value
+// there was meant for another kind, and ignoring it would hide the mistake.
+void RefuseFieldsNotRead(const RShape& s) {
+  const RShapeType t = s.type;
+  const bool round = t == RShapeType::kSphere || t == RShapeType::kCapsule || t == RShapeType::kCylinder;
+  const char* unused = "does not apply to this shape's type (RShape's factories set only what a type reads)";
+  Require(round || s.radius == 0, "shape.radius", unused);
+  Require(t == RShapeType::kCapsule || t == RShapeType::kCylinder || s.halfHeight == 0, "shape.half_height", unused);
+  Require(t == RShapeType::kBox || s.halfExtents == RVec3::Zero(), "shape.half_extents", unused);
+  Require(t == RShapeType::kHull || t == RShapeType::kMesh || s.points.empty(), "shape.points", unused);
+  Require(t == RShapeType::kMesh || s.triangles.empty(), "shape.triangles", unused);
+  Require(t == RShapeType::kCompound || s.children.empty(), "shape.children", unused);
+}
 }  // namespace
 
 std::uint64_t BodyEditCount() { return s_bodyEdits.load(std::memory_order_relaxed); }
@@ -50,6 +63,7 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
               shape.type == RShapeType::kCapsule || shape.type == RShapeType::kCylinder ||
               shape.type == RShapeType::kCompound || shape.type == RShapeType::kMesh,
           "shape.type", "must be sphere, box, hull, capsule, cylinder, compound or mesh");
+  RefuseFieldsNotRead(shape);
   auto prepared = std::make_shared<RPreparedShape>();
   RPreparedShape& p = *prepared;
   p.shape = shape;

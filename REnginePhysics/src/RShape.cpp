@@ -5,8 +5,51 @@
 #include <Eigen/Eigenvalues>
 
 #include <stdexcept>
+#include <utility>
 
 namespace REngine {
+
+RShape RShape::Sphere(RScalar radius) {
+  RShape s;
+  s.type = RShapeType::kSphere, s.radius = radius;
+  return s;
+}
+
+RShape RShape::Box(const RVec3& halfExtents) {
+  RShape s;
+  s.type = RShapeType::kBox, s.halfExtents = halfExtents;
+  return s;
+}
+
+RShape RShape::Capsule(RScalar radius, RScalar halfHeight) {
+  RShape s;
+  s.type = RShapeType::kCapsule, s.radius = radius, s.halfHeight = halfHeight;
+  return s;
+}
+
+RShape RShape::Cylinder(RScalar radius, RScalar halfHeight) {
+  RShape s;
+  s.type = RShapeType::kCylinder, s.radius = radius, s.halfHeight = halfHeight;
+  return s;
+}
+
+RShape RShape::Hull(std::vector<RVec3> points_S) {
+  RShape s;
+  s.type = RShapeType::kHull, s.points = std::move(points_S);
+  return s;
+}
+
+RShape RShape::Mesh(std::vector<RVec3> vertices_S, std::vector<std::array<std::uint32_t, 3>> triangles) {
+  RShape s;
+  s.type = RShapeType::kMesh, s.points = std::move(vertices_S), s.triangles = std::move(triangles);
+  return s;
+}
+
+RShape RShape::Compound(std::vector<RCompoundChild> children) {
+  RShape s;
+  s.type = RShapeType::kCompound, s.children = std::move(children);
+  return s;
+}
 
 RMassProperties ComputeMassProperties(const RShape& shape) {
   RMassProperties mp;

@@ -26,8 +26,7 @@ int main() {
     RBodyDef def;
     def.restitution = 0.5;
     def.name = "ball";
-    def.shape.type = RShapeType::kSphere;
-    def.shape.radius = 0.5;
+    def.shape = RShape::Sphere(0.5);
     def.mass = 1.0;
     std::vector<RRigidBody> bodies{RRigidBody(def)};
     RIntegrator integrator(settings);
@@ -42,16 +41,16 @@ int main() {
   RBodyDef compound;
   compound.restitution = 0.5;
   compound.name = "compound";
-  compound.shape.type = RShapeType::kCompound;
+  std::vector<RCompoundChild> children;
   for (int k = 0; k < 2; ++k) {
     RCompoundChild child;
-    child.shape.type = RShapeType::kBox;
-    child.shape.halfExtents = RVec3(0.5, 0.5, 0.5);
+    child.shape = RShape::Box(RVec3(0.5, 0.5, 0.5));
     child.position_S = RVec3(k == 0 ? -0.5 : 0.5, 0, 0);
     child.q_SC = RQuat(Eigen::AngleAxisd(0.25 * kPi, RVec3::UnitY()));
     child.density = k == 0 ? 1.0 : 3.0;
-    compound.shape.children.push_back(child);
+    children.push_back(child);
   }
+  compound.shape = RShape::Compound(children);
   compound.position_W = RVec3(0, 10, 0);
   const RBodyHandle hc = bodies.Add(compound);
 
@@ -59,9 +58,9 @@ int main() {
   RBodyDef hull;
   hull.restitution = 0.5;
   hull.name = "hull";
-  hull.shape.type = RShapeType::kHull;
-  for (int i = 0; i < 8; ++i)
-    hull.shape.points.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+  std::vector<RVec3> corners;
+  for (int i = 0; i < 8; ++i) corners.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+  hull.shape = RShape::Hull(corners);
   hull.density = 2;
   hull.position_W = RVec3(10, 10, 0);
   const RBodyHandle hh = bodies.Add(hull);
@@ -71,8 +70,7 @@ int main() {
   RBodyDef bob;
   bob.restitution = 0.5;
   bob.name = "bob";
-  bob.shape.type = RShapeType::kSphere;
-  bob.shape.radius = 0.1;
+  bob.shape = RShape::Sphere(0.1);
   bob.mass = 1.0;
   bob.position_W = RVec3(22, 10, 0);
   const RBodyHandle hb = bodies.Add(bob);

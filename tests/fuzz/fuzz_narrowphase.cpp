@@ -29,15 +29,13 @@ RShape ShapeFrom(FuzzInput& in, bool raw) {
   RShape s;
   const std::uint8_t kind = in.Byte();
   if (kind == 254) {  // a cylinder (the values below 254 keep the corpus's meaning)
-    s.type = RShapeType::kCylinder;
-    s.radius = raw ? in.RawDouble() : in.Decades(-2, 3);
-    s.halfHeight = raw ? in.RawDouble() : in.Decades(-2, 3);
+    const double radius = raw ? in.RawDouble() : in.Decades(-2, 3);  // read in this order
+    s = RShape::Cylinder(radius, raw ? in.RawDouble() : in.Decades(-2, 3));
     return s;
   }
   if (kind == 255) {  // (the other values keep the corpus's meaning)
-    s.type = RShapeType::kCapsule;
-    s.radius = raw ? in.RawDouble() : in.Decades(-2, 3);
-    s.halfHeight = raw ? in.RawDouble() : in.Decades(-2, 3);
+    const double radius = raw ? in.RawDouble() : in.Decades(-2, 3);  // read in this order
+    s = RShape::Capsule(radius, raw ? in.RawDouble() : in.Decades(-2, 3));
     return s;
   }
   switch (kind % 3) {
@@ -51,8 +49,7 @@ RShape ShapeFrom(FuzzInput& in, bool raw) {
       }
       break;
     case 1:
-      s.type = RShapeType::kSphere;
-      s.radius = raw ? in.RawDouble() : in.Decades(-2, 3);
+      s = RShape::Sphere(raw ? in.RawDouble() : in.Decades(-2, 3));
       break;
     default: {
       s.type = RShapeType::kHull;

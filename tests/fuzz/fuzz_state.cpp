@@ -34,16 +34,7 @@ using namespace REngine::fuzz;
 
 namespace {
 
-RShape Box(const RVec3& half) {
-  RShape s;
-  s.type = RShapeType::kBox, s.halfExtents = half;
-  return s;
-}
-RShape Round(RShapeType type, RScalar radius, RScalar halfHeight) {
-  RShape s;
-  s.type = type, s.radius = radius, s.halfHeight = halfHeight;
-  return s;
-}
+RShape Box(const RVec3& half) { return RShape::Box(half); }
 
 // The shapes, prepared once (a hull and a mesh cost more to prepare than an input to run).
 struct Shapes {
@@ -51,25 +42,16 @@ struct Shapes {
   Shapes() {
     ground = PrepareShape(Box(RVec3(12, 0.5, 12)));
     box = PrepareShape(Box(RVec3::Constant(0.5)));
-    ball = PrepareShape(Round(RShapeType::kSphere, 0.3, 0.5));
-    capsule = PrepareShape(Round(RShapeType::kCapsule, 0.2, 0.4));
-    cylinder = PrepareShape(Round(RShapeType::kCylinder, 0.3, 0.25));
-    RShape hullShape;
-    hullShape.type = RShapeType::kHull;
-    hullShape.points = {RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1), RVec3(0.6, 0.6, 0.6)};
-    hull = PrepareShape(hullShape);
-    RShape meshShape;
-    meshShape.type = RShapeType::kMesh;
-    meshShape.points = {RVec3(-3, 0, -3), RVec3(3, 0, -3), RVec3(3, 0.5, 3), RVec3(-3, 0.5, 3)};
-    meshShape.triangles = {{0, 1, 2}, {0, 2, 3}};
-    mesh = PrepareShape(meshShape);
-    RShape compoundShape;
-    compoundShape.type = RShapeType::kCompound;
+    ball = PrepareShape(RShape::Sphere(0.3));
+    capsule = PrepareShape(RShape::Capsule(0.2, 0.4));
+    cylinder = PrepareShape(RShape::Cylinder(0.3, 0.25));
+    hull = PrepareShape(RShape::Hull({RVec3(0, 0, 0), RVec3(1, 0, 0), RVec3(0, 1, 0), RVec3(0, 0, 1), RVec3(0.6, 0.6, 0.6)}));
+    mesh = PrepareShape(RShape::Mesh({RVec3(-3, 0, -3), RVec3(3, 0, -3), RVec3(3, 0.5, 3), RVec3(-3, 0.5, 3)},
+                                     {{0, 1, 2}, {0, 2, 3}}));
     RCompoundChild a, b;
     a.shape = Box(RVec3(0.4, 0.1, 0.1)), a.position_S = RVec3(0, 0, 0);
-    b.shape = Round(RShapeType::kSphere, 0.2, 0.5), b.position_S = RVec3(0.5, 0, 0), b.density = 3;
-    compoundShape.children = {a, b};
-    compound = PrepareShape(compoundShape);
+    b.shape = RShape::Sphere(0.2), b.position_S = RVec3(0.5, 0, 0), b.density = 3;
+    compound = PrepareShape(RShape::Compound({a, b}));
     platform = PrepareShape(Box(RVec3(1, 0.1, 1)));
   }
 };

@@ -53,9 +53,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (int k = 0; k < children; ++k) {
           RCompoundChild c;
           const std::uint8_t t = in.Byte() % 4;
-          c.shape.type = t == 0 ? RShapeType::kBox : t == 1 ? RShapeType::kSphere : t == 2 ? RShapeType::kCapsule : RShapeType::kCylinder;
-          c.shape.halfExtents = RVec3(in.Decades(-2, 1), in.Decades(-2, 1), in.Decades(-2, 1));
-          c.shape.radius = in.Decades(-2, 1), c.shape.halfHeight = in.Decades(-2, 1);
+          // Every size is read whatever the type (the corpus's bytes keep their meaning); the
+          // shape takes those its type reads.
+          const RVec3 e(in.Decades(-2, 1), in.Decades(-2, 1), in.Decades(-2, 1));
+          const double r = in.Decades(-2, 1), h = in.Decades(-2, 1);
+          c.shape = t == 0 ? RShape::Box(e) : t == 1 ? RShape::Sphere(r) : t == 2 ? RShape::Capsule(r, h) : RShape::Cylinder(r, h);
           c.position_S = in.Vec(-2, 2);
           c.q_SC = in.Rotation();
           c.density = in.Decades(-1, 1);
@@ -63,22 +65,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         break;
       }
-      case 3:
-        d.shape.type = RShapeType::kCapsule;
-        d.shape.radius = in.Decades(-2, 1), d.shape.halfHeight = in.Decades(-2, 1);
+      case 3: {
+        const double r = in.Decades(-2, 1);  // read before the half height
+        d.shape = RShape::Capsule(r, in.Decades(-2, 1));
         break;
-      case 4:
-        d.shape.type = RShapeType::kCylinder;
-        d.shape.radius = in.Decades(-2, 1), d.shape.halfHeight = in.Decades(-2, 1);
+      }
+      case 4: {
+        const double r = in.Decades(-2, 1);  // read before the half height
+        d.shape = RShape::Cylinder(r, in.Decades(-2, 1));
         break;
-      case 0:
-        d.shape.type = RShapeType::kBox;
-        d.shape.halfExtents = RVec3::Constant(in.Decades(-2, 1));
-        d.shape.halfExtents.y() = in.Decades(-2, 1), d.shape.halfExtents.z() = in.Decades(-2, 1);
+      }
+      case 0: {
+        const double x = in.Decades(-2, 1), y = in.Decades(-2, 1), z = in.Decades(-2, 1);  // in this order
+        d.shape = RShape::Box(RVec3(x, y, z));
         break;
+      }
       case 1:
-        d.shape.type = RShapeType::kSphere;
-        d.shape.radius = in.Decades(-2, 1);
+        d.shape = RShape::Sphere(in.Decades(-2, 1));
         break;
       default: {
         d.shape.type = RShapeType::kHull;

@@ -54,23 +54,20 @@ struct BodyDef : RBodyDef {
 
 inline BodyDef SphereDef(RScalar radius) {
   BodyDef d;
-  d.shape.type = RShapeType::kSphere;
-  d.shape.radius = radius;
+  d.shape = RShape::Sphere(radius);
   return d;
 }
 
 inline BodyDef BoxDef(const RVec3& halfExtents) {
   BodyDef d;
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = halfExtents;
+  d.shape = RShape::Box(halfExtents);
   return d;
 }
 
 // The convex hull of `points_S`, in the shape frame.
 inline BodyDef HullDef(std::vector<RVec3> points_S) {
   BodyDef d;
-  d.shape.type = RShapeType::kHull;
-  d.shape.points = std::move(points_S);
+  d.shape = RShape::Hull(std::move(points_S));
   return d;
 }
 

@@ -34,8 +34,7 @@ constexpr int kPeriod = 10;
 RBodyDef BoxDef(const RVec3& x) {
   RBodyDef d;
   d.restitution = 0.5;
-  d.shape.type = RShapeType::kBox;
-  d.shape.halfExtents = RVec3::Constant(0.5);
+  d.shape = RShape::Box(RVec3::Constant(0.5));
   d.position_W = x;
   d.mass = 1;
   return d;
@@ -63,8 +62,7 @@ RBodyDef Debris(int i) {
   RBodyDef d;
   d.restitution = 0.5;
   d.name = "debris";
-  d.shape.type = RShapeType::kSphere;
-  d.shape.radius = 0.1;
+  d.shape = RShape::Sphere(0.1);
   d.position_W = RVec3(80, 5 + 0.01 * (i % 7), 80);
   d.mass = 0.1;
   return d;

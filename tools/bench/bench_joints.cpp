@@ -361,7 +361,7 @@ class Weld : public Scene {
     twin.shape.type = RShapeType::kCompound;
     for (const auto& [he, c] : {std::pair{h1, c1}, std::pair{h2, c2}}) {
       RCompoundChild child;
-      child.shape.type = RShapeType::kBox, child.shape.halfExtents = he;
+      child.shape = RShape::Box(he);
       child.position_S = c, child.density = rho;
       twin.shape.children.push_back(child);
     }

@@ -76,8 +76,7 @@ World& WorldOf(int boxFloor) {
   floor.name = "floor";
   floor.kind = RBodyKind::kStatic;
   if (boxFloor) {
-    floor.shape.type = RShapeType::kBox;
-    floor.shape.halfExtents = RVec3(kQuads * kQuad / 2, 0.5, kQuads * kQuad / 2);
+    floor.shape = RShape::Box(RVec3(kQuads * kQuad / 2, 0.5, kQuads * kQuad / 2));
     floor.position_W = RVec3(0, -0.5, 0);
   } else {
     floor.shape = Floor();
@@ -86,8 +85,7 @@ World& WorldOf(int boxFloor) {
   for (int k = 0; k < 1024; ++k) {
     RBodyDef box;
     box.restitution = 0.5;
-    box.shape.type = RShapeType::kBox;
-    box.shape.halfExtents = RVec3(0.4, 0.25, 0.3);
+    box.shape = RShape::Box(RVec3(0.4, 0.25, 0.3));
     box.position_W = RVec3(-24.3 + 1.6 * (k % 32), 0.25, -24.7 + 1.6 * (k / 32));
     box.q_WS = RQuat(Eigen::AngleAxisd(0.1 * (k % 7), RVec3::UnitY()));
     box.friction = 0.5;

@@ -24,10 +24,9 @@ std::vector<RRigidBody> MakeBodies(int kind, int n) {
     def.restitution = 0.5;
     def.name = "b" + std::to_string(i);
     if (kind == 0) {
-      def.shape.type = RShapeType::kSphere;
+      def.shape = RShape::Sphere(0.5);
     } else {
-      def.shape.type = RShapeType::kBox;
-      def.shape.halfExtents = kind == 1 ? RVec3(0.5, 0.5, 1.5) : RVec3(0.5, 1.0, 1.5);
+      def.shape = RShape::Box(kind == 1 ? RVec3(0.5, 0.5, 1.5) : RVec3(0.5, 1.0, 1.5));
     }
     def.position_W = RVec3(u(rng), u(rng), u(rng)) * 100;
     def.velocity_W = RVec3(u(rng), u(rng), u(rng));

@@ -77,8 +77,7 @@ Field& FieldOf(int n) {
   for (int i = 0; i < n; ++i) {
     RBodyDef d;
     d.restitution = 0.5;
-    d.shape.type = RShapeType::kHull;
-    d.shape.points = RockPoints(rng, 1 + 4 * u(rng));
+    d.shape = RShape::Hull(RockPoints(rng, 1 + 4 * u(rng)));
     const RScalar z = u(rng), y = u(rng), x = u(rng);
     d.position_W = f->side * (RVec3(x, y, z) - RVec3::Constant(0.5));
     std::normal_distribution<RScalar> g(0, 1);

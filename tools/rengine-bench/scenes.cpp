@@ -350,8 +350,7 @@ World AsteroidWorld(const GridPoint& p) {
       for (int k = 0; k < kNz; ++k) {
         RBodyDef rock;
         rock.name = "rock" + std::to_string((i * kNy + j) * kNz + k);
-        rock.shape.type = RShapeType::kHull;
-        rock.shape.points = RockPoints(rng);
+        rock.shape = RShape::Hull(RockPoints(rng));
         rock.density = 2500;
         const RVec3 cell(kSpacing * (i - RScalar(kNx - 1) / 2),
                          kSpacing * (j - RScalar(kNy - 1) / 2),

@@ -1,26 +1,13 @@
 #include "Shapes.h"
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace spacegame {
 using namespace REngine;
 
 namespace {
-
-RShape Hull(std::vector<RVec3> points) {
-  RShape s;
-  s.type = RShapeType::kHull;
-  s.points = std::move(points);
-  return s;
-}
-
-RShape Box(const RVec3& half) {
-  RShape s;
-  s.type = RShapeType::kBox;
-  s.halfExtents = half;
-  return s;
-}
 
 // A lumpy rock: points on a Fibonacci sphere, each pushed in or out by up to a quarter of the
 // radius, and the whole squashed along one axis per variant, so that the three variants of a
@@ -39,22 +26,21 @@ RShape Rock(double radius, int variant, Rng& rng) {
     const RVec3 unit(r * std::cos(phi), y, r * std::sin(phi));
     points.push_back(radius * rng.Uniform(0.75, 1.15) * unit.cwiseProduct(squash));
   }
-  return Hull(std::move(points));
+  return RShape::Hull(std::move(points));
 }
 
 // Fuselage along +z: a hexagonal body that narrows to a nose at z = kShipNose and to an
 // engine block at the back; wings and a fin as thin hulls beside it.
 RShape Ship() {
-  RShape ship;
-  ship.type = RShapeType::kCompound;
-  auto add = [&ship](RShape child, double density) {
+  std::vector<RCompoundChild> parts;
+  auto add = [&parts](RShape child, double density) {
     RCompoundChild c;
     c.shape = std::move(child);
     c.density = density;
-    ship.children.push_back(std::move(c));
+    parts.push_back(std::move(c));
   };
   const double nose = GameShapes::kShipNose;
-  add(Hull({{0, 0, nose},
+  add(RShape::Hull({{0, 0, nose},
             {-1.4, -0.9, 1},
             {1.4, -0.9, 1},
             {-1.6, 0.3, 1},
@@ -67,79 +53,71 @@ RShape Ship() {
             {0, 1.3, -5},
             {0, -1.2, -5}}),
       600);
-  add(Hull({{1.4, -0.3, 1.5},
+  add(RShape::Hull({{1.4, -0.3, 1.5},
             {1.4, 0.2, 1.5},
             {7, -0.1, -3.5},
             {7, 0.1, -3.5},
             {1.4, -0.3, -4},
             {1.4, 0.2, -4}}),
       300);
-  add(Hull({{-1.4, -0.3, 1.5},
+  add(RShape::Hull({{-1.4, -0.3, 1.5},
             {-1.4, 0.2, 1.5},
             {-7, -0.1, -3.5},
             {-7, 0.1, -3.5},
             {-1.4, -0.3, -4},
             {-1.4, 0.2, -4}}),
       300);
-  add(Hull({{-0.15, 1.0, -1},
+  add(RShape::Hull({{-0.15, 1.0, -1},
             {0.15, 1.0, -1},
             {-0.1, 3.2, -4.5},
             {0.1, 3.2, -4.5},
             {-0.15, 1.1, -5},
             {0.15, 1.1, -5}}),
       300);
-  return ship;
+  return RShape::Compound(std::move(parts));
 }
 
 // A wheel station about S's y axis: the hub, four spokes and a ring of twelve boxes, one
 // compound body so that the game moves it as one (kinematic, spinning). Symmetric about the
 // axis, so its centre of mass is on it and spinning it moves nothing but its rotation.
 RShape Station() {
-  RShape st;
-  st.type = RShapeType::kCompound;
-  auto add = [&st](RShape child, const RVec3& p, const RQuat& q) {
+  std::vector<RCompoundChild> parts;
+  auto add = [&parts](RShape child, const RVec3& p, const RQuat& q) {
     RCompoundChild c;
     c.shape = std::move(child);
     c.position_S = p;
     c.q_SC = q;
-    st.children.push_back(std::move(c));
+    parts.push_back(std::move(c));
   };
-  RShape hub;
-  hub.type = RShapeType::kCylinder;
-  hub.radius = 6;
-  hub.halfHeight = GameShapes::kStationHubHalfHeight;
-  add(hub, RVec3::Zero(), RQuat::Identity());
+  add(RShape::Cylinder(6, GameShapes::kStationHubHalfHeight), RVec3::Zero(), RQuat::Identity());
   const double R = GameShapes::kStationRingRadius;
   constexpr int kSegments = 12;
   const double halfChord = R * std::tan(kPi / kSegments) + 0.4;  // overlap the joints
   for (int k = 0; k < kSegments; ++k) {
     const double a = 2 * kPi * k / kSegments;
     const RQuat q(Eigen::AngleAxis<double>(-a, RVec3::UnitY()));
-    add(Box(RVec3(2.5, GameShapes::kStationRingHalfAxial, halfChord)), q * RVec3(R, 0, 0), q);
+    add(RShape::Box(RVec3(2.5, GameShapes::kStationRingHalfAxial, halfChord)), q * RVec3(R, 0, 0), q);
   }
   const double spokeInner = 6, spokeOuter = R - 2.5;
   for (int k = 0; k < 4; ++k) {
     const double a = 2 * kPi * k / 4 + kPi / kSegments;
     const RQuat q(Eigen::AngleAxis<double>(-a, RVec3::UnitY()));
     const double mid = 0.5 * (spokeInner + spokeOuter);
-    add(Box(RVec3(0.5 * (spokeOuter - spokeInner), 1.2, 1.2)), q * RVec3(mid, 0, 0), q);
+    add(RShape::Box(RVec3(0.5 * (spokeOuter - spokeInner), 1.2, 1.2)), q * RVec3(mid, 0, 0), q);
   }
-  return st;
+  return RShape::Compound(std::move(parts));
 }
 
 // The cargo bay: an open box of triangles (floor and three walls, open towards +z), the
 // station's static inside where debris comes to rest. A mesh: static geometry of any shape.
 RShape Bay() {
-  RShape bay;
-  bay.type = RShapeType::kMesh;
   const double w = GameShapes::kBayHalfWidth, h = GameShapes::kBayWallHeight;
-  bay.points = {{-w, 0, -w}, {w, 0, -w}, {w, 0, w}, {-w, 0, w},   // floor 0..3
-                {-w, h, -w}, {w, h, -w}, {w, h, w}, {-w, h, w}};  // wall tops 4..7
-  bay.triangles = {{0, 2, 1}, {0, 3, 2},                          // floor
-                   {0, 1, 5}, {0, 5, 4},                          // back wall (z = -w)
-                   {1, 2, 6}, {1, 6, 5},                          // +x wall
-                   {3, 0, 4}, {3, 4, 7}};                         // -x wall
-  return bay;
+  return RShape::Mesh({{-w, 0, -w}, {w, 0, -w}, {w, 0, w}, {-w, 0, w},   // floor 0..3
+                       {-w, h, -w}, {w, h, -w}, {w, h, w}, {-w, h, w}},  // wall tops 4..7
+                      {{0, 2, 1}, {0, 3, 2},                             // floor
+                       {0, 1, 5}, {0, 5, 4},                             // back wall (z = -w)
+                       {1, 2, 6}, {1, 6, 5},                             // +x wall
+                       {3, 0, 4}, {3, 4, 7}});                           // -x wall
 }
 
 }  // namespace
@@ -153,13 +131,9 @@ GameShapes MakeGameShapes(std::uint64_t seed) {
   s.ship = PrepareShape(Ship());
   s.station = PrepareShape(Station());
   s.bay = PrepareShape(Bay());
-  s.crate = PrepareShape(Box(RVec3::Constant(1.0)));
-  RShape missile;
-  missile.type = RShapeType::kCapsule;
-  missile.radius = 0.35;
-  missile.halfHeight = 1.4;
-  s.missile = PrepareShape(missile);
-  s.debris = PrepareShape(Box(RVec3(0.45, 0.3, 0.2)));
+  s.crate = PrepareShape(RShape::Box(RVec3::Constant(1.0)));
+  s.missile = PrepareShape(RShape::Capsule(0.35, 1.4));
+  s.debris = PrepareShape(RShape::Box(RVec3(0.45, 0.3, 0.2)));
   return s;
 }
 

@@ -65,8 +65,9 @@ struct RPreparedShape {
 };
 
 // Checks a shape as RRigidBody does (sizes finite, > 0 and at most 1e12 m, a box no thinner
-// than 1e-4 of its size, hull points that span a solid) and prepares it. Throws RBodyError
-// naming the field ("shape.radius", "shape.half_extents", "shape.points").
+// than 1e-4 of its size, hull points that span a solid, every field its type does not read
+// left at 0 or empty) and prepares it. Throws RBodyError naming the field ("shape.radius",
+// "shape.half_extents", "shape.points"; "shape.radius" too for a radius set on a box).
 std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape);
 
 // How a body moves. Dynamic: by forces, gravity and collisions. Static: never (infinite mass,
@@ -89,6 +90,8 @@ struct RBodyLocks {
 // What a game or a scene file says about a body; RRigidBody copies it.
 struct RBodyDef {
   std::string name;
+  // Made by RShape's factories (RShape::Box(halfExtents), ...). Left as it is, it is a
+  // sphere of radius 0, refused: no body gets a size nobody gave.
   RShape shape;
   // When set, the body is made from this shape and `shape` is not read: no hull is built.
   std::shared_ptr<const RPreparedShape> prepared;

@@ -158,8 +158,7 @@ Renderer::Renderer() {
   m_lines.reserve(6 * 4096);
 
   RShape sphere;
-  sphere.type = RShapeType::kSphere;
-  sphere.radius = 1;
+  sphere = RShape::Sphere(1);
   const std::vector<MeshVertex> v = Tessellate(sphere);
   m_ballMesh = Upload(v);
 }
