@@ -259,7 +259,14 @@ void RWorldStep::IndexEventsByBody() {
       return m_events[k].handleA.index == s ? m_events[k].handleA.generation : m_events[k].handleB.generation;
     };
     if (last - first > 1 && !std::all_of(first, last, [&](std::uint32_t k) { return generation(k) == generation(*first); })) {
-      std::stable_sort(first, last, [&](std::uint32_t x, std::uint32_t y) { return generation(x) < generation(y); });
+      // An insertion sort: stable, and it allocates nothing (std::stable_sort takes a
+      // temporary buffer from the heap, in the step); a slot's run is a few events.
+      for (auto i = first + 1; i < last; ++i) {
+        const std::uint32_t k = *i;
+        auto j = i;
+        for (; j > first && generation(k) < generation(*(j - 1)); --j) *j = *(j - 1);
+        *j = k;
+      }
     }
   }
 }
