@@ -48,6 +48,23 @@ void Remass(RJointRow* rows, std::size_t count, const RWorldStep::RSolverBody* b
 
 RMat3 Stiffened(const RMat3& invI, RScalar added) { return RMat3(invI.inverse() + added * RMat3::Identity()).inverse(); }
 
+// The rigid turn (rad/s) that changes the island's angular momentum by -net about its centre
+// of mass: its bodies' centres at x(i), their world inertias I(i); a turn moves no joint.
+template <class Centre, class Inertia>
+RVec3 IslandTurn(const std::vector<std::uint32_t>& island, const RWorldStep::RSolverBody* solver, const RVec3& net,
+                 Centre x, Inertia I, RVec3& centre) {
+  RScalar mass = 0;
+  centre = RVec3::Zero();
+  for (std::uint32_t i : island) mass += 1 / solver[i].invM, centre += x(i) / solver[i].invM;
+  centre /= mass;
+  RMat3 inertia = RMat3::Zero();
+  for (std::uint32_t i : island) {
+    const RVec3 r = x(i) - centre;
+    inertia += I(i) + (r.squaredNorm() * RMat3::Identity() - r * r.transpose()) / solver[i].invM;
+  }
+  return inertia.ldlt().solve(RVec3(-net));
+}
+
 }  // namespace
 
 RScalar RWorldStep::JointStiffness(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
@@ -108,11 +125,6 @@ void RWorldStep::Stiffen(std::size_t island, RIslandScratch& sc) {
   BeginJointBlocks(rows, std::size_t(j1 - j0) * kRows, sc);
 }
 
-namespace {
-
-// Whether the island is free: no joint to the world or an immovable body, no contact.
-}  // namespace
-
 // Whether the island is free: no joint to the world or an immovable body, no contact, no
 // body with locks or in a weld (whose inertia is not a plain tensor).
 bool RWorldStep::FreeJointIsland(const RStepBodies& bodies, std::size_t island, const RIslandScratch& sc) const {
@@ -145,16 +157,9 @@ void RWorldStep::Unstiffen(const RStepBodies& bodies, std::size_t island, RIslan
   BeginJointBlocks(rows, std::size_t(j1 - j0) * kRows, sc);
   if (net.isZero(0) || !FreeJointIsland(bodies, island, sc)) return;
   // The island turned by -net about its centre of mass (at the start of the step).
-  RScalar mass = 0;
-  RVec3 centre = RVec3::Zero();
-  for (std::uint32_t i : sc.jointBodies) mass += 1 / m_solverBodies[i].invM, centre += bodies[i].m_x_W / m_solverBodies[i].invM;
-  centre /= mass;
-  RMat3 inertia = RMat3::Zero();
-  for (std::uint32_t i : sc.jointBodies) {
-    const RVec3 r = bodies[i].m_x_W - centre;
-    inertia += m_solverBodies[i].invI.inverse() + (r.squaredNorm() * RMat3::Identity() - r * r.transpose()) / m_solverBodies[i].invM;
-  }
-  const RVec3 turn = inertia.ldlt().solve(RVec3(-net));
+  RVec3 centre;
+  const RVec3 turn = IslandTurn(sc.jointBodies, m_solverBodies.data(), net, [&](std::uint32_t i) { return bodies[i].m_x_W; },
+                                [&](std::uint32_t i) { return RMat3(m_solverBodies[i].invI.inverse()); }, centre);
   for (std::uint32_t i : sc.jointBodies) {
     RSolverBody& s = m_solverBodies[i];
     const RVec3 dv = turn.cross(RVec3(bodies[i].m_x_W - centre));
@@ -184,20 +189,13 @@ void RWorldStep::EndStiffness(const RStepBodies& bodies, std::size_t island, RIs
   if (net.isZero(0) || !FreeJointIsland(bodies, island, sc)) return;
   // The island turned by -net about its centre of mass where the step ends; the end impulses
   // are about the centres where it starts (SolveJointsAtEnd).
-  RScalar mass = 0;
-  RVec3 centre = RVec3::Zero();
-  for (std::uint32_t i : sc.jointBodies) mass += 1 / m_solverBodies[i].invM, centre += m_jointPoses[i].x / m_solverBodies[i].invM;
-  centre /= mass;
   auto inertiaOf = [&](std::uint32_t i) {
     const RMat3 R = m_jointPoses[i].q.toRotationMatrix();
     return RMat3(R * bodies[i].m_invI_B.cwiseInverse().asDiagonal() * R.transpose());
   };
-  RMat3 inertia = RMat3::Zero();
-  for (std::uint32_t i : sc.jointBodies) {
-    const RVec3 r = m_jointPoses[i].x - centre;
-    inertia += inertiaOf(i) + (r.squaredNorm() * RMat3::Identity() - r * r.transpose()) / m_solverBodies[i].invM;
-  }
-  const RVec3 turn = inertia.ldlt().solve(RVec3(-net));
+  RVec3 centre;
+  const RVec3 turn = IslandTurn(sc.jointBodies, m_solverBodies.data(), net, [&](std::uint32_t i) { return m_jointPoses[i].x; },
+                                inertiaOf, centre);
   for (std::uint32_t i : sc.jointBodies) {
     RSolverBody& s = m_solverBodies[i];
     const RVec3 linear = turn.cross(RVec3(m_jointPoses[i].x - centre)) / s.invM;
