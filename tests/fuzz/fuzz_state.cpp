@@ -19,7 +19,7 @@
 #include <REnginePhysics/RWorldState.h>
 
 #include "FuzzInput.h"
-#include "RStateFormat.h"  // the header, to reseal edited states
+#include "state/RStateFormat.h"  // the header, to reseal edited states
 
 #include <algorithm>
 #include <cstdio>

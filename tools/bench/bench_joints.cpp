@@ -1,5 +1,5 @@
 // bench_joints: REngine's joints against Bullet's on the closed-form scenes of
-// tests/joints_test.cpp, in the same process (that suite asserts REngine's side of each).
+// tests/joints/joints_test.cpp, in the same process (that suite asserts REngine's side of each).
 //
 //   bench_joints [--repeats N] [--csv FILE] [--quick]
 //

@@ -62,7 +62,7 @@
 // magic "\x89RSTATE\n", the format version (u32), 0 (u32), the payload's length (u64), and
 // its checksum (u64, a 64-bit hash that detects corruption, not tampering); then the
 // payload: the world tag, the settings, the integrator's memory, the container and the
-// bodies (src/RStateRecords.cpp writes and reads every record in one place). A plain binary
+// bodies (src/state/RStateRecords.cpp writes and reads every record in one place). A plain binary
 // writer rather than a general format (CBOR through nlohmann_json, which the scene loader
 // uses): the engine proper does not depend on a JSON library, every double must come back
 // bit for bit, and a rollback game saves every frame, so a save is a copy of each field and

@@ -1,0 +1,224 @@
+// The broad phase (RShortcuts::broadPhase): the pairs whose sweep boxes overlap, found
+// without visiting every pair and handed to the pair sweep in its all-pairs order (see
+// DetectPairs).
+//
+// Each body has a fat box, its sweep box grown by a margin, kept while the sweep box stays
+// inside it; a bounding-volume tree holds the fat boxes (RBoundsTree) and a sorted list
+// holds every pair of overlapping fat boxes. A step then only asks the tree about the
+// bodies that left their fat boxes (in a resting pile, none; in a debris cloud, about one
+// in ten), replaces their pairs in the list, and tests the list's pairs against this
+// step's sweep boxes. Since a sweep box lies inside its fat box, two sweep boxes that
+// overlap belong to a listed pair: the pairs found are exactly the all-pairs loop's
+// (Box2D's and Bullet's dynamic trees keep fat boxes and a pair list the same way).
+#include "world/RWorldStep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace REngine {
+
+RBoundsTree::RBox RWorldStep::SweepBox(const RRigidBody& b, std::size_t i) const {
+  // Where the all-pairs loop can pass a pair: its grown spheres touch and its world boxes,
+  // grown by the same motion (DetectPairs' stage 2), overlap. So a body's box here is the
+  // part of its grown sphere's box that its grown world box can reach, the world box
+  // bounded without visiting vertices: the body-frame box turned, |R| h about R c.
+  // Both are widened by a millionth of the growth and by a few units in the last place of
+  // every term, so that no pair the loop passes, with its own rounding, has boxes apart
+  // here. (A non-finite orientation leaves the sphere's box alone.)
+  const RScalar c[3] = {m_cx[i], m_cy[i], m_cz[i]};
+  const RScalar reach = m_reach[i];
+  const RScalar grow = (reach - b.m_boundingRadius) * (1 + 1e-6);
+  const RMat3 R = b.m_q_WB.toRotationMatrix();
+  const RVec3 centre = R * b.m_boxCenter_B;
+  const RVec3 half = R.cwiseAbs() * b.m_boxHalf_B;
+  RBoundsTree::RBox box;
+  for (int a = 0; a < 3; ++a) {
+    const RScalar sphereHalf = reach * (1 + 1e-6) + 4e-15 * (std::abs(c[a]) + reach);
+    box.lo[a] = c[a] - sphereHalf, box.hi[a] = c[a] + sphereHalf;
+    const RScalar boxHalf = half[a] + grow + 1e-14 * (std::abs(c[a]) + std::abs(centre[a]) + half[a] + reach);
+    const RScalar lo = c[a] + centre[a] - boxHalf, hi = c[a] + centre[a] + boxHalf;
+    if (std::isfinite(lo) && std::isfinite(hi)) box.lo[a] = std::max(box.lo[a], lo), box.hi[a] = std::min(box.hi[a], hi);
+  }
+  return box;
+}
+
+namespace {
+
+// Whether a box is a box: infinite bounds are (a body whose reach overflowed meets every
+// other, as in the all-pairs loop, whose sphere test then passes every pair), NaN is not.
+bool Valid(const RBoundsTree::RBox& b) {
+  return !(std::isnan(b.lo[0]) || std::isnan(b.lo[1]) || std::isnan(b.lo[2]) ||
+           std::isnan(b.hi[0]) || std::isnan(b.hi[1]) || std::isnan(b.hi[2]));
+}
+
+bool Contains(const RBoundsTree::RBox& outer, const RBoundsTree::RBox& inner) {
+  return outer.lo[0] <= inner.lo[0] && outer.lo[1] <= inner.lo[1] && outer.lo[2] <= inner.lo[2] &&
+         inner.hi[0] <= outer.hi[0] && inner.hi[1] <= outer.hi[1] && inner.hi[2] <= outer.hi[2];
+}
+
+bool Overlap(const RBoundsTree::RBox& a, const RBoundsTree::RBox& b) {
+  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
+         a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
+}
+
+// A box that overlaps nothing: the fat box of a body whose sweep box is not a number (game
+// code set a NaN), which the all-pairs loop pairs with nothing.
+constexpr RBoundsTree::RBox kEmpty = {
+    {std::numeric_limits<RScalar>::infinity(), std::numeric_limits<RScalar>::infinity(),
+     std::numeric_limits<RScalar>::infinity()},
+    {-std::numeric_limits<RScalar>::infinity(), -std::numeric_limits<RScalar>::infinity(),
+     -std::numeric_limits<RScalar>::infinity()}};
+
+bool IsEmpty(const RBoundsTree::RBox& b) { return std::memcmp(&b, &kEmpty, sizeof b) == 0; }
+
+}  // namespace
+
+RBoundsTree::RBox RWorldStep::FatBox(const RRigidBody& b, std::size_t i) const {
+  const RBoundsTree::RBox& box = m_sweepBoxes[i];
+  if (!Valid(box)) return kEmpty;
+  // A quarter of the reach, plus four steps of its motion: a resting body never leaves
+  // its fat box, a fast one leaves it every few steps rather than every step. Only the
+  // speed of the search depends on it.
+  const RScalar motion = m_reach[i] - b.m_boundingRadius;
+  const RScalar margin = RScalar(0.25) * m_reach[i] + 4 * motion;
+  RBoundsTree::RBox fat = box;
+  for (int a = 0; a < 3; ++a) fat.lo[a] -= margin, fat.hi[a] += margin;
+  // Infinite sums stay infinite (a finite bound and an infinite margin give an infinite
+  // bound, never a NaN: a bound is never infinite the other way).
+  return Valid(fat) ? fat : box;
+}
+
+// The sweep boxes are this step's (DetectPairs made them with the reaches).
+void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
+  const std::size_t n = bodies.size();
+  // The bodies that left their fat boxes (or whose box stopped or started being a number).
+  m_moved.clear();
+  const bool rebuild = !m_fatValid || m_fatBoxes.size() != n || m_fatRefits >= kFatRefits;
+  if (!rebuild) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const RBoundsTree::RBox& box = m_sweepBoxes[i];
+      const RBoundsTree::RBox& fat = m_fatBoxes[i];
+      if (Valid(box) ? !Contains(fat, box) : !IsEmpty(fat)) m_moved.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  // Many moved (bodies added or removed shift the indices): a new tree and list, O(n log n
+  // + pairs); otherwise the moved bodies' pairs are replaced, O(moved log n + pairs).
+  if (rebuild || 4 * m_moved.size() > n) {
+    RebuildFatPairs(bodies);
+    return;
+  }
+  ++m_fatRefits;
+  if (m_moved.empty()) return;
+  m_movedMark.resize(n, 0);  // all 0 between steps: cleared below after use
+  for (std::uint32_t i : m_moved) m_fatBoxes[i] = FatBox(bodies[i], i), m_movedMark[i] = 1;
+  m_fatTree.Refit(m_fatBoxes.data());
+  // Each moved body's new partners, from the tree; a pair of two moved bodies is taken by
+  // the first of them.
+  const std::size_t used = ParallelRanges(m_jobs, m_moved.size(), m_tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    RSweepTask& st = m_sweepTasks[task];
+    st.pairs.clear();
+    for (std::size_t k = k0; k < k1; ++k) {
+      const std::uint32_t i = m_moved[k];
+      st.query.clear();
+      m_fatTree.Query(m_fatBoxes[i], st.query, st.queryStack);
+      for (std::uint32_t j : st.query) {
+        if (j == i || (m_movedMark[j] && j < i)) continue;
+        st.pairs.emplace_back(std::min(i, j), std::max(i, j));
+      }
+    }
+  });
+  m_fatScratch.clear();
+  for (std::size_t t = 0; t < used; ++t) {
+    m_fatScratch.insert(m_fatScratch.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
+  }
+  std::sort(m_fatScratch.begin(), m_fatScratch.end());
+  // The unmoved pairs, kept in order, merged with the new ones (std::merge into a list kept
+  // between steps: inplace_merge would allocate its buffer every time).
+  const std::size_t fresh = m_fatScratch.size();
+  for (const auto& pair : m_fatPairs) {
+    if (!m_movedMark[pair.first] && !m_movedMark[pair.second]) m_fatScratch.push_back(pair);
+  }
+  m_fatMerged.resize(m_fatScratch.size());
+  std::merge(m_fatScratch.begin(), m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh),
+             m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh), m_fatScratch.end(), m_fatMerged.begin());
+  std::swap(m_fatPairs, m_fatMerged);
+  for (std::uint32_t i : m_moved) m_movedMark[i] = 0;
+}
+
+// Every body's fat box anew, its tree built, and every pair of overlapping fat boxes
+// found by the tree's pair search (split into tasks), then sorted by (i, then j).
+void RWorldStep::RebuildFatPairs(const RStepBodies& bodies) {
+  const std::size_t n = bodies.size();
+  m_fatBoxes.resize(n);
+  m_treeIds.resize(n);
+  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) m_fatBoxes[i] = FatBox(bodies[i], i), m_treeIds[i] = static_cast<std::uint32_t>(i);
+  });
+  m_fatTree.Build(m_fatBoxes.data(), m_treeIds.data(), n);
+  m_fatValid = true;
+  m_fatRefits = 0;
+  const std::size_t tasks = m_tasks;
+  m_fatTree.PairSeeds(m_fatTree, 8 * tasks, m_seeds, m_seedScratch);
+  // Trees of a few hundred bodies are searched on one thread.
+  const std::size_t grain = n < 256 ? m_seeds.size() : 1;
+  const std::size_t used = ParallelRanges(m_jobs, m_seeds.size(), tasks, grain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    RSweepTask& st = m_sweepTasks[task];
+    st.pairs.clear();
+    auto found = [&st](std::uint32_t x, std::uint32_t y) { st.pairs.emplace_back(std::min(x, y), std::max(x, y)); };
+    for (std::size_t k = k0; k < k1; ++k) m_fatTree.Pairs(m_fatTree, m_seeds[k], st.nodeStack, found);
+  });
+  // Into (i, then j) order: a counting sort by i (O(pairs + bodies)) of the tasks' lists,
+  // then each body's partners (few, but the ground under a pile has hundreds).
+  m_pairStart.assign(n + 1, 0);
+  std::size_t total = 0;
+  for (std::size_t t = 0; t < used; ++t) {
+    for (const auto& [i, j] : m_sweepTasks[t].pairs) ++m_pairStart[i + 1];
+    total += m_sweepTasks[t].pairs.size();
+  }
+  for (std::size_t i = 0; i < n; ++i) m_pairStart[i + 1] += m_pairStart[i];
+  m_fatPairs.resize(total);
+  for (std::size_t t = 0; t < used; ++t) {
+    for (const auto& pair : m_sweepTasks[t].pairs) m_fatPairs[m_pairStart[pair.first]++] = pair;
+  }
+  for (std::size_t first = 0, i = 0; i < n; first = m_pairStart[i++]) {
+    std::sort(m_fatPairs.begin() + static_cast<std::ptrdiff_t>(first),
+              m_fatPairs.begin() + static_cast<std::ptrdiff_t>(m_pairStart[i]));
+  }
+}
+
+// Stage 1 of the pair sweep with the broad phase: the listed pairs that can start a
+// contact (not both passive) and whose sweep boxes overlap, each through the all-pairs
+// loop's sphere test (the same operands in the same order, so the same answer to the bit).
+// The list is in (i, then j) order, and so are the tasks' ranges of it, joined in order.
+void RWorldStep::TreePairs(RScalar grow) {
+  constexpr std::size_t kBoxAhead = 16;
+  const std::size_t used = ParallelRanges(m_jobs, m_fatPairs.size(), m_tasks, 4096, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    RSweepTask& st = m_sweepTasks[task];
+    st.pairs.clear();
+    st.sphereTests = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      // The second body's box is anywhere in a 1.4 MB array (30000 bodies): asked for a
+      // few pairs ahead, it is there when the pair is tested.
+      if (k + kBoxAhead < k1) {
+        const std::uint32_t ahead = m_fatPairs[k + kBoxAhead].second;
+        PrefetchBytes(&m_sweepBoxes[ahead], sizeof(RBoundsTree::RBox));
+        __builtin_prefetch(&m_passive[ahead]);
+      }
+      const auto [i, j] = m_fatPairs[k];
+      if ((m_passive[i] && m_passive[j]) || !Overlap(m_sweepBoxes[i], m_sweepBoxes[j])) continue;
+      ++st.sphereTests;
+      const RScalar dx = m_cx[j] - m_cx[i], dy = m_cy[j] - m_cy[i], dz = m_cz[j] - m_cz[i];
+      const RScalar lim = (m_reach[i] + m_reach[j]) * grow;
+      if (lim * lim - (dx * dx + dy * dy + dz * dz) >= 0) st.pairs.emplace_back(i, j);
+    }
+  });
+  m_pairs.clear();
+  for (std::size_t t = 0; t < used; ++t) {
+    m_pairs.insert(m_pairs.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
+    m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
+  }
+}
+
+}  // namespace REngine

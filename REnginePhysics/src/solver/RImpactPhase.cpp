@@ -1,0 +1,243 @@
+// The impact phase (RWorldStep::SolveIslandImpacts): impacts at their time within the step,
+// restitution through one row per manifold.
+#include "shape/RCompound.h"
+#include "collision/RGjkEpa.h"
+#include "world/RWorldStep.h"
+
+#include "solver/RSolverRows.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace REngine {
+
+using namespace solver;
+
+// The geometry of an impact within the step, at time t (updated): the narrow phase again at
+// the poses the bodies have then (moved along their paths; orientations as at the start),
+// advanced conservatively until the leading points touch: t += gap / approach, which for
+// two spheres converges to the exact moment, so an oblique collision gets the normal along
+// the line of centres at contact, not at the start of the step. The impulse point is the
+// centre of the leading points, the same for both bodies (lever arms from where their
+// centres are at t), so angular momentum is exact. False if they do not meet this step.
+template <class Advance>
+bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa,
+                                 RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
+                                 RVec3& rA, RVec3& rB, RDirection* dir, std::uint32_t childA,
+                                 std::uint32_t childB) const {
+  const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+  // A compound's contact is one child pair's: the impact is that pair's.
+  RShapeChild aloneA, aloneB;
+  aloneA.shape = shapeA, aloneB.shape = shapeB;
+  const bool children = HasParts(shapeA) || HasParts(shapeB);
+  const RShapeChild& ca = shapeA.children ? shapeA.children[childA] : aloneA;
+  const RShapeChild& cb = shapeB.children ? shapeB.children[childB] : aloneB;
+  const RRelativePose X0 = RelativePose(A, B);
+  const RMat3 R_WA = A.m_q_WB.toRotationMatrix();
+  const RScalar tolerance = RCollisionSolver::kTouchingTolerance * (A.BoundingRadius() + B.BoundingRadius());
+  constexpr int kAdvances = 16;
+  for (int k = 0; k < kAdvances; ++k) {
+    advance(sa, t), advance(sb, t);
+    RRelativePose X = X0;
+    X.t_AB += R_WA.transpose() * (sb.moved - sa.moved);
+    RContactManifold m;
+    if (shapeA.mesh || shapeB.mesh) {
+      m = MeshPartManifold(shapeA, shapeB, X, childA, childB);
+    } else if (children) {
+      m = RCollisionSolver::Manifold(ca.shape, cb.shape, ChildPose(ca, cb, X), std::numeric_limits<RScalar>::max());
+      ChildToBody(ca, childA, childB, m);
+    } else {
+      m = RCollisionSolver::Manifold(shapeA, shapeB, X, std::numeric_limits<RScalar>::max());
+    }
+    if (m.pointCount == 0) return false;
+    RLeadingPoints leading = LeadingPoints(m);
+    // No point within the slop of the deepest: the separations are not numbers (bodies
+    // flung to 1e300 m/s overflow the pair's pose). No impact to find (found by fuzz_world).
+    if (leading.count == 0) return false;
+    const RScalar lead = m.points[leading.deepest].separation;
+    if (children) {
+      // A compound meets flat with several children at once (a ship's two hulls on a wall):
+      // the leading points of every child pair facing the same way join this one's, so the
+      // one impact goes through their centre, as a single body's face would.
+      RVec3 sum = leading.centre * leading.count;
+      int count = leading.count;
+      ForEachChildManifold(shapeA, shapeB, X, lead + m_settings.penetrationSlop, [&](const RContactManifold& other) {
+        if (other.childA == m.childA && other.childB == m.childB) return;
+        if (other.normal.dot(m.normal) < kFaceContactCos) return;
+        for (int q = 0; q < other.pointCount; ++q) {
+          if (other.points[q].separation <= lead + m_settings.penetrationSlop) sum += other.points[q].position, ++count;
+        }
+      });
+      leading.centre = sum / count;
+    }
+    const RVec3& centre_A = leading.centre;
+    // World, relative to each body's centre of mass at t.
+    const RVec3 n = R_WA * m.normal;
+    const RVec3 p = R_WA * centre_A + sa.moved;  // from A's centre at the start
+    rA = p - sa.moved;
+    rB = p - (B.m_x_W - A.m_x_W) - sb.moved;
+    RVec3 t1, t2;
+    OrthonormalBasis(n, t1, t2);
+    SetDirection(dir[0], n, rA, rB, sa, sb);
+    SetDirection(dir[1], t1, rA, rB, sa, sb);
+    SetDirection(dir[2], t2, rA, rB, sa, sb);
+    if (lead <= tolerance) return true;
+    const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
+    if (vn >= 0) return false;
+    // Meeting after the step: not an impact of this step, unless the gap left is within
+    // the slop (a row of balls a micrometre apart: the impulse goes down the row now).
+    if (t + lead / -vn > dt) return lead <= m_settings.penetrationSlop;
+    t += lead / -vn;
+  }
+  return true;  // close enough: the remaining gap shrinks every advance
+}
+
+// The impact phase: every manifold approaching faster than the restitution threshold, and
+// reaching contact within the step, bounces through its impact row: the impulse that turns
+// the approach speed vn into -e vn, then friction at the same point bounded by mu times
+// that impulse. Passes repeat while some manifold still impacts, so an impulse travels
+// along a chain of touching bodies the way it does in a Newton's cradle (the striker stops,
+// the last ball leaves), instead of being shared out as a block. Each application changes
+// the kinetic energy by (e^2 - 1) vn^2 / (2 k) <= 0, and friction only removes sliding, so
+// no pass can add energy whatever the order.
+//
+// Impacts happen at their time within the step, not at its start: a contact that is gap
+// away at approach speed vn hits at t = gap / -vn (never before an earlier impact of either
+// body). Each body keeps the displacement it has travelled up to its last impact; the
+// impulse acts where the contact then is (one point for both bodies, moved with the lighter
+// one, so angular momentum is exact); and the body moves during the step with the
+// velocity that gives the piecewise path (before the impact, then after it). The velocity
+// it ends with is the one after its impacts: the difference is deferred to the end of the
+// step. A missile at 2 km/s stops at the face of the plate it hits, not a step short of it.
+//
+// Island by island (SolveIsland): an island's impact rows (one per manifold, its blocks'
+// indices) move only its own bodies. A static or kinematic body, which islands share, is
+// read and never written: its path is known (x + v t), so where it is at an impact's time
+// is worked out on a copy, and its impacts with one body do not order those with another
+// (only a movable body's impacts happen one after another).
+void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc) {
+  const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
+  const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    RSolverBody& s = m_solverBodies[islandBodies[k]];
+    s.moved.setZero(), s.tau = 0;
+    s.deferV.setZero();
+  }
+  const auto [first, last] = m_blockIslands[island];
+  const std::size_t count = m_islandImpacts[island] ? last - first : 0;
+  // Moves a body along its present velocity up to time t of the step.
+  auto advance = [](RSolverBody& s, RScalar t) {
+    if (t <= s.tau) return;
+    s.moved += s.v * (t - s.tau), s.tau = t;
+  };
+  // The normal impulse dn at arms rA, rB (dir: normal and tangents), then friction at the
+  // same point, within mu times this row's normal impulse so far.
+  auto apply = [&](RImpactRow& r, const RDirection* dir, const RVec3& rA, const RVec3& rB, RScalar dn, RSolverBody& sa,
+                   RSolverBody& sb) {
+    r.lambdaN += dn;
+    Push(dir[0], dn, sa, sb, sa.v, sa.w, sb.v, sb.w);
+    const Eigen::Matrix<RScalar, 2, 1> step = TangentStep(dir[1], dir[2], Speed(dir[1], sa.v, sa.w, sb.v, sb.w),
+                                                          Speed(dir[2], sa.v, sa.w, sb.v, sb.w), sa, sb);
+    const RScalar lt1 = r.lambdaT1 + step.x(), lt2 = r.lambdaT2 + step.y();
+    const RScalar limit = r.friction * r.lambdaN;
+    const RScalar norm = std::sqrt(lt1 * lt1 + lt2 * lt2);
+    const RScalar scale = norm > limit ? limit / norm : RScalar(1);
+    const RScalar d1 = lt1 * scale - r.lambdaT1, d2 = lt2 * scale - r.lambdaT2;
+    r.lambdaT1 += d1, r.lambdaT2 += d2;
+    if (d1 != 0) Push(dir[1], d1, sa, sb, sa.v, sa.w, sb.v, sb.w);
+    if (d2 != 0) Push(dir[2], d2, sa, sb, sa.v, sa.w, sb.v, sb.w);
+    const RVec3 J = dn * dir[0].d + d1 * dir[1].d + d2 * dir[2].d;
+    r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
+    r.frictionImpulse += d1 * dir[1].d + d2 * dir[2].d;
+    r.point_W = bodies[r.a].m_x_W + sa.moved + rA, r.normal_W = dir[0].d;
+  };
+  bool anyImpact = false;
+  // With joints (RJointImpacts.cpp): each impact bounces through the joints' reaction
+  // (their rows hold the relative velocities of before the impacts: begun before them).
+  const bool joints = count > 0 && IslandHasJoints(island);
+  if (joints) BeginImpactJoints(island, sc);
+  const int passes = std::max(1, m_settings.solverIterations);
+  for (int pass = 0; pass < passes && count > 0; ++pass) {
+    bool any = false;
+    for (std::size_t ii = 0; ii < count; ++ii) {
+      RImpactRow& r = m_impacts[first + ((pass % 2 == 0) ? ii : count - 1 - ii)];
+      RSolverBody* pa = &m_solverBodies[r.a];
+      RSolverBody* pb = &m_solverBodies[r.b];
+      const RScalar vn0 = Speed(r.normal, pa->v, pa->w, pb->v, pb->w);
+      if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
+      // A static or kinematic body on a copy, at the start of its path (see above).
+      RSolverBody copyA, copyB;
+      if (pa->invM == 0) copyA = *pa, pa = &copyA;
+      if (pb->invM == 0) copyB = *pb, pb = &copyB;
+      RSolverBody& sa = *pa;
+      RSolverBody& sb = *pb;
+      // When: the gap closed at this approach, and no earlier than either body's last.
+      RScalar t = std::max(sa.tau, sb.tau);
+      if (r.gap > 0) t = std::max(t, r.gap / -vn0);
+      if (t > dt) continue;
+      advance(sa, t), advance(sb, t);
+      RDirection dir[3];
+      RVec3 rA, rB;
+      if (t == 0 || r.joined) {
+        // At the start: the manifold's own impact point and normal (a weld's joined
+        // contacts: theirs, at any time).
+        rA = r.rA, rB = r.rB;
+        SetDirection(dir[0], r.normal.d, rA, rB, sa, sb);
+        SetDirection(dir[1], r.tangent[0], rA, rB, sa, sb);
+        SetDirection(dir[2], r.tangent[1], rA, rB, sa, sb);
+      } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir,
+                                 m_contacts[r.contact].manifold.childA, m_contacts[r.contact].manifold.childB)) {
+        r.miss = true;  // they pass each other, or meet only after the step
+        continue;
+      }
+      const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
+      if (vn >= 0 || !(dir[0].k > 0)) continue;  // (no effective mass: no impulse to find)
+      any = anyImpact = true;
+      RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
+      if (joints) {
+        // The joints react within the impact: the approach changes per unit impulse by less
+        // than the free bodies' k (a door turns about its hinge). That rate, measured by
+        // the free bodies' impulse and the joints' answer to it (their response is linear),
+        // gives the impulse that turns vn into -e vn through the joints; the rest of it and
+        // friction, and the joints' answer again.
+        const RScalar probe = dn;
+        Push(dir[0], probe, sa, sb, sa.v, sa.w, sb.v, sb.w);
+        r.lambdaN += probe;
+        const RVec3 J = probe * dir[0].d;
+        r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
+        ImpactJointsPass(t, sc);
+        const RScalar k = (Speed(dir[0], sa.v, sa.w, sb.v, sb.w) - vn) / probe;
+        dn = k > 0 ? std::max(-(1 + r.restitution) * vn / k - probe, -r.lambdaN) : 0;
+      }
+      apply(r, dir, rA, rB, dn, sa, sb);
+      if (joints) ImpactJointsPass(t, sc);
+    }
+    if (!any) break;
+  }
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    RSolverBody& s = m_solverBodies[islandBodies[k]];
+    s.vImpacts = s.v;
+  }
+  if (!anyImpact) {
+    if (joints) EndImpactJoints(bodies, island, dt, sc, false);
+    return;
+  }
+  // The velocity each body moves with this step gives its piecewise path; the rest of the
+  // change waits for the end of the step. The contact phase works on the velocities after
+  // the impacts, the bodies' real ones, so that its impulses, inelastic there, cannot add
+  // energy; the difference is taken out of the motion only (ReportIsland).
+  for (std::size_t k = 0; k < bodyCount; ++k) {
+    RSolverBody& s = m_solverBodies[islandBodies[k]];
+    if (s.tau <= 0 || s.invM == 0) continue;
+    advance(s, dt);
+    // Rotation is not split: moving a body's orientation along a piecewise spin and then
+    // handing it the deferred angular momentum would change its kinetic energy (which
+    // depends on the orientation for unequal moments). It turns with its spin after the
+    // impact for the whole step.
+    s.deferV = s.v - s.moved / dt;
+  }
+  if (joints) EndImpactJoints(bodies, island, dt, sc, true);
+}
+
+}  // namespace REngine

@@ -1,0 +1,249 @@
+// RIntegrator::Update, the step as a table of contents: the stamp, CollisionDetection (pair
+// sweep, contact solver), UpdateObjects (the motion, sleeping). The subsystems and their
+// scratch state live behind RWorldStep (RWorldStep.h lists their files).
+#include <REnginePhysics/RIntegrator.h>
+
+#include "world/RWorldStep.h"
+
+#include <REngineMath/RQuaternion.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace REngine {
+
+std::uint64_t NextCacheStamp() {
+  static std::atomic<std::uint64_t> s_stamp{0};
+  return ++s_stamp;
+}
+
+RScalar Combine(RCombineMode mode, RScalar a, RScalar b) {
+  switch (mode) {
+    case RCombineMode::kMin: return std::min(a, b);
+    case RCombineMode::kMax: return std::max(a, b);
+    case RCombineMode::kProduct: return a * b;
+    case RCombineMode::kAverage: return RScalar(0.5) * (a + b);
+    case RCombineMode::kGeometric: return std::sqrt(a * b);
+  }
+  return a;
+}
+
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+}  // namespace
+
+
+
+RIntegrator::RIntegrator() : m_w(std::make_unique<RWorldStep>()) {}
+RIntegrator::RIntegrator(const RWorldSettings& settings) : RIntegrator() {
+  m_w->m_settings = settings;
+}
+RIntegrator::~RIntegrator() = default;
+RIntegrator::RIntegrator(const RIntegrator& other)
+    : m_w(std::make_unique<RWorldStep>(*other.m_w)), m_gameJobs(other.m_gameJobs) {}
+RIntegrator& RIntegrator::operator=(const RIntegrator& other) {
+  if (this != &other) *m_w = *other.m_w, m_gameJobs = other.m_gameJobs;
+  return *this;
+}
+RIntegrator::RIntegrator(RIntegrator&&) noexcept = default;
+RIntegrator& RIntegrator::operator=(RIntegrator&&) noexcept = default;
+
+void RIntegrator::ForgetContacts() {
+  m_w->m_warm.clear(), m_w->m_manifolds.clear(), m_w->m_wakeAll = true;
+}
+const RWorldSettings& RIntegrator::Settings() const { return m_w->m_settings; }
+RWorldSettings& RIntegrator::Settings() { return m_w->m_settings; }
+const RStepProfile& RIntegrator::Profile() const { return m_w->m_profile; }
+std::uint64_t RIntegrator::StepCount() const { return m_w->m_stepCount; }
+std::uint64_t RIntegrator::CacheStamp() const { return m_w->m_cacheStamp; }
+const std::optional<RNonFiniteBody>& RIntegrator::NonFinite() const { return m_w->m_nonFinite; }
+const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
+  return m_w->m_nonFiniteLast;
+}
+const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
+const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_events; }
+
+RBodyContactEvents RIntegrator::EventsOf(RBodyHandle body) const {
+  const RWorldStep& w = *m_w;
+  // (Empty when the index does not describe m_events: a load cleared them.)
+  if (body.index + std::size_t(1) >= w.m_eventsBySlot.size() || w.m_eventsByBody.size() != 2 * w.m_events.size()) {
+    return {};
+  }
+  const std::uint32_t* first = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index];
+  const std::uint32_t* last = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index + 1];
+  const auto names = [&](std::uint32_t k) {
+    const RContactEvent& e = w.m_events[k];
+    return e.handleA == body || e.handleB == body;
+  };
+  first = std::find_if(first, last, names);
+  return {w.m_events.data(), first, std::find_if_not(first, last, names)};
+}
+
+RContactEventSpan RIntegrator::EventsBetween(RBodyHandle a, RBodyHandle b) const {
+  const std::vector<RContactEvent>& events = m_w->m_events;
+  if (b.index < a.index) std::swap(a, b);  // handleA has the lower slot
+  const auto before = [](const RContactEvent& e, std::pair<RBodyHandle, RBodyHandle> key) {
+    return e.handleA < key.first || (e.handleA == key.first && e.handleB < key.second);
+  };
+  const auto after = [](std::pair<RBodyHandle, RBodyHandle> key, const RContactEvent& e) {
+    return key.first < e.handleA || (key.first == e.handleA && key.second < e.handleB);
+  };
+  const auto first = std::lower_bound(events.begin(), events.end(), std::make_pair(a, b), before);
+  const auto last = std::upper_bound(first, events.end(), std::make_pair(a, b), after);
+  return {events.data() + (first - events.begin()), events.data() + (last - events.begin())};
+}
+const RPairStats& RIntegrator::PairStats() const { return m_w->m_pairStats; }
+void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
+
+void RIntegrator::PrepareJobs() {
+  RWorldStep& w = *m_w;
+  if (w.m_settings.threads < 0 || w.m_settings.threads > RWorldSettings::kMaxThreads) {
+    const std::string problem = "must be 0 (what the machine has) to " +
+                                std::to_string(RWorldSettings::kMaxThreads) + " (got " +
+                                std::to_string(w.m_settings.threads) + ")";
+    throw RError("threads", problem, "RIntegrator::Update: RWorldSettings::threads " + problem);
+  }
+  if (w.m_settings.solverIterations < 1 || w.m_settings.solverIterations > RWorldSettings::kMaxSolverIterations) {
+    const std::string problem = "must be 1 to " + std::to_string(RWorldSettings::kMaxSolverIterations) +
+                                " (got " + std::to_string(w.m_settings.solverIterations) + ")";
+    throw RError("solverIterations", problem, "RIntegrator::Update: RWorldSettings::solverIterations " + problem);
+  }
+  for (const RCombineMode mode : {w.m_settings.restitutionCombine, w.m_settings.frictionCombine}) {
+    if (static_cast<std::uint8_t>(mode) > static_cast<std::uint8_t>(RCombineMode::kGeometric)) {
+      const std::string problem = "must be an RCombineMode (got " + std::to_string(static_cast<int>(mode)) + ")";
+      throw RError(mode == w.m_settings.restitutionCombine ? "restitutionCombine" : "frictionCombine", problem,
+                   "RIntegrator::Update: RWorldSettings::restitutionCombine and frictionCombine " + problem);
+    }
+  }
+  RJobSystem* jobs = m_gameJobs;
+  if (!jobs) {
+    const int threads = w.m_settings.threads > 0 ? w.m_settings.threads : RThreadPool::MachineThreads();
+    if (threads > 1) {
+      if (!m_pool || m_pool->ThreadCount() != threads) m_pool = std::make_unique<RThreadPool>(threads);
+      jobs = m_pool.get();
+    } else {
+      m_pool.reset();
+    }
+  }
+  // A few tasks per thread, so that a thread that drew a light range takes another. The
+  // count changes only how the work is cut, never its result.
+  const int threads = jobs ? jobs->ThreadCount() : 1;
+  w.m_jobs = threads > 1 ? jobs : nullptr;
+  w.m_tasks = threads > 1 ? static_cast<std::size_t>(4 * threads) : 1;
+}
+
+void RIntegrator::SetPairFilter(RPairFilter filter, void* user) {
+  m_w->m_filter = filter, m_w->m_filterUser = user, m_w->m_wakeAll = true;
+}
+
+namespace {
+void CheckDt(RScalar dt) {
+  if (!(std::isfinite(dt) && dt > 0 && dt <= RIntegrator::kMaxDt)) {
+    char text[96];
+    std::snprintf(text, sizeof text, "at most %g s (got %.17g)", RIntegrator::kMaxDt, dt);
+    const std::string problem = std::string("must be finite, > 0 and ") + text;
+    throw RError("dt", problem, "RIntegrator::Update: dt " + problem);
+  }
+}
+}  // namespace
+
+void RIntegrator::Update(RBodies& bodies, RScalar dt) {
+  CheckDt(dt);
+  RStepBodies view;
+  view.data = bodies.m_slots.items.data();
+  view.count = bodies.m_enabled;
+  view.handles = bodies.m_slots.handles.data();
+  view.denseOfSlot = bodies.m_slots.denseOfSlot.data();
+  view.slotCount = bodies.m_slots.denseOfSlot.size();
+  view.byIndex = false;
+  view.wakeIslands = &bodies.m_wakeIslands;
+  view.wakeAll = &bodies.m_wakeAll;
+  view.wakeBoxes = &bodies.m_wakeBoxes;
+  view.joints = bodies.m_jointSlots.items.data();
+  view.jointCount = bodies.m_jointSlots.items.size();
+  view.noCollidePairs = bodies.m_noCollide.data();
+  view.noCollideCount = bodies.m_noCollide.size();
+  // Queries' caches of the poses (RQueries) see the bodies moved, also when the step throws
+  // part way.
+  bodies.m_poseStamp.Bump();
+  Step(view, dt);
+  bodies.m_poseStamp.Bump();
+}
+
+void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
+  CheckDt(dt);
+  const std::size_t n = bodies.size();
+  // Identity by position: body i is slot i, generation 0 (filled once per size).
+  std::vector<RBodyHandle>& handles = m_w->m_indexHandles;
+  std::vector<std::uint32_t>& slots = m_w->m_indexSlots;
+  for (std::size_t i = handles.size(); i < n; ++i) {
+    handles.push_back(RBodyHandle{static_cast<std::uint32_t>(i), 0});
+    slots.push_back(static_cast<std::uint32_t>(i));
+  }
+  RStepBodies view;
+  view.data = bodies.data();
+  view.count = n;
+  view.handles = handles.data();
+  view.denseOfSlot = slots.data();
+  view.slotCount = n;
+  view.byIndex = true;
+  Step(view, dt);
+}
+
+void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
+  RWorldStep& w = *m_w;
+  const auto t0 = Clock::now();
+  PrepareJobs();  // before anything moves: a bad setting throws with the world untouched
+  w.m_cacheStamp = NextCacheStamp();
+  ++w.m_stepCount;
+  w.WakeIslands(bodies);
+  CollisionDetection(bodies, dt);
+  const auto t1 = Clock::now();
+  w.KeepStartPoses(bodies);  // the contact events compare the poses before and after
+  UpdateObjects(bodies, dt);
+  const auto t2 = Clock::now();
+  // Contact events: begin, persist, end, from the contacts and the motion (RContactEvents.h).
+  w.FindContactEvents(bodies);
+  // The bodies moved: a new stamp, so world forms that detection cached at the old poses
+  // are recomputed when game code asks after the step.
+  w.m_cacheStamp = NextCacheStamp();
+  const auto t3 = Clock::now();
+  w.m_profile.collisionDetection = Ms(t1 - t0) - w.m_profile.findImpulses;
+  w.m_profile.updateObjects = Ms(t2 - t1);
+  w.m_profile.contactEvents = Ms(t3 - t2);
+  w.m_profile.total = Ms(t3 - t0);
+}
+
+void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {
+  RWorldStep& w = *m_w;
+  std::uint64_t wakeRuns = 0;
+  // A sweep that touched a sleeping island wakes it and runs again: the woken bodies' pairs
+  // with each other, skipped while they slept, must be found too. Each rerun wakes at least
+  // one island, so this ends.
+  while (w.DetectPairs(bodies, dt)) {
+    w.WakeMarked(bodies);
+    ++wakeRuns;
+  }
+  w.m_pairStats.wakeRuns = wakeRuns;
+  const auto t0 = Clock::now();
+  w.FindImpulses(bodies, dt);
+  w.m_profile.findImpulses = Ms(Clock::now() - t0);
+}
+
+void RIntegrator::UpdateObjects(const RStepBodies& bodies, RScalar dt) {
+  m_w->Integrate(bodies, dt);
+  m_w->SleepIslands(bodies);
+}
+
+}  // namespace REngine
