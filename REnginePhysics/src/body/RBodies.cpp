@@ -1,6 +1,8 @@
 // The body container: a slot map over dense storage (see RBodies.h).
 #include <REnginePhysics/RBodies.h>
 
+#include "body/RBodyAccess.h"
+
 #include <REnginePhysics/RIntegrator.h>  // NextCacheStamp
 
 #include <algorithm>
@@ -35,10 +37,11 @@ RBodyHandle RBodies::Add(RRigidBody body) {
   // A new body sleeps with no island and has not been stepped yet; a static one appearing
   // beside a sleeper must wake it (a sleeping body is not paired with static geometry),
   // which is what a moved static body does.
-  body.m_sleeping = false, body.m_restTime = 0;
-  body.m_sleepIsland = RRigidBody::kNoIsland;
-  body.m_slot = RRigidBody::kNoIsland, body.m_slotWorld = 0;
-  if (body.Immovable()) body.m_staticMoved = true;
+  RBodyCore& c = Core(body);
+  c.m_sleeping = false, c.m_restTime = 0;
+  c.m_sleepIsland = RBodyCore::kNoIsland;
+  c.m_slot = RBodyCore::kNoIsland, c.m_slotWorld = 0;
+  if (c.Immovable()) c.m_staticMoved = true;
   const std::uint32_t dense = static_cast<std::uint32_t>(m_slots.items.size());
   const RBodyHandle h = m_slots.Insert(std::move(body));
   // Enabled: swap it from the end of the disabled range to the end of the enabled one.
@@ -48,7 +51,8 @@ RBodyHandle RBodies::Add(RRigidBody body) {
   return h;
 }
 
-void RBodies::WakeForDeparture(RRigidBody& b) {
+void RBodies::WakeForDeparture(RRigidBody& body) {
+  RBodyCore& b = Core(body);
   if (b.Immovable()) {
     if (b.m_slotWorld != 0) {  // stepped: sleepers may rest on it
       RVec3 lo, hi;
@@ -58,13 +62,13 @@ void RBodies::WakeForDeparture(RRigidBody& b) {
     // Moved since the last step, then taken away: where it was is where sleepers rest.
     if (b.m_wakeFromSet) m_wakeBoxes.push_back(b.m_wakeFromMin_W), m_wakeBoxes.push_back(b.m_wakeFromMax_W);
     b.m_wakeFromSet = false, b.m_staticMoved = false;
-  } else if (b.m_sleepIsland != RRigidBody::kNoIsland) {
+  } else if (b.m_sleepIsland != RBodyCore::kNoIsland) {
     // Asleep, or woken by the game since the last step: its island still has the id.
     m_wakeIslands.push_back(b.m_sleepIsland);
   }
   b.m_sleeping = false, b.m_restTime = 0;
-  b.m_sleepIsland = RRigidBody::kNoIsland;
-  b.m_slot = RRigidBody::kNoIsland, b.m_slotWorld = 0;
+  b.m_sleepIsland = RBodyCore::kNoIsland;
+  b.m_slot = RBodyCore::kNoIsland, b.m_slotWorld = 0;
 }
 
 void RBodies::Remove(RBodyHandle h) {
@@ -95,7 +99,7 @@ void RBodies::Disable(RBodyHandle h) {
 void RBodies::Enable(RBodyHandle h) {
   const std::uint32_t dense = DenseIndex(h);
   if (dense < m_enabled) return;
-  RRigidBody& b = m_slots.items[dense];
+  RBodyCore& b = Core(m_slots.items[dense]);
   if (b.Immovable()) b.m_staticMoved = true;
   WakeJointPartners(h);
   m_slots.SwapDense(dense, static_cast<std::uint32_t>(m_enabled));
@@ -110,12 +114,12 @@ void RBodies::IgnoreCollisions(RBodyHandle a, RBodyHandle b) {
   RRigidBody& bodyB = m_slots.items[DenseIndex(b)];
   if (a == b) throw RBodyError("ignore", "a body cannot ignore itself");
   for (RRigidBody* body : {&bodyA, &bodyB}) {
-    if (body->m_id != RRigidBody::kNoId) continue;
+    if (Core(*body).m_id != RBodyCore::kNoId) continue;
     // The least id no body here holds: ids stay small, and a game's own ids are left alone.
     std::vector<std::uint32_t> taken;
     taken.reserve(m_slots.items.size());
     for (const RRigidBody& other : m_slots.items) {
-      if (other.m_id != RRigidBody::kNoId) taken.push_back(other.m_id);
+      if (Core(other).m_id != RBodyCore::kNoId) taken.push_back(Core(other).m_id);
     }
     std::sort(taken.begin(), taken.end());
     std::uint32_t id = 0;
@@ -123,11 +127,11 @@ void RBodies::IgnoreCollisions(RBodyHandle a, RBodyHandle b) {
       if (t > id) break;
       if (t == id) ++id;
     }
-    if (id == RRigidBody::kNoId) throw RError("id", "every id is taken");
-    body->m_id = id;
+    if (id == RBodyCore::kNoId) throw RError("id", "every id is taken");
+    Core(*body).m_id = id;
   }
   // Waking a (IgnoreCollisionsWith) is enough: a sleeping pair that touches is one island.
-  bodyA.IgnoreCollisionsWith(bodyB.m_id);
+  bodyA.IgnoreCollisionsWith(Core(bodyB).m_id);
 }
 
 void RBodies::Clear() {

@@ -49,9 +49,9 @@ namespace {
 std::atomic<std::uint64_t> s_serials{0};
 }  // namespace
 
-RRigidBody::RSerial::RSerial() : value(s_serials.fetch_add(1, std::memory_order_relaxed) + 1) {}
+RBodyCore::RSerial::RSerial() : value(s_serials.fetch_add(1, std::memory_order_relaxed) + 1) {}
 
-RRigidBody::RSerial& RRigidBody::RSerial::operator=(const RSerial& other) {
+RBodyCore::RSerial& RBodyCore::RSerial::operator=(const RSerial& other) {
   value = other.value;
   CountEdit();
   return *this;
@@ -138,16 +138,14 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
   return prepared;
 }
 
-RRigidBody::RRigidBody(const RBodyDef& def)
-    : m_responds(def.responds),
-      m_category(def.category),
-      m_mask(def.mask),
-      m_restitution(def.restitution),
-      m_friction(def.friction),
-      m_name(def.name),
-      m_id(def.id.value_or(kNoId)),
-      m_ignore(def.ignore),
-      m_userData(def.userData) {
+RRigidBody::RRigidBody(const RBodyDef& def) {
+  m_responds = def.responds;
+  m_category = def.category, m_mask = def.mask;
+  m_restitution = def.restitution, m_friction = def.friction;
+  m_name = def.name;
+  m_id = def.id.value_or(kNoId);
+  m_ignore = def.ignore;
+  m_userData = def.userData;
   Require(!def.id || *def.id != kNoId, "id", "must be 0 to 2^32 - 2");
   for (std::uint32_t other : m_ignore) Require(other != kNoId, "ignore", "ids must be 0 to 2^32 - 2");
   std::sort(m_ignore.begin(), m_ignore.end());
@@ -262,14 +260,14 @@ RRigidBody::RRigidBody(const RBodyDef& def)
   SetAngularVelocity_W(def.angularVelocity_W);
 }
 
-void RRigidBody::WorldBox(RVec3& min_W, RVec3& max_W) const {
+void RBodyCore::WorldBox(RVec3& min_W, RVec3& max_W) const {
   const RMat3 R = m_q_WB.toRotationMatrix();
   const RVec3 centre = m_x_W + R * m_boxCenter_B;
   const RVec3 half = R.cwiseAbs() * m_boxHalf_B;
   min_W = centre - half, max_W = centre + half;
 }
 
-void RRigidBody::NoteImmovableEdit() {
+void RBodyCore::NoteImmovableEdit() {
   if (!Immovable()) return;
   // Where it was at the last step: the poses it is given between two steps held nothing.
   if (m_slotWorld != 0 && !m_wakeFromSet) {
@@ -295,7 +293,7 @@ void RRigidBody::SetShapePose(const RVec3& position_W, const RQuat& q) {
   Wake();
 }
 
-void RRigidBody::ComputeWorldForm(std::uint64_t stamp) const {
+void RBodyCore::ComputeWorldForm(std::uint64_t stamp) const {
   RWorldForm& wf = m_worldForm;
   wf.stamp = stamp;
   ++m_worldFormComputations;

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <limits>
 #include <cmath>
+#include "body/RBodyAccess.h"
 
 namespace REngine {
 
@@ -399,7 +400,8 @@ void FinishManifold(const RConvexShape& a, const RConvexShape& b, const RRelativ
 
 }  // namespace
 
-RConvexShape ShapeOf(const RRigidBody& body) {
+RConvexShape ShapeOf(const RRigidBody& b) {
+  const RBodyCore& body = Core(b);
   RConvexShape s;
   s.polyhedron = body.m_polyhedron_B;  // Polyhedron_B()'s, without reaching the prepared shape
   s.radius = body.m_coreRadius;
@@ -407,7 +409,7 @@ RConvexShape ShapeOf(const RRigidBody& body) {
   s.cylinderRadius = body.m_cylinderRadius;
   s.children = body.m_children, s.childCount = body.m_childCount;
   s.mesh = body.m_mesh;
-  s.boundingRadius = body.BoundingRadius();
+  s.boundingRadius = b.BoundingRadius();
   return s;
 }
 

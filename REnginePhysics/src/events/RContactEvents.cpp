@@ -90,8 +90,8 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
     for (std::size_t ci = c0; ci < c1; ++ci) {
       const RContact& c = m_contacts[ci];
       REventContact& e = m_eventContacts[ci];
-      const RRigidBody& A = bodies[c.a];
-      const RRigidBody& B = bodies[c.b];
+      const RBodyCore& A = bodies[c.a];
+      const RBodyCore& B = bodies[c.b];
       const RContactManifold& m = c.manifold;
       if (e.flags & kImpact) {
         // Where the impact phase found them touching (above).
@@ -104,8 +104,8 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
       } else {
         e.point_W = RScalar(0.5) * (m.query.witnessA + m.query.witnessB), e.normal_W = m.query.normal;
       }
-      const RScalar radiusB = B.BoundingRadius();
-      const RScalar band = RCollisionSolver::kTouchingTolerance * (A.BoundingRadius() + radiusB);
+      const RScalar radiusB = B.m_boundingRadius;
+      const RScalar band = RCollisionSolver::kTouchingTolerance * (A.m_boundingRadius + radiusB);
       // The signed distance where the manifold was computed (a manifold kept from an earlier
       // step, RShortcuts::contactReuse, was computed within the band of the start).
       const RScalar s0 = m.query.separation;
@@ -119,9 +119,9 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
       RRelativePose X0;
       X0.R_AB = (q_AW0 * pb.q_WB).toRotationMatrix();
       X0.t_AB = q_AW0 * (pb.x_W - pa.x_W);
-      const RRelativePose X1 = RelativePose(A, B);
+      const RRelativePose X1 = RelativePose(Body(A), Body(B));
       const RScalar moved = (X1.t_AB - X0.t_AB).norm() + (X1.R_AB - X0.R_AB).norm() * radiusB;
-      const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+      const RConvexShape shapeA = ShapeOf(Body(A)), shapeB = ShapeOf(Body(B));
       bool end = false;
       if (s0 + moved <= band) {
         end = true;

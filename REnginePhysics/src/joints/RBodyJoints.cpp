@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include "body/RBodyAccess.h"
 
 namespace REngine {
 
@@ -56,7 +57,7 @@ RJointHandle RBodies::AddJoint(const RJointDef& def) {
   RRigidBody& A = (*this)[def.a];
   RRigidBody* B = def.b.IsValid() ? &(*this)[def.b] : nullptr;
   Require(def.a != def.b, "b", "must be another body than a");
-  Require(!A.Immovable() || (B && !B->Immovable()), "a",
+  Require(!Core(A).Immovable() || (B && !Core(*B).Immovable()), "a",
           "a joint needs a dynamic body: a and b are both static or kinematic (or b is the world)");
   Require(Finite(def.anchor_W), "anchor", "must be finite (and within 1e15 m)");
   const bool axial = def.type == RJointType::kHinge || def.type == RJointType::kSlider;
@@ -124,7 +125,7 @@ RJointHandle RBodies::AddJoint(const RJointDef& def) {
   if (B && !def.collideConnected) {
     const std::uint64_t key = SlotPair(def.a.index, def.b.index);
     m_noCollide.insert(std::upper_bound(m_noCollide.begin(), m_noCollide.end(), key), key);
-    A.m_jointNoCollide = B->m_jointNoCollide = true;
+    Core(A).m_jointNoCollide = Core(*B).m_jointNoCollide = true;
   }
   // The bodies join one island: a sleeping one wakes (its island with it).
   A.Wake();
@@ -171,7 +172,7 @@ void RBodies::SetNoCollideFlags(RBodyHandle body) {
   for (std::uint64_t key : m_noCollide) {
     any = any || static_cast<std::uint32_t>(key >> 32) == body.index || static_cast<std::uint32_t>(key) == body.index;
   }
-  b->m_jointNoCollide = any;
+  Core(*b).m_jointNoCollide = any;
 }
 
 void RBodies::SetJointMotor(RJointHandle h, const RJointMotor& motor) {

@@ -30,7 +30,7 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
   auto endBody = [&](std::uint32_t i) -> std::uint32_t {
     if (i != world && m_solverBodies[i].invM != 0) {
       if (sc.mark[i] != kNone) return sc.mark[i];
-      const RRigidBody& b = bodies[i];
+      const RBodyCore& b = bodies[i];
       const RSolverBody& s = m_solverBodies[i];
       const RJointPose& p = m_jointPoses[i];
       REndBody e;
@@ -57,7 +57,7 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
     REndBody e;
     e.invI.setZero(), e.invM = 0, e.linMask = RVec3::Ones(), e.linLocked = false;
     e.v.setZero(), e.w.setZero();
-    if (atEnd && i != world && bodies[i].IsKinematic()) e.v = bodies[i].m_v_W, e.w = bodies[i].m_w_W;
+    if (atEnd && i != world && bodies[i].m_isKinematic) e.v = bodies[i].m_v_W, e.w = bodies[i].m_w_W;
     sc.endBodies.push_back(e);
     return static_cast<std::uint32_t>(sc.endBodies.size() - 1);
   };
@@ -199,8 +199,8 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
       if (m_solverBodies[body].invM != 0) return sc.mark[body];  // kNone: not a joint body
       RIslandScratch::REndBody e;
       e.invI.setZero(), e.invM = 0, e.linMask = RVec3::Ones(), e.linLocked = false;
-      e.v = bodies[body].IsKinematic() ? bodies[body].m_v_W : RVec3::Zero();
-      e.w = bodies[body].IsKinematic() ? bodies[body].m_w_W : RVec3::Zero();
+      e.v = bodies[body].m_isKinematic ? bodies[body].m_v_W : RVec3::Zero();
+      e.w = bodies[body].m_isKinematic ? bodies[body].m_w_W : RVec3::Zero();
       sc.endBodies.push_back(e);
       return static_cast<std::uint32_t>(sc.endBodies.size() - 1);
     };

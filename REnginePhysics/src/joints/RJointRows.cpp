@@ -218,7 +218,7 @@ template void BuildJointRows<RWorldStep::RIslandScratch::REndBody>(
 // centre moved with the mid-step velocity and position correction's pseudo-velocity, its
 // orientation by the same exact free flow (a copy of the body's, whose cache the motion
 // keeps) and then position correction's turn; its spin at the end of the flow.
-RWorldStep::RJointPose RWorldStep::PredictPose(const RRigidBody& b, std::uint32_t i, RScalar dt) const {
+RWorldStep::RJointPose RWorldStep::PredictPose(const RBodyCore& b, std::uint32_t i, RScalar dt) const {
   const RSolverBody& s = m_solverBodies[i];
   RJointPose p;
   p.vMid = s.v;
@@ -243,13 +243,13 @@ RWorldStep::RJointPose RWorldStep::PredictPose(const RRigidBody& b, std::uint32_
   return p;
 }
 
-RJointPoseIn ImmovablePose(const RRigidBody& b, RScalar dt, bool end) {
-  if (!end || !b.IsKinematic()) return {b.Position_W(), b.Orientation_WB()};
+RJointPoseIn ImmovablePose(const RBodyCore& b, RScalar dt, bool end) {
+  if (!end || !b.m_isKinematic) return {b.m_x_W, b.m_q_WB};
   // As RWorldStep::MoveKinematic moves it.
-  RQuat q = b.Orientation_WB();
-  const RVec3 w = b.AngularVelocity_W();
+  RQuat q = b.m_q_WB;
+  const RVec3 w = Body(b).AngularVelocity_W();
   if (!w.isZero(0)) q = QuatExp(w * dt) * q, q.normalize();
-  return {b.Position_W() + b.Velocity_W() * dt, q};
+  return {b.m_x_W + b.m_v_W * dt, q};
 }
 
 }  // namespace REngine

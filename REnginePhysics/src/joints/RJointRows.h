@@ -19,6 +19,6 @@ void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb
 // A hinge's angle (rad) at the poses.
 RScalar JointHingeAngle(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb);
 // A static or kinematic body's pose at the start of the step, or at its end (end = true).
-RJointPoseIn ImmovablePose(const RRigidBody& b, RScalar dt, bool end);
+RJointPoseIn ImmovablePose(const RBodyCore& b, RScalar dt, bool end);
 
 }  // namespace REngine

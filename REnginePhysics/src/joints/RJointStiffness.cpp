@@ -103,7 +103,7 @@ RScalar RWorldStep::JointStiffness(const RStepBodies& bodies, std::size_t island
   RScalar worst = 0;
   pulls([&](std::uint32_t i, RScalar pull, RScalar arm) {
     if (!(sc.stiffness[i] > 0)) return;
-    const RRigidBody& b = bodies[i];
+    const RBodyCore& b = bodies[i];
     worst = std::max(worst, pull * arm / (1 / b.m_invI_B.maxCoeff() + arm * arm / m_solverBodies[i].invM));
   });
   return worst;

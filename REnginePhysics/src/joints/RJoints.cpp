@@ -63,7 +63,7 @@ void RWorldStep::GatherJoints(const RStepBodies& bodies) {
       b = bodies.denseOfSlot[def.b.index];
       if (b >= bodies.size()) continue;
     }
-    const RRigidBody& A = bodies[a];
+    const RBodyCore& A = bodies[a];
     const bool movesA = !A.Immovable() && !A.m_sleeping;
     const bool movesB = b != world && !bodies[b].Immovable() && !bodies[b].m_sleeping;
     if (!movesA && !movesB) continue;

@@ -48,7 +48,7 @@ RMat3 InertiaAt(const RQuat& q, const RVec3& I) {
 void RWorldStep::GatherWelds(const RStepBodies& bodies) {
   m_weldGroups.clear(), m_weldMembers.clear(), m_weldJoints.clear();
   const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
-  auto Weldable = [](const RRigidBody& b) {
+  auto Weldable = [](const RBodyCore& b) {
     return !b.Immovable() && !b.m_sleeping && !b.m_linearLocked && !b.m_angularLocked;
   };
   for (std::uint32_t k = 0; k < m_stepJoints.size(); ++k) {
@@ -79,7 +79,7 @@ void RWorldStep::GatherWelds(const RStepBodies& bodies) {
     while (j1 < m_weldJoints.size() && m_weldSets.Find(m_stepJoints[m_weldJoints[j1]].a) == root) ++j1;
     RWeldGroup g;
     g.first = static_cast<std::uint32_t>(m_weldMembers.size());
-    const RRigidBody& R = bodies[root];
+    const RBodyCore& R = bodies[root];
     bool alike = true;
     // The members' ideal poses in the root's frame (q_RB, p_R), placed joint by joint: each
     // pass places the far end of every joint with one end placed (a spanning tree; a
@@ -108,7 +108,7 @@ void RWorldStep::GatherWelds(const RStepBodies& bodies) {
           add.p = m->p + m->q * J.anchorB_B - add.q * J.anchorA_B;
         }
         add.q.normalize();
-        const RRigidBody& B = bodies[other];
+        const RBodyCore& B = bodies[other];
         alike = alike && B.m_linearDamping == R.m_linearDamping && B.m_angularDamping == R.m_angularDamping;
         m_weldMembers.push_back(add);
         m_weldOf[other] = 1;
@@ -128,13 +128,13 @@ void RWorldStep::GatherWelds(const RStepBodies& bodies) {
     g.mass = 0;
     RVec3 moment = RVec3::Zero();
     for (std::uint32_t k = 0; k < g.count; ++k) {
-      const RRigidBody& b = bodies[members[k].body];
+      const RBodyCore& b = bodies[members[k].body];
       g.mass += b.m_mass, moment += b.m_mass * members[k].p;
     }
     const RVec3 c = moment / g.mass;
     RMat3 I = RMat3::Zero();
     for (std::uint32_t k = 0; k < g.count; ++k) {
-      const RRigidBody& b = bodies[members[k].body];
+      const RBodyCore& b = bodies[members[k].body];
       const RVec3 d = members[k].p - c;
       I += InertiaAt(members[k].q, b.m_I_B) + b.m_mass * (d.squaredNorm() * RMat3::Identity() - d * d.transpose());
     }
@@ -165,7 +165,7 @@ RVec3 RWorldStep::Centre(const RStepBodies& bodies, const RWeldGroup& g) const {
   const RVec3 x0 = bodies[members[0].body].m_x_W;
   RVec3 moment = RVec3::Zero();
   for (std::uint32_t k = 1; k < g.count; ++k) {
-    const RRigidBody& b = bodies[members[k].body];
+    const RBodyCore& b = bodies[members[k].body];
     moment += b.m_mass * RVec3(b.m_x_W - x0);
   }
   return x0 + moment / g.mass;
@@ -175,7 +175,7 @@ RVec3 RWorldStep::Centre(const RStepBodies& bodies, const RWeldGroup& g) const {
 void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
   const RWeldMember* members = m_weldMembers.data() + g.first;
-  const RRigidBody& root = bodies[members[0].body];
+  const RBodyCore& root = bodies[members[0].body];
   const RScalar invM = 1 / g.mass;
   const RVec3 invI = g.I.cwiseInverse();
 
@@ -187,7 +187,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
   RQuat q = (root.m_q_WB * g.q_RC).normalized();
   RVec3 c = Centre(bodies, g), P = RVec3::Zero();
   for (std::uint32_t k = 0; k < g.count; ++k) {
-    const RRigidBody& b = bodies[members[k].body];
+    const RBodyCore& b = bodies[members[k].body];
     P += b.m_mass * b.m_v_W;
   }
   const RVec3 c0 = c;
@@ -197,7 +197,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
   RVec3 Pp = RVec3::Zero(), Lp = RVec3::Zero(), deferred = RVec3::Zero(), endJ = RVec3::Zero(), endH = RVec3::Zero();
   for (std::uint32_t k = 0; k < g.count; ++k) {
     const std::uint32_t i = members[k].body;
-    const RRigidBody& b = bodies[i];
+    const RBodyCore& b = bodies[i];
     const RVec3 r = q * members[k].p;
     L += r.cross(b.m_mass * b.m_v_W) + b.m_q_WB * RVec3(b.m_I_B.cwiseProduct(b.m_w_B));
     J += b.m_linearImpulse_W, H += b.m_angularImpulse_W + r.cross(b.m_linearImpulse_W);
@@ -225,7 +225,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
     RVec3 m = T;
     if (!forced && !scaled) return m;
     for (std::uint32_t k = 0; k < g.count; ++k) {
-      const RRigidBody& b = bodies[members[k].body];
+      const RBodyCore& b = bodies[members[k].body];
       const RVec3 f = scaled ? RVec3(b.m_force_W + b.m_mass * b.m_gravityScale * m_settings.gravity_W) : b.m_force_W;
       m += RVec3(turn * members[k].p).cross(f);
     }
@@ -276,7 +276,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
   const RScalar pseudoSpin = wp.norm(), spin = w_C.norm();
   for (std::uint32_t k = 0; k < g.count; ++k) {
     const RWeldMember& m = members[k];
-    RRigidBody& b = bodies[m.body];
+    RBodyCore& b = bodies[m.body];
     b.m_force_W.setZero(), b.m_torque_W.setZero();
     b.m_linearImpulse_W.setZero(), b.m_angularImpulse_W.setZero();
     if (!finite) {
@@ -311,7 +311,7 @@ void RWorldStep::PredictWeld(const RStepBodies& bodies, const RWeldGroup& g, RSc
   RVec3 P = RVec3::Zero(), L = RVec3::Zero(), Pp = RVec3::Zero(), Lp = RVec3::Zero();
   for (std::uint32_t k = 0; k < g.count; ++k) {
     const std::uint32_t i = members[k].body;
-    const RRigidBody& b = bodies[i];
+    const RBodyCore& b = bodies[i];
     const RSolverBody& s = m_solverBodies[i];
     const RVec3 r = q * members[k].p, move = s.deferV.isZero(0) ? s.v : RVec3(s.v - s.deferV);
     const RMat3 I_W = InertiaAt(b.m_q_WB, b.m_I_B);

@@ -18,7 +18,7 @@ namespace REngine {
 // w . I_W w / 2 of the constrained body, so a collision at restitution 1 conserves it.
 // One free axis e: 1 / (e . I_W e) on it; two: the inverse of their 2 x 2 block, whose
 // determinant is positive since I_W is (never a NaN, whatever the orientation).
-RMat3 RWorldStep::InvInertia_W(const RRigidBody& b, const RMat3& R_WB) {
+RMat3 RWorldStep::InvInertia_W(const RBodyCore& b, const RMat3& R_WB) {
   if (b.Immovable()) return RMat3::Zero();
   if (!b.m_angularLocked) return R_WB * b.m_invI_B.asDiagonal() * R_WB.transpose();
   const RMat3 I_W = R_WB * b.m_I_B.asDiagonal() * R_WB.transpose();
@@ -40,7 +40,7 @@ RMat3 RWorldStep::InvInertia_W(const RRigidBody& b, const RMat3& R_WB) {
   return M;
 }
 
-RVec3 RWorldStep::MidStepSpin_W(const RRigidBody& b, const RMat3& R_WB, const RMat3& invI_W,
+RVec3 RWorldStep::MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3& invI_W,
                                 RScalar halfDt) {
   if (b.m_isKinematic) return b.m_w_W;
   RVec3 w = b.m_worldSpin ? b.m_w_W : RVec3(R_WB * b.m_w_B);
@@ -49,11 +49,11 @@ RVec3 RWorldStep::MidStepSpin_W(const RRigidBody& b, const RMat3& R_WB, const RM
   return kick.isZero(0) ? w : RVec3(w + invI_W * kick);
 }
 
-void RWorldStep::InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt,
+void RWorldStep::InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
                                 const RVec3& gravity_W) {
   s.invM = b.m_invMass;
   s.accel = b.m_isStatic ? RVec3::Zero() : Acceleration(b, gravity_W);
-  s.radius = b.BoundingRadius();
+  s.radius = b.m_boundingRadius;
   // A sphere's contact normal passes through its centre: its arm does not turn with it.
   s.armTurns = (b.m_polyhedron_B || b.m_coreHalfHeight > 0 || b.m_childCount > 0 || b.m_mesh) && b.m_invMass != 0;
   s.impulse = b.m_linearImpulse_W, s.angularImpulse = b.m_angularImpulse_W;
@@ -84,7 +84,7 @@ void RWorldStep::InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3
 // Constant velocities: the centre moves on a line and the body turns about the world axis
 // of its spin, q(t) = exp(w t) q(0); one step's rotation exp(w dt) is the same rotation
 // every step, so the pose after n steps is the exact one but for rounding.
-void RWorldStep::MoveKinematic(RRigidBody& b, RScalar dt) {
+void RWorldStep::MoveKinematic(RBodyCore& b, RScalar dt) {
   b.m_x_W += b.m_v_W * dt;
   if (b.m_w_W.isZero(0)) return;
   b.m_q_WB = QuatExp(b.m_w_W * dt) * b.m_q_WB;
@@ -99,7 +99,7 @@ void RWorldStep::MoveKinematic(RRigidBody& b, RScalar dt) {
 // change as the body turns about e, so the rate is constant. With two free axes it is exact
 // when the inertia is the same about every free axis (a sphere, a cube); otherwise it
 // leaves out the gyroscopic coupling of the two free axes within a step (first order).
-void RWorldStep::TurnLocked(RRigidBody& b, RScalar dt) {
+void RWorldStep::TurnLocked(RBodyCore& b, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
   RVec3 w = b.m_w_W;
   if (b.m_angularDamping != 0) w *= Decay(b.m_angularDamping, halfDt);
@@ -116,7 +116,7 @@ void RWorldStep::TurnLocked(RRigidBody& b, RScalar dt) {
   b.m_w_B = b.m_q_WB.conjugate() * w;
 }
 
-RVec3 RWorldStep::KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScalar dt, bool end) {
+RVec3 RWorldStep::KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end) {
   if (!b.m_isKinematic || b.m_w_W.isZero(0)) return RVec3::Zero();
   const RVec3 chord = QuatExp(b.m_w_W * dt) * r_W - r_W;  // the point's displacement, m
   return end ? RVec3(b.m_w_W.cross(chord)) : RVec3(chord / dt - b.m_w_W.cross(r_W));
@@ -124,7 +124,7 @@ RVec3 RWorldStep::KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScala
 
 RScalar RWorldStep::GravitySpread(const RStepBodies& bodies) {
   RScalar lo = 0, hi = 0;
-  for (const RRigidBody& b : bodies) {
+  for (const RBodyCore& b : bodies) {
     if (b.Immovable()) continue;
     lo = std::min(lo, b.m_gravityScale), hi = std::max(hi, b.m_gravityScale);
   }

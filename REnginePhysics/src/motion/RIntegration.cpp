@@ -15,7 +15,7 @@ namespace REngine {
 // API accepts (kMaxPosition). A body past them has run away (a joint island blown up, an
 // impulse of 1e300): it is put back and reported, as a non-finite one, rather than carried
 // on to 1e60 m.
-bool RWorldStep::Kept(const RRigidBody& b) {
+bool RWorldStep::Kept(const RBodyCore& b) {
   return AllFinite(b.m_v_W) && AllFinite(b.m_w_B) && AllFinite(b.m_q_WB) &&
          b.m_x_W.cwiseAbs().maxCoeff() <= kMaxPosition;  // (false for NaN)
 }
@@ -32,11 +32,11 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       // accumulators, inverse inertia, drag, masks) and the rotation's cache, not the
       // material, shape and names between them (PrefetchBody).
       if (i + 6 < i1) {
-        const RRigidBody& ahead = bodies[i + 6];
+        const RBodyCore& ahead = bodies[i + 6];
         PrefetchBody(ahead, 7 * 64);
         PrefetchBytes(&ahead.m_rotation, sizeof(RFreeRotation));
       }
-      RRigidBody& b = bodies[i];
+      RBodyCore& b = bodies[i];
       // A welded body moves with its group (below).
       if (!m_weldOf.empty() && m_weldOf[i]) continue;
       // A sleeping body has no velocity, and nothing touched it: it stays where it is. A

@@ -19,7 +19,7 @@
 
 namespace REngine {
 
-RBoundsTree::RBox RWorldStep::SweepBox(const RRigidBody& b, std::size_t i) const {
+RBoundsTree::RBox RWorldStep::SweepBox(const RBodyCore& b, std::size_t i) const {
   // Where the all-pairs loop can pass a pair: its grown spheres touch and its world boxes,
   // grown by the same motion (DetectPairs' stage 2), overlap. So a body's box here is the
   // part of its grown sphere's box that its grown world box can reach, the world box
@@ -75,7 +75,7 @@ bool IsEmpty(const RBoundsTree::RBox& b) { return std::memcmp(&b, &kEmpty, sizeo
 
 }  // namespace
 
-RBoundsTree::RBox RWorldStep::FatBox(const RRigidBody& b, std::size_t i) const {
+RBoundsTree::RBox RWorldStep::FatBox(const RBodyCore& b, std::size_t i) const {
   const RBoundsTree::RBox& box = m_sweepBoxes[i];
   if (!Valid(box)) return kEmpty;
   // A quarter of the reach, plus four steps of its motion: a resting body never leaves

@@ -18,7 +18,7 @@ namespace {
 
 // When within the step the manifold's deepest point closes, moving with the bodies' step
 // velocities: 0 when it is closed already, infinity when it does not close this step.
-RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, const RVec3& vb,
+RScalar TimeOfImpact(const RBodyCore& a, const RBodyCore& b, const RVec3& va, const RVec3& vb,
                      const RContactManifold& m, RScalar dt) {
   if (m.pointCount == 0) return m.query.separation <= 0 ? 0 : std::numeric_limits<RScalar>::infinity();
   int deepest = 0;
@@ -28,10 +28,10 @@ RScalar TimeOfImpact(const RRigidBody& a, const RRigidBody& b, const RVec3& va, 
   const RScalar gap = m.points[deepest].separation;
   if (gap <= 0) return 0;
   const RVec3& p = m.points[deepest].position;
-  const RVec3 wa = a.IsStatic() ? RVec3::Zero() : a.AngularVelocity_W();
-  const RVec3 wb = b.IsStatic() ? RVec3::Zero() : b.AngularVelocity_W();
-  const RScalar vn = m.normal.dot(vb + wb.cross(p - b.Position_W()) - va -
-                                        wa.cross(p - a.Position_W()));
+  const RVec3 wa = a.m_isStatic ? RVec3::Zero() : Body(a).AngularVelocity_W();
+  const RVec3 wb = b.m_isStatic ? RVec3::Zero() : Body(b).AngularVelocity_W();
+  const RScalar vn = m.normal.dot(vb + wb.cross(p - b.m_x_W) - va -
+                                        wa.cross(p - a.m_x_W));
   if (vn < 0 && gap <= -vn * dt) return gap / -vn;
   return std::numeric_limits<RScalar>::infinity();
 }
@@ -101,15 +101,15 @@ std::size_t RWorldStep::NarrowPairs(const RStepBodies& bodies, RScalar dt, RScal
           __builtin_prefetch(&m_reach[x]), __builtin_prefetch(&m_moveW[x]), __builtin_prefetch(&m_moveV[x]);
         }
       }
-      const RRigidBody& a = bodies[i];
-      const RRigidBody& b = bodies[j];
+      const RBodyCore& a = bodies[i];
+      const RBodyCore& b = bodies[j];
       // Bounding boxes from the stamped world forms, grown the same way: they reject the
       // many pairs whose spheres overlap only because a body is long or flat (the ground).
       // They come before the filters, as a broad phase's proof that a pair is apart does:
       // the broad phase's trees hold these boxes too (SweepBox), and the game's filter
       // sees the same pairs with them or without.
-      const RWorldForm& fa = a.WorldForm(m_cacheStamp);
-      const RWorldForm& fb = b.WorldForm(m_cacheStamp);
+      const RWorldForm& fa = Body(a).WorldForm(m_cacheStamp);
+      const RWorldForm& fb = Body(b).WorldForm(m_cacheStamp);
       const RScalar grow = (m_reach[i] - fa.sphereRadius + m_reach[j] - fb.sphereRadius) * kGrow;
       if (bounds && (((fa.aabbMin_W.array() - grow) > fb.aabbMax_W.array()).any() ||
                      ((fb.aabbMin_W.array() - grow) > fa.aabbMax_W.array()).any())) {
@@ -121,23 +121,23 @@ std::size_t RWorldStep::NarrowPairs(const RStepBodies& bodies, RScalar dt, RScal
       // does not respond (a kinematic sensor reports what it sweeps through).
       if ((a.m_isStatic && b.m_isStatic) ||
           (a.Immovable() && b.Immovable() && a.m_responds && b.m_responds) ||
-          !a.ShouldCheckCollision(b) || (a.m_jointNoCollide && b.m_jointNoCollide && bodies.JointedNoCollide(i, j)) ||
-          (m_filter && !m_filter(a, b, m_filterUser))) {
+          !Body(a).ShouldCheckCollision(Body(b)) || (a.m_jointNoCollide && b.m_jointNoCollide && bodies.JointedNoCollide(i, j)) ||
+          (m_filter && !m_filter(Body(a), Body(b), m_filterUser))) {
         ++st.rejectedFilter;
         continue;
       }
       ++st.narrowPhase;
       RContact contact;
       const RScalar approach = (m_moveV[j] - m_moveV[i]).norm() +
-                               m_moveW[i] * a.BoundingRadius() + m_moveW[j] * b.BoundingRadius();
+                               m_moveW[i] * a.m_boundingRadius + m_moveW[j] * b.m_boundingRadius;
       // The pair in slot order, whatever the bodies' places in storage: its manifold, normal
       // and feature ids, and so its warm start, do not change when a removal moves a body.
       const bool flip = bodies.Slot(j) < bodies.Slot(i);
       const std::size_t ia = flip ? j : i, ib = flip ? i : j;
-      const RRigidBody& A = bodies[ia];
-      const RRigidBody& B = bodies[ib];
-      const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
-      const RRelativePose X = RelativePose(A, B);
+      const RBodyCore& A = bodies[ia];
+      const RBodyCore& B = bodies[ib];
+      const RConvexShape shapeA = ShapeOf(Body(A)), shapeB = ShapeOf(Body(B));
+      const RRelativePose X = RelativePose(Body(A), Body(B));
       const RMargin margin{approach * dt + allowance};
       if (HasParts(shapeA) || HasParts(shapeB)) {
         // A compound touches child by child: one contact per touching child pair, each with
@@ -152,7 +152,7 @@ std::size_t RWorldStep::NarrowPairs(const RStepBodies& bodies, RScalar dt, RScal
           }
           RContact child;
           child.manifold = m;
-          RCollisionSolver::ToWorld(A, child.manifold);
+          RCollisionSolver::ToWorld(Body(A), child.manifold);
           child.a = static_cast<std::uint32_t>(ia), child.b = static_cast<std::uint32_t>(ib);
           child.handleA = bodies.handles[ia], child.handleB = bodies.handles[ib];
           child.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], child.manifold, dt);
@@ -176,11 +176,11 @@ std::size_t RWorldStep::NarrowPairs(const RStepBodies& bodies, RScalar dt, RScal
         // How far any point of B has moved in A's frame since then, and the margin the
         // narrow phase would use now (CheckCollisionInA's): the same points are kept while
         // every kept one stays within it and every dropped one beyond it.
-        const RScalar size = A.BoundingRadius() + B.BoundingRadius();
+        const RScalar size = A.m_boundingRadius + B.m_boundingRadius;
         const RScalar moved = (X.t_AB - mem.X.t_AB).norm() + (X.R_AB - mem.X.R_AB).norm() * size;
         const RScalar within = margin.metres + RCollisionSolver::kTouchingTolerance * size;
         if (mem.handleA == bodies.handles[ia] && mem.handleB == bodies.handles[ib] &&
-            mem.serialA == A.Serial() && mem.serialB == B.Serial() &&
+            mem.serialA == A.m_serial.value && mem.serialB == B.m_serial.value &&
             moved <= RCollisionSolver::kTouchingTolerance * size && mem.keptMax + moved <= within &&
             mem.droppedMin - moved > within) {
           kept = &mem;
@@ -205,7 +205,7 @@ std::size_t RWorldStep::NarrowPairs(const RStepBodies& bodies, RScalar dt, RScal
           RManifoldMemory& mem = *remember(unread);
           mem.i = static_cast<std::uint32_t>(i), mem.j = static_cast<std::uint32_t>(j);
           mem.handleA = bodies.handles[ia], mem.handleB = bodies.handles[ib];
-          mem.serialA = A.Serial(), mem.serialB = B.Serial();
+          mem.serialA = A.m_serial.value, mem.serialB = B.m_serial.value;
           mem.X = X;
           mem.manifold_A = contact.manifold;
           mem.keptMax = keptMax;
@@ -214,7 +214,7 @@ std::size_t RWorldStep::NarrowPairs(const RStepBodies& bodies, RScalar dt, RScal
           mem.K.setZero(), mem.pinv.setZero();
         }
       }
-      if (touching) RCollisionSolver::ToWorld(A, contact.manifold);
+      if (touching) RCollisionSolver::ToWorld(Body(A), contact.manifold);
       if (touching) {
         // A sleeping body touched by one that responds wakes, with its island. A sensor
         // or a laser (does not respond) is reported against it without waking it.

@@ -108,8 +108,8 @@ void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
   ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       if (i + 6 < i1) PrefetchBody(bodies[i + 6], 7 * 64);  // flags, state, accumulators, masks, box
-      RRigidBody& b = bodies[i];
-      const RScalar r = b.BoundingRadius();
+      RBodyCore& b = bodies[i];
+      const RScalar r = b.m_boundingRadius;
       m_cx[i] = b.m_x_W.x(), m_cy[i] = b.m_x_W.y(), m_cz[i] = b.m_x_W.z();
       if (b.m_sleeping) {
         // Reach and margin as if it were awake and resting (half a step of gravity), so
@@ -302,7 +302,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
     for (const auto& [i, j] : m_pairs) m_formNeeded[i] = m_formNeeded[j] = 1;
     ParallelRanges(m_jobs, n, tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
       for (std::size_t i = i0; i < i1; ++i) {
-        if (m_formNeeded[i]) bodies[i].WorldForm(m_cacheStamp);
+        if (m_formNeeded[i]) Body(bodies[i]).WorldForm(m_cacheStamp);
       }
     });
   }

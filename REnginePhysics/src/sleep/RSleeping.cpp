@@ -49,7 +49,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   m_wakeBoxes.clear();
   if (bodies.wakeBoxes) m_wakeBoxes.swap(*bodies.wakeBoxes), bodies.wakeBoxes->clear();
   for (std::size_t i = 0; i < n && !moved; ++i) {
-    RRigidBody& b = bodies[i];
+    RBodyCore& b = bodies[i];
     const bool fresh = !bodies.byIndex && b.m_slotWorld == 0;
     moved = !fresh && (b.m_slot != bodies.Slot(i) || !m_worldId.Owns(b.m_slotWorld));
     if (!b.m_staticMoved) continue;
@@ -73,9 +73,9 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
     m_sleepBodyCount = n;
     m_sleepGravity_W = m_settings.gravity_W;
     if (bodies.wakeIslands) bodies.wakeIslands->clear();
-    for (RRigidBody& b : bodies) {
-      if (b.m_sleeping || b.m_sleepIsland != RRigidBody::kNoIsland) {
-        b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RRigidBody::kNoIsland;
+    for (RBodyCore& b : bodies) {
+      if (b.m_sleeping || b.m_sleepIsland != RBodyCore::kNoIsland) {
+        b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RBodyCore::kNoIsland;
       }
     }
     return;
@@ -93,7 +93,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   // sleeper whose box touches one of the moved static and kinematic bodies' boxes wakes its
   // island (boxes grown by twice the slop and a hundredth of the sleeper's size: a resting
   // contact overlaps by at most the slop).
-  for (const RRigidBody& b : bodies) {
+  for (const RBodyCore& b : bodies) {
     if (!b.m_sleeping && b.m_sleepIsland < m_wakeMark.size()) {
       m_wakeMark[b.m_sleepIsland] = 1, any = true;
     }
@@ -118,7 +118,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   constexpr std::uint32_t world = 0xffffffffu;
   auto moves = [&](std::uint32_t i) {
     if (i == world || i >= n) return false;  // the world; a disabled body
-    const RRigidBody& b = bodies[i];
+    const RBodyCore& b = bodies[i];
     if (b.Immovable()) return b.m_staticMoved || (b.m_isKinematic && !StillKinematic(b));
     return !b.m_sleeping;
   };
@@ -128,7 +128,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
     const std::uint32_t b = def.b.IsValid() ? bodies.denseOfSlot[def.b.index] : world;
     for (const auto& [sleeper, other] : {std::pair{a, b}, std::pair{b, a}}) {
       if (sleeper >= n || !bodies[sleeper].m_sleeping || !moves(other)) continue;
-      const RRigidBody& s = bodies[sleeper];
+      const RBodyCore& s = bodies[sleeper];
       if (s.m_sleepIsland < m_wakeMark.size()) m_wakeMark[s.m_sleepIsland] = 1, any = true;
     }
   }
@@ -136,9 +136,9 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
 }
 
 void RWorldStep::WakeMarked(const RStepBodies& bodies) {
-  for (RRigidBody& b : bodies) {
+  for (RBodyCore& b : bodies) {
     if (b.m_sleepIsland < m_wakeMark.size() && m_wakeMark[b.m_sleepIsland]) {
-      b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RRigidBody::kNoIsland;
+      b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RBodyCore::kNoIsland;
     }
   }
   std::fill(m_wakeMark.begin(), m_wakeMark.end(), 0);
@@ -153,7 +153,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   bool anyRested = false;
   std::uint64_t asleep = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    RRigidBody& b = bodies[i];
+    RBodyCore& b = bodies[i];
     b.m_staticMoved = false, b.m_wakeFromSet = false, b.m_slot = bodies.Slot(i), b.m_slotWorld = m_worldId.value;
     anyRested = anyRested || (!b.Immovable() && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
     asleep += b.m_sleeping;
@@ -194,7 +194,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
     if (!(J.impulse_W.isZero(0) && J.angularImpulse_W.isZero(0))) m_sleepSupported[immovableA ? j.b : j.a] = 1;
   }
   for (std::uint32_t i = 0; i < n; ++i) {
-    const RRigidBody& b = bodies[i];
+    const RBodyCore& b = bodies[i];
     if (b.Immovable() || b.m_sleeping) continue;
     const std::uint32_t r = find(i);
     m_sleepRest[r] = std::min(m_sleepRest[r], b.m_restTime);
@@ -202,7 +202,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
     if (!(b.m_v_W.isZero(0) && b.m_w_B.isZero(0))) m_sleepStill[r] = 0;
   }
   for (std::uint32_t i = 0; i < n; ++i) {
-    RRigidBody& b = bodies[i];
+    RBodyCore& b = bodies[i];
     if (b.Immovable() || b.m_sleeping) continue;
     const std::uint32_t r = find(i);
     if (m_sleepRest[r] >= m_settings.sleepTime && (m_sleepSupported[r] || m_sleepStill[r])) {

@@ -112,7 +112,7 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
   // The end velocities: the second half-kick of the applied forces and gravity.
   for (std::size_t k = 0; k < bodyCount; ++k) {
     const std::uint32_t i = islandBodies[k];
-    const RRigidBody& b = bodies[i];
+    const RBodyCore& b = bodies[i];
     RSolverBody& s = m_solverBodies[i];
     s.vMid = s.v - s.deferV;
     s.v += Acceleration(b, m_settings.gravity_W) * halfDt;

@@ -125,7 +125,7 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     const std::uint32_t i = m_islandBodies[k];
     RSolverBody& s = m_solverBodies[i];
     if (s.invM == 0) continue;
-    RRigidBody& b = bodies[i];
+    RBodyCore& b = bodies[i];
     if (!s.deferV.isZero(0)) {
       const RVec3 J = s.deferV / b.m_invMass;
       s.impulse -= J;

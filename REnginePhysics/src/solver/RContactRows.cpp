@@ -63,8 +63,8 @@ std::size_t RWorldStep::FindWarmStarts(const std::vector<RWarmStart>& warm, std:
 // approaches (SolveIsland), at its block's index.
 void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block) {
   const RContact& c = m_contacts[ci];
-  const RRigidBody& A = bodies[c.a];
-  const RRigidBody& B = bodies[c.b];
+  const RBodyCore& A = bodies[c.a];
+  const RBodyCore& B = bodies[c.b];
   const RLeadingPoints lead = LeadingPoints(c.manifold);
   const RVec3& normal = c.manifold.normal;
   RImpactRow& r = m_impacts[block];  // written in place: its tangents' arms stay unset
@@ -101,8 +101,8 @@ void RWorldStep::PrefetchContact(std::uint32_t ci) const {
 std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
   const RContact& c = m_contacts[ci];
   const std::uint32_t firstRow = m_rowStart[ci].row, blockIndex = m_rowStart[ci].block;
-  const RRigidBody& A = bodies[c.a];
-  const RRigidBody& B = bodies[c.b];
+  const RBodyCore& A = bodies[c.a];
+  const RBodyCore& B = bodies[c.b];
   std::uint32_t warmStarted = 0;
   const RSolverBody& sa = m_solverBodies[c.a];
   const RSolverBody& sb = m_solverBodies[c.b];
@@ -143,7 +143,7 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     const RVec3 point_A = A.m_q_WB.conjugate() * (position - A.m_x_W);
     m_rowPoint_A[firstRow + k] = point_A;  // where next step looks for this row's impulse
     const std::uint32_t feature = c.manifold.points[r.point].featureId;
-    const RScalar reach = kWarmMatchDistance * std::min(A.BoundingRadius(), B.BoundingRadius());
+    const RScalar reach = kWarmMatchDistance * std::min(A.m_boundingRadius, B.m_boundingRadius);
     // The same feature wins over any nearer point. Two new rows may take the same old
     // point (a corner that became two clip points): each starts from its impulse, and
     // the passes below redistribute.

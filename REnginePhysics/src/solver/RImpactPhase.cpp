@@ -22,20 +22,20 @@ using namespace solver;
 // centre of the leading points, the same for both bodies (lever arms from where their
 // centres are at t), so angular momentum is exact. False if they do not meet this step.
 template <class Advance>
-bool RWorldStep::ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa,
+bool RWorldStep::ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa,
                                  RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
                                  RVec3& rA, RVec3& rB, RDirection* dir, std::uint32_t childA,
                                  std::uint32_t childB) const {
-  const RConvexShape shapeA = ShapeOf(A), shapeB = ShapeOf(B);
+  const RConvexShape shapeA = ShapeOf(Body(A)), shapeB = ShapeOf(Body(B));
   // A compound's contact is one child pair's: the impact is that pair's.
   RShapeChild aloneA, aloneB;
   aloneA.shape = shapeA, aloneB.shape = shapeB;
   const bool children = HasParts(shapeA) || HasParts(shapeB);
   const RShapeChild& ca = shapeA.children ? shapeA.children[childA] : aloneA;
   const RShapeChild& cb = shapeB.children ? shapeB.children[childB] : aloneB;
-  const RRelativePose X0 = RelativePose(A, B);
+  const RRelativePose X0 = RelativePose(Body(A), Body(B));
   const RMat3 R_WA = A.m_q_WB.toRotationMatrix();
-  const RScalar tolerance = RCollisionSolver::kTouchingTolerance * (A.BoundingRadius() + B.BoundingRadius());
+  const RScalar tolerance = RCollisionSolver::kTouchingTolerance * (A.m_boundingRadius + B.m_boundingRadius);
   constexpr int kAdvances = 16;
   for (int k = 0; k < kAdvances; ++k) {
     advance(sa, t), advance(sb, t);

@@ -4,6 +4,7 @@
 // the world is touched. A forged index would have the next step write out of bounds (a
 // sleeping body's island marks a slot's entry when something touches it).
 #include "state/RStateAccess.h"
+#include "body/RBodyAccess.h"
 
 #include <string>
 #include <vector>
@@ -47,9 +48,9 @@ void RStateAccess::CheckReferences(const RSavedStep& step, const RSavedBodies& s
   const std::size_t n = saved.bodies.size();
   const std::size_t slots = saved.plainVector ? n : saved.generation.size();
   const bool idsUsed = !saved.plainVector || step.sleepBodyCount == n;
-  const std::uint32_t none = RRigidBody::kNoIsland;
+  const std::uint32_t none = RBodyCore::kNoIsland;
   for (std::size_t d = 0; d < n; ++d) {
-    const RRigidBody& b = saved.bodies[d];
+    const RBodyCore& b = Core(saved.bodies[d]);
     const std::string at = Indexed("bodies", d);
     if (b.m_sleeping || b.m_sleepIsland != none) {
       // Only dynamic bodies join islands; a departing (disabled) body leaves its island.

@@ -5,6 +5,7 @@
 #include "state/RStateAccess.h"
 
 #include "world/RLimits.h"
+#include "body/RBodyAccess.h"
 
 #include <algorithm>
 #include <cmath>
@@ -118,8 +119,8 @@ void RStateAccess::ReadJoints(RReader& r, RSavedBodies& out) {
     j.impulse_W = r.WithinVec3("impulses", kMaxImpulse), j.angularImpulse_W = r.WithinVec3("impulses", kMaxImpulse);
     // A joint moves a dynamic body: a joint between two static or kinematic bodies (or one
     // and the world) is refused by AddJoint.
-    const RRigidBody& A = out.bodies[out.denseOfSlot[d.a.index]];
-    const RRigidBody* B = d.b.IsValid() ? &out.bodies[out.denseOfSlot[d.b.index]] : nullptr;
+    const RBodyCore& A = Core(out.bodies[out.denseOfSlot[d.a.index]]);
+    const RBodyCore* B = d.b.IsValid() ? &Core(out.bodies[out.denseOfSlot[d.b.index]]) : nullptr;
     if (A.Immovable() && !(B && !B->Immovable())) {
       r.Fail("a", "a joint needs a dynamic body: a and b are both static or kinematic (or b is the world)");
     }
@@ -144,12 +145,12 @@ void RStateAccess::CommitJoints(RBodies& bodies, RSavedBodies& saved) {
   bodies.m_jointSlots.denseOfSlot.swap(saved.jointDenseOfSlot);
   bodies.m_jointSlots.free.swap(saved.jointFree);
   bodies.m_noCollide.clear();
-  for (RRigidBody& b : bodies.m_slots.items) b.m_jointNoCollide = false;
+  for (RRigidBody& b : bodies.m_slots.items) Core(b).m_jointNoCollide = false;
   for (const RJoint& j : bodies.m_jointSlots.items) {
     if (!j.def.b.IsValid() || j.def.collideConnected) continue;
     const std::uint32_t a = j.def.a.index, b = j.def.b.index;
     bodies.m_noCollide.push_back(a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a);
-    bodies[j.def.a].m_jointNoCollide = bodies[j.def.b].m_jointNoCollide = true;
+    Core(bodies[j.def.a]).m_jointNoCollide = Core(bodies[j.def.b]).m_jointNoCollide = true;
   }
   std::sort(bodies.m_noCollide.begin(), bodies.m_noCollide.end());
 }

@@ -4,6 +4,7 @@
 #include "state/RStateAccess.h"
 
 #include "world/RLimits.h"
+#include "body/RBodyAccess.h"
 
 #include <algorithm>
 #include <cmath>
@@ -102,11 +103,13 @@ void RStateAccess::ReadRotation(RReader& r, RFreeRotation& f) {
 
 // Where a body was last stepped (RRigidBody::m_slotWorld), as the state writes it: not yet
 // (0), by this integrator (1), by another (2). Ids are process-wide, so never stored.
-std::uint8_t RStateAccess::WorldOf(const RRigidBody& b, const RWorldStep& s) {
+std::uint8_t RStateAccess::WorldOf(const RRigidBody& body, const RWorldStep& s) {
+  const RBodyCore& b = Core(body);
   return b.m_slotWorld == 0 ? 0 : s.m_worldId.Owns(b.m_slotWorld) ? 1 : 2;
 }
 
-void RStateAccess::WriteBody(RWriter& w, const RRigidBody& b, std::uint64_t shapeKey, std::uint8_t world) {
+void RStateAccess::WriteBody(RWriter& w, const RRigidBody& body, std::uint64_t shapeKey, std::uint8_t world) {
+  const RBodyCore& b = Core(body);
   // What the body was made as (RBodyDef), then what game code may change.
   w.String(b.m_name);
   w.U64(shapeKey);
@@ -184,7 +187,7 @@ RRigidBody RStateAccess::ReadBody(RReader& r, const RShapeCatalog& shapes, std::
   } catch (const RBodyError& e) {
     r.Fail(e.Field(), e.Problem());
   }
-  RRigidBody& b = *made;
+  RBodyCore& b = Core(*made);
   const auto same = [](const RVec3& x, const RVec3& y) {
     return std::memcmp(x.data(), y.data(), sizeof(RScalar) * 3) == 0;
   };
@@ -216,12 +219,12 @@ RRigidBody RStateAccess::ReadBody(RReader& r, const RShapeCatalog& shapes, std::
   b.m_slotWorld = world == 0 ? 0 : world == 1 ? worldId : foreignId;
   ReadRotation(r, b.m_rotation);
   b.m_worldForm.stamp = 0;  // recomputed from the pose, to the same bits
-  return std::move(b);
+  return std::move(*made);
 }
 
 void RStateAccess::WriteBodies(RWriter& w, const RWorldStep& s, const std::vector<RRigidBody>& bodies) {
   RShapeKeys keys;
-  for (const RRigidBody& b : bodies) WriteBody(w, b, keys.Of(b.m_prepared), WorldOf(b, s));
+  for (const RRigidBody& b : bodies) WriteBody(w, b, keys.Of(Core(b).m_prepared), WorldOf(b, s));
 }
 
 void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const RBodies& c) {

@@ -2,6 +2,7 @@
 // checked against the loading world, and only then put in its place (the records:
 // RStateRecords.cpp).
 #include "state/RStateAccess.h"
+#include "body/RBodyAccess.h"
 
 #include <algorithm>
 #include <cstring>
@@ -59,7 +60,7 @@ RReader RStateAccess::Open(const std::uint8_t* data, std::size_t size) {
 RStateAccess::RShapeCatalog RStateAccess::Catalog(const std::vector<RRigidBody>& bodies, const RLoadOptions& options) {
   RShapeCatalog catalog;
   RShapeKeys keys;
-  for (const RRigidBody& b : bodies) catalog.emplace(keys.Of(b.m_prepared), b.m_prepared);
+  for (const RRigidBody& b : bodies) catalog.emplace(keys.Of(Core(b).m_prepared), Core(b).m_prepared);
   for (const auto& shape : options.shapes) {
     if (shape) catalog.emplace(keys.Of(shape), shape);
   }
@@ -141,11 +142,12 @@ void RStateAccess::LoadInto(RIntegrator& integrator, RBodies& bodies, const std:
     RShapeKeys keys;
     for (std::size_t d = 0; d < saved.bodies.size(); ++d) {
       const RBodyHandle h = saved.handles[d];
-      const RRigidBody* now = bodies.Find(h);
-      if (!now) continue;
-      const RRigidBody& then = saved.bodies[d];
+      const RRigidBody* found = bodies.Find(h);
+      if (!found) continue;
+      const RBodyCore* now = &Core(*found);
+      const RBodyCore& then = Core(saved.bodies[d]);
       const bool same = now->m_name == then.m_name && keys.Of(now->m_prepared) == saved.shapeKeys[d] &&
-                        now->Kind() == then.Kind() &&
+                        found->Kind() == saved.bodies[d].Kind() &&
                         std::memcmp(&now->m_mass, &then.m_mass, sizeof then.m_mass) == 0;
       if (!same) {
         throw RStateError(Indexed("bodies", d), "the loading container holds handle " + HandleText(h) + " as \"" +

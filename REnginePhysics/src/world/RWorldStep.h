@@ -31,6 +31,7 @@
 #include <REnginePhysics/RJoint.h>
 
 #include "pairs/RBoundsTree.h"
+#include "body/RBodyAccess.h"
 #include "joints/RJointSparse.h"
 #include "world/RUnionFind.h"
 
@@ -59,7 +60,7 @@ inline void PrefetchBytes(const void* from, std::size_t bytes) {
   for (std::size_t line = 0; line < bytes; line += 64) __builtin_prefetch(p + line);
   __builtin_prefetch(p + bytes - 1);
 }
-inline void PrefetchBody(const RRigidBody& b, std::size_t bytes) { PrefetchBytes(&b, bytes); }
+inline void PrefetchBody(const RBodyCore& b, std::size_t bytes) { PrefetchBytes(&b, bytes); }
 
 // A body's pose for its joints: centre of mass (world, m) and orientation q_WB.
 struct RJointPoseIn {
@@ -89,10 +90,19 @@ struct RStepBodies {
   // Whether two bodies (dense indices) are joined by a joint that keeps them from colliding.
   bool JointedNoCollide(std::size_t i, std::size_t j) const;
 
-  RRigidBody& operator[](std::size_t i) const { return data[i]; }
+  // A body's state (the engine's view, body/RBodyAccess.h); Body(i) is the game's view of it.
+  RBodyCore& operator[](std::size_t i) const { return Core(data[i]); }
+  RRigidBody& Body(std::size_t i) const { return data[i]; }
   std::size_t size() const { return count; }
-  RRigidBody* begin() const { return data; }
-  RRigidBody* end() const { return data + count; }
+  // A pass over the bodies' states, in storage order.
+  struct RIterator {
+    RRigidBody* p;
+    RBodyCore& operator*() const { return Core(*p); }
+    RIterator& operator++() { return ++p, *this; }
+    bool operator!=(const RIterator& other) const { return p != other.p; }
+  };
+  RIterator begin() const { return {data}; }
+  RIterator end() const { return {data + count}; }
   std::uint32_t Slot(std::size_t i) const { return handles[i].index; }
 };
 
@@ -107,39 +117,39 @@ class RWorldStep {
   // Drag (RBodyMotion.cpp) multiplies v by e^(-c dt/2) before the first kick and after the
   // last, e^(-c dt) a step exactly; locks zero what a kick gives along a locked axis; a
   // kinematic body moves with its own v, nothing else.
-  static RVec3 Gravity(const RRigidBody& b, const RVec3& gravity_W) {
+  static RVec3 Gravity(const RBodyCore& b, const RVec3& gravity_W) {
     // Scale 1 is not multiplied: the arithmetic of a scene without scales is unchanged.
     return b.m_gravityScale == 1 ? gravity_W : RVec3(gravity_W * b.m_gravityScale);
   }
-  static RVec3 Acceleration(const RRigidBody& b, const RVec3& gravity_W) {
+  static RVec3 Acceleration(const RBodyCore& b, const RVec3& gravity_W) {
     if (b.m_isKinematic) return RVec3::Zero();
     const RVec3 a = b.m_force_W * b.m_invMass + Gravity(b, gravity_W);
     return b.m_linearLocked ? RVec3(a.cwiseProduct(b.m_linearMask)) : a;
   }
   // The velocity change of a linear impulse J (N s, world), zero along locked axes.
-  static RVec3 LinearKick(const RRigidBody& b, const RVec3& J) {
+  static RVec3 LinearKick(const RBodyCore& b, const RVec3& J) {
     const RVec3 dv = J * b.m_invMass;
     return b.m_linearLocked ? RVec3(dv.cwiseProduct(b.m_linearMask)) : dv;
   }
   // e^(-c t): a drag rate's factor over time t (1/s, s).
   static RScalar Decay(RScalar c, RScalar t) { return std::exp(-c * t); }
-  static RVec3 MidStepVelocity(const RRigidBody& b, const RVec3& gravity_W, RScalar halfDt) {
+  static RVec3 MidStepVelocity(const RBodyCore& b, const RVec3& gravity_W, RScalar halfDt) {
     if (b.m_isKinematic) return b.m_v_W;
     const RVec3 v = b.m_linearDamping != 0 ? RVec3(b.m_v_W * Decay(b.m_linearDamping, halfDt)) : b.m_v_W;
     return v + LinearKick(b, b.m_linearImpulse_W) + Acceleration(b, gravity_W) * halfDt;
   }
-  static RVec3 StartAngularKick_W(const RRigidBody& b, RScalar halfDt) {
+  static RVec3 StartAngularKick_W(const RBodyCore& b, RScalar halfDt) {
     return b.m_angularImpulse_W + b.m_torque_W * halfDt;
   }
-  static RVec3 EndAngularKick_W(const RRigidBody& b, RScalar halfDt) { return b.m_torque_W * halfDt; }
+  static RVec3 EndAngularKick_W(const RBodyCore& b, RScalar halfDt) { return b.m_torque_W * halfDt; }
   // RBodyMotion.cpp: the motion's new concerns. The world inverse inertia (1/(kg m^2)) at
   // orientation R_WB: R diag(1/I) R^T, or with angular locks the inverse of the inertia
   // restricted to the free axes (zero rows and columns on the locked ones); zero for a
   // static or kinematic body.
-  static RMat3 InvInertia_W(const RRigidBody& b, const RMat3& R_WB);
+  static RMat3 InvInertia_W(const RBodyCore& b, const RMat3& R_WB);
   // The angular velocity the body turns with this step after its start kick (world, rad/s),
   // drag included; the solver's and the pair sweep's.
-  static RVec3 MidStepSpin_W(const RRigidBody& b, const RMat3& R_WB, const RMat3& invI_W, RScalar halfDt);
+  static RVec3 MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3& invI_W, RScalar halfDt);
   // What sticking to a spinning kinematic body means for a point at arm r_W from its centre
   // (world, m/s), beyond its surface velocity v + w x r there: at the start of the step
   // (end = false) the chord's velocity, (exp(w dt) r - r) / dt - w x r, which a body moving
@@ -147,18 +157,18 @@ class RWorldStep {
   // (without it a crate on a turntable spirals outwards by r w^2 dt^2 / 2 a step); at the
   // end, the surface velocity where the point is then, w x (exp(w dt) r - r). Zero for
   // every other body.
-  static RVec3 KinematicDrift_W(const RRigidBody& b, const RVec3& r_W, RScalar dt, bool end);
+  static RVec3 KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end);
   // A body's solver state at the start of FindImpulses: vMove its mid-step velocity (m/s).
   struct RSolverBody;
-  static void InitSolverBody(RSolverBody& s, const RRigidBody& b, const RVec3& vMove, RScalar halfDt,
+  static void InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
                              const RVec3& gravity_W);
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
-  static void MoveKinematic(RRigidBody& b, RScalar dt);
+  static void MoveKinematic(RBodyCore& b, RScalar dt);
   // Whether a body's state after its motion is finite and within kMaxPosition (Integrate).
-  static bool Kept(const RRigidBody& b);
+  static bool Kept(const RBodyCore& b);
   // A body with angular locks: its world spin, drag and kicks, turned about the world axis
   // of its spin (exact with one free axis). Integrate's angular part for such bodies.
-  static void TurnLocked(RRigidBody& b, RScalar dt);
+  static void TurnLocked(RBodyCore& b, RScalar dt);
   // How far gravity can pull two bodies apart in a step, in units of |g|: max(0, s) -
   // min(0, s) over the dynamic bodies' scales (1 when every scale is 1).
   static RScalar GravitySpread(const RStepBodies& bodies);
@@ -182,8 +192,8 @@ class RWorldStep {
   // steps while the broad phase is in use.
   void UpdateBroadPhase(const RStepBodies& bodies);
   void RebuildFatPairs(const RStepBodies& bodies);
-  RBoundsTree::RBox SweepBox(const RRigidBody& b, std::size_t i) const;
-  RBoundsTree::RBox FatBox(const RRigidBody& b, std::size_t i) const;
+  RBoundsTree::RBox SweepBox(const RBodyCore& b, std::size_t i) const;
+  RBoundsTree::RBox FatBox(const RBodyCore& b, std::size_t i) const;
   std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
   std::vector<RBoundsTree::RBox> m_fatBoxes;    // per body
   RBoundsTree m_fatTree;
@@ -250,16 +260,16 @@ class RWorldStep {
   // responding (a sensor keeps reporting what sleeps on it). A pair of two of them is
   // skipped; a sleeping body touched by any other (in the speculative margin) wakes with its
   // island: a kinematic body that moves wakes what it touches and nothing else.
-  static bool StillKinematic(const RRigidBody& b) {
+  static bool StillKinematic(const RBodyCore& b) {
     return b.m_isKinematic && b.m_v_W.isZero(0) && b.m_w_W.isZero(0);
   }
-  static bool Passive(const RRigidBody& b) {
+  static bool Passive(const RBodyCore& b) {
     return (b.m_sleeping || b.m_isStatic || StillKinematic(b)) && b.m_responds;
   }
   // A body's hull (its polyhedron's vertex array, up to 4 lines), read by its world form
   // and the narrow phase: asked for once the body's own lines have arrived (PrefetchBody a
   // few pairs earlier), since the pointer to it is in them.
-  static void PrefetchHull(const RRigidBody& b) {
+  static void PrefetchHull(const RBodyCore& b) {
     if (b.m_polyhedron_B) PrefetchBytes(b.m_polyhedron_B->Vertices().data(), 4 * 64);
   }
   std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
@@ -517,7 +527,7 @@ class RWorldStep {
   }
   void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
   template <class Advance>
-  bool ImpactGeometry(const RRigidBody& A, const RRigidBody& B, RSolverBody& sa, RSolverBody& sb,
+  bool ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa, RSolverBody& sb,
                       const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
                       RDirection* dir, std::uint32_t childA, std::uint32_t childB) const;
   RScalar SolvePatch(RBlock& blk, bool clampOnly, RPhase phase);
@@ -753,7 +763,7 @@ class RWorldStep {
     RQuat qPredicted;
   };
   std::vector<RJointPose> m_jointPoses;
-  RJointPose PredictPose(const RRigidBody& b, std::uint32_t i, RScalar dt) const;
+  RJointPose PredictPose(const RBodyCore& b, std::uint32_t i, RScalar dt) const;
   // A joint body's pose at the start of the step, or at its end as predicted (end = true;
   // the world's: the origin, unturned).
   RJointPoseIn JointPose(const RStepBodies& bodies, std::uint32_t i, RScalar dt, bool end) const;
