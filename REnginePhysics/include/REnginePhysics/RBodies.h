@@ -26,6 +26,7 @@
 #include <REnginePhysics/RBodyHandle.h>
 #include <REnginePhysics/RJoint.h>
 #include <REnginePhysics/RRigidBody.h>
+#include <REnginePhysics/RSlotMap.h>
 
 #include <cstdint>
 #include <limits>
@@ -56,7 +57,31 @@ class RHandleError : public RError {
   explicit RHandleError(const std::string& what) : RError("handle", what, what) {}
 };
 
-class RBodies {
+// The container's state: RBodies holds it as a private base, so a game sees only RBodies'
+// functions; the integrator and save/load reach it through the engine's private header
+// body/RBodyAccess.h.
+struct RBodiesCore {
+  using RBodySlots = RSlotMap<RRigidBody, RBodyHandle>;
+  using RJointSlots = RSlotMap<RJoint, RJointHandle>;
+  static constexpr std::uint32_t kFree = RBodySlots::kFree;
+  // The bodies, dense: enabled [0, m_enabled), then disabled.
+  RBodySlots m_slots;
+  std::size_t m_enabled = 0;
+  // Read and cleared by the next Update: islands to wake (by island id), or all of them.
+  std::vector<std::uint32_t> m_wakeIslands;
+  bool m_wakeAll = false;
+  // ... and the world boxes (min, max, min, max, ...) of the static and kinematic bodies that
+  // left: the sleepers they touched wake.
+  std::vector<RVec3> m_wakeBoxes;
+  RBodiesStamp m_layoutStamp, m_poseStamp;
+  // Joints: a slot map as the bodies', and the pairs of body slots a joint keeps from
+  // colliding (lower << 32 | higher, sorted; a pair joined twice is there twice).
+  RJointSlots m_jointSlots;
+  std::vector<std::uint64_t> m_noCollide;
+  void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(); }
+};
+
+class RBodies : private RBodiesCore {
  public:
   // Most bodies one container holds (handles are 32-bit; RSceneLimits keeps scenes far
   // below).
@@ -147,41 +172,21 @@ class RBodies {
   std::uint64_t PoseStamp() const { return m_poseStamp.Value(); }
 
  private:
-  friend class RIntegrator;
-  friend struct RStateAccess;  // save and load (RWorldState.h)
-  using RBodySlots = RSlotMap<RRigidBody, RBodyHandle>;
-  using RJointSlots = RSlotMap<RJoint, RJointHandle>;
-  static constexpr std::uint32_t kFree = RBodySlots::kFree;
   std::uint32_t DenseIndex(RBodyHandle h) const;
   // What leaving the step does to sleepers: a sleeping body's island wakes, a static or
   // kinematic body wakes the sleepers about it.
   void WakeForDeparture(RRigidBody& b);
-
-  // The bodies, dense: enabled [0, m_enabled), then disabled.
-  RBodySlots m_slots;
-  std::size_t m_enabled = 0;
-  // Read and cleared by the next Update: islands to wake (by island id), or all of them.
-  std::vector<std::uint32_t> m_wakeIslands;
-  bool m_wakeAll = false;
-  // ... and the world boxes (min, max, min, max, ...) of the static and kinematic bodies that
-  // left: the sleepers they touched wake.
-  std::vector<RVec3> m_wakeBoxes;
-  RBodiesStamp m_layoutStamp, m_poseStamp;
-  // Joints: a slot map as the bodies', and the pairs of body slots a joint keeps from
-  // colliding (lower << 32 | higher, sorted; a pair joined twice is there twice).
-  RJointSlots m_jointSlots;
-  std::vector<std::uint64_t> m_noCollide;
   std::uint32_t JointDenseIndex(RJointHandle h) const;
   void RemoveJointAt(std::uint32_t dense);
   void RemoveJointsOf(RBodyHandle body);
   void SetNoCollideFlags(RBodyHandle body);
   void WakeJointPartners(RBodyHandle body);
-  void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(); }
 };
 
 }  // namespace REngine
 
 // This header's public types, whose layouts are checked against the library's (RAbi.h).
 #define RENGINE_ABI_TYPES_BODIES(X) \
+  X(RBodiesCore) \
   X(RBodies)
 RENGINE_ABI_CHECK(kBodies, RENGINE_ABI_TYPES_BODIES)

@@ -37,31 +37,10 @@ enum class RInertiaSymmetry : std::uint8_t {
   kGeneral,    // three distinct moments: Jacobi elliptic functions
 };
 
-class RFreeRotation {
- public:
-  // I_B: principal moments about the centre of mass, body frame, kg m^2, all > 0.
-  void SetInertia(const RVec3& I_B);
-  RInertiaSymmetry Symmetry() const { return m_symmetry; }
-
-  // Advances (w_B, q_WB) by h seconds of torque-free motion. w_B: angular velocity, body
-  // frame, rad/s; q_WB: body-to-world rotation. h may be negative (runs time backwards).
-  void Advance(RScalar h, RVec3& w_B, RQuat& q_WB);
-
-  // Quadrature panels the last general-case step integrated (its cost): at most
-  // 2 x 4096 however fast the body spins (see m_periods).
-  int QuadraturePanels() const { return m_panels + (m_periods > 0 ? m_periodPanels : 0); }
-
- private:
-  friend struct RStateAccess;  // save and load (RWorldState.h): the cache, bit for bit
-  // Fills the polhode's constants for (h, w_B); false for a steady spin (omega constant).
-  bool ComputeConstants(RScalar h, const RVec3& w_B);
-  // The body axis the polhode circles, signed to the side the angular momentum is on.
-  RVec3 PoleAxis() const {
-    RVec3 e = RVec3::Zero();
-    e[m_c] = m_signC;
-    return e;
-  }
-
+// The free rotation's constants and cache: RFreeRotation holds them as a private base, and
+// save and load reach them (the cache, bit for bit) through the engine's private header
+// body/RBodyAccess.h.
+struct RFreeRotationCore {
   RVec3 m_I_B = RVec3::Ones();
   RInertiaSymmetry m_symmetry = RInertiaSymmetry::kSpherical;
   int m_axisUnique = 0;         // kSymmetric: the axis whose moment differs
@@ -94,6 +73,32 @@ class RFreeRotation {
   RScalar m_psiPeriod = 0;           // precession over one period, rad
   RScalar m_hRest = 0;               // the step less its whole periods, s
   int m_periodPanels = 0;            // panels of the one-period integral
+};
+
+class RFreeRotation : private RFreeRotationCore {
+ public:
+  // I_B: principal moments about the centre of mass, body frame, kg m^2, all > 0.
+  void SetInertia(const RVec3& I_B);
+  RInertiaSymmetry Symmetry() const { return m_symmetry; }
+
+  // Advances (w_B, q_WB) by h seconds of torque-free motion. w_B: angular velocity, body
+  // frame, rad/s; q_WB: body-to-world rotation. h may be negative (runs time backwards).
+  void Advance(RScalar h, RVec3& w_B, RQuat& q_WB);
+
+  // Quadrature panels the last general-case step integrated (its cost): at most
+  // 2 x 4096 however fast the body spins (see m_periods).
+  int QuadraturePanels() const { return m_panels + (m_periods > 0 ? m_periodPanels : 0); }
+
+ private:
+  // Fills the polhode's constants for (h, w_B); false for a steady spin (omega constant).
+  bool ComputeConstants(RScalar h, const RVec3& w_B);
+  // The body axis the polhode circles, signed to the side the angular momentum is on.
+  RVec3 PoleAxis() const {
+    RVec3 e = RVec3::Zero();
+    e[m_c] = m_signC;
+    return e;
+  }
+
   RVec3 OmegaOf(const RJacobiSnCnDn& j) const;
   // The precession angle over `panels` panels of `length` s from phase `start`, by 3-point
   // Gauss-Legendre on each (nodes: Jacobi values at the Gauss offsets of one panel).
@@ -105,5 +110,6 @@ class RFreeRotation {
 
 // This header's public types, whose layouts are checked against the library's (RAbi.h).
 #define RENGINE_ABI_TYPES_FREE_ROTATION(X) \
+  X(RFreeRotationCore) \
   X(RFreeRotation)
 RENGINE_ABI_CHECK(kFreeRotation, RENGINE_ABI_TYPES_FREE_ROTATION)

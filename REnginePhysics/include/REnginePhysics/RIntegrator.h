@@ -203,7 +203,14 @@ struct RPairStats {
 class RWorldStep;  // the working state (private to REnginePhysics)
 struct RStepBodies;
 
-class RIntegrator {
+// The integrator's working state (RWorldStep, private to the library, behind a pointer so
+// that none of it is in an installed header): RIntegrator holds it as a private base; save
+// and load reach it through the engine's private header body/RBodyAccess.h.
+struct RIntegratorCore {
+  std::unique_ptr<RWorldStep> m_w;
+};
+
+class RIntegrator : private RIntegratorCore {
  public:
   RIntegrator();
   explicit RIntegrator(const RWorldSettings& settings);
@@ -278,7 +285,6 @@ class RIntegrator {
   void SetJobSystem(RJobSystem* jobs);
 
  private:
-  friend struct RStateAccess;  // save and load (RWorldState.h)
   // The step, as the design reads: stamp, CollisionDetection, UpdateObjects; then the events.
   void Step(const RStepBodies& bodies, RScalar dt);
   // Pairs -> CheckCollision -> FindImpulses: impulses accumulated on the bodies.
@@ -286,7 +292,6 @@ class RIntegrator {
   // Applies the accumulated impulses and integrates the motion; then sleeping.
   void UpdateObjects(const RStepBodies& bodies, RScalar dt);
 
-  std::unique_ptr<RWorldStep> m_w;
   // The integrator's own threads, started at the first step that asks for more than one
   // (and again when RWorldSettings::threads changes); a copy starts its own.
   std::unique_ptr<RThreadPool> m_pool;
@@ -304,6 +309,7 @@ std::uint64_t NextCacheStamp();
 // This header's public types, whose layouts are checked against the library's (RAbi.h).
 #define RENGINE_ABI_TYPES_INTEGRATOR(X) \
   X(RWorldSettings) \
+  X(RIntegratorCore) \
   X(RStepProfile) \
   X(RContact) \
   X(RPairStats) \

@@ -1,10 +1,13 @@
-// Private to REnginePhysics: the engine's way to a body's state. RRigidBody holds its state
-// as a private base (RBodyCore, detail/RBodyCore.h), so that a game sees only RRigidBody's
-// functions and no engine class needs to be its friend. An explicit conversion between a
+// Private to REnginePhysics: the engine's way to the state of a body, of the body container
+// and of the integrator. Each holds its state as a private base (RBodyCore in
+// detail/RBodyCore.h, RBodiesCore, RIntegratorCore, RFreeRotationCore), so that a game sees only their
+// functions and no engine class needs to be their friend. An explicit conversion between a
 // class and its private base is well defined (a C-style cast is the one that may name an
-// inaccessible base); these two functions are the only places that make it.
+// inaccessible base); these functions are the only places that make it.
 #pragma once
 
+#include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RRigidBody.h>
 
 namespace REngine {
@@ -13,5 +16,11 @@ inline RBodyCore& Core(RRigidBody& b) { return (RBodyCore&)b; }
 inline const RBodyCore& Core(const RRigidBody& b) { return (const RBodyCore&)b; }
 inline RRigidBody& Body(RBodyCore& c) { return (RRigidBody&)c; }
 inline const RRigidBody& Body(const RBodyCore& c) { return (const RRigidBody&)c; }
+inline RBodiesCore& Core(RBodies& b) { return (RBodiesCore&)b; }
+inline const RBodiesCore& Core(const RBodies& b) { return (const RBodiesCore&)b; }
+inline RFreeRotationCore& Core(RFreeRotation& r) { return (RFreeRotationCore&)r; }
+inline const RFreeRotationCore& Core(const RFreeRotation& r) { return (const RFreeRotationCore&)r; }
+inline RIntegratorCore& Core(RIntegrator& i) { return (RIntegratorCore&)i; }
+inline const RIntegratorCore& Core(const RIntegrator& i) { return (const RIntegratorCore&)i; }
 
 }  // namespace REngine

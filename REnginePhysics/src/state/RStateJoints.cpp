@@ -29,7 +29,8 @@ void WriteDef(RWriter& w, const RJointDef& d) {
 
 }  // namespace
 
-void RStateAccess::WriteJoints(RWriter& w, const RBodies& c) {
+void RStateAccess::WriteJoints(RWriter& w, const RBodies& bodies) {
+  const RBodiesCore& c = Core(bodies);
   w.U64(c.m_jointSlots.generation.size());
   for (std::uint32_t g : c.m_jointSlots.generation) w.U32(g);
   w.U64(c.m_jointSlots.free.size());
@@ -56,19 +57,19 @@ void RStateAccess::ReadJoints(RReader& r, RSavedBodies& out) {
   out.jointFree.resize(r.Count("free", 4));
   for (std::uint32_t& slot : out.jointFree) slot = r.U32("free");
   const std::size_t count = r.Count("joints", 400);
-  out.jointDenseOfSlot.assign(out.jointGeneration.size(), RBodies::kFree);
+  out.jointDenseOfSlot.assign(out.jointGeneration.size(), RBodiesCore::kFree);
   out.joints.resize(count);
   out.jointHandles.resize(count);
   auto live = [&out](RBodyHandle h) {
     return h.index < out.generation.size() && out.generation[h.index] == h.generation &&
-           out.denseOfSlot[h.index] != RBodies::kFree;
+           out.denseOfSlot[h.index] != RBodiesCore::kFree;
   };
   for (std::size_t k = 0; k < count; ++k) {
     r.SetRecord(Indexed("joints", k));
     RJointHandle h;
     h.index = r.U32("handle"), h.generation = r.U32("handle");
     if (h.index >= out.jointGeneration.size() || out.jointGeneration[h.index] != h.generation ||
-        out.jointDenseOfSlot[h.index] != RBodies::kFree) {
+        out.jointDenseOfSlot[h.index] != RBodiesCore::kFree) {
       r.Fail("handle", "is not a live slot of the joints' table, or is named twice");
     }
     out.jointDenseOfSlot[h.index] = static_cast<std::uint32_t>(k);
@@ -128,7 +129,7 @@ void RStateAccess::ReadJoints(RReader& r, RSavedBodies& out) {
   std::vector<char> freed(out.jointGeneration.size(), 0);
   r.SetRecord("joints");
   for (std::uint32_t slot : out.jointFree) {
-    if (slot >= out.jointGeneration.size() || out.jointDenseOfSlot[slot] != RBodies::kFree || freed[slot]) {
+    if (slot >= out.jointGeneration.size() || out.jointDenseOfSlot[slot] != RBodiesCore::kFree || freed[slot]) {
       r.Fail("free", "slot " + std::to_string(slot) + " is beyond the table, live, or free twice");
     }
     freed[slot] = 1;
@@ -139,20 +140,20 @@ void RStateAccess::ReadJoints(RReader& r, RSavedBodies& out) {
 // The loaded joints into the container, and what follows from them: the pairs they keep
 // from colliding and their bodies' flags.
 void RStateAccess::CommitJoints(RBodies& bodies, RSavedBodies& saved) {
-  bodies.m_jointSlots.items.swap(saved.joints);
-  bodies.m_jointSlots.handles.swap(saved.jointHandles);
-  bodies.m_jointSlots.generation.swap(saved.jointGeneration);
-  bodies.m_jointSlots.denseOfSlot.swap(saved.jointDenseOfSlot);
-  bodies.m_jointSlots.free.swap(saved.jointFree);
-  bodies.m_noCollide.clear();
-  for (RRigidBody& b : bodies.m_slots.items) Core(b).m_jointNoCollide = false;
-  for (const RJoint& j : bodies.m_jointSlots.items) {
+  Core(bodies).m_jointSlots.items.swap(saved.joints);
+  Core(bodies).m_jointSlots.handles.swap(saved.jointHandles);
+  Core(bodies).m_jointSlots.generation.swap(saved.jointGeneration);
+  Core(bodies).m_jointSlots.denseOfSlot.swap(saved.jointDenseOfSlot);
+  Core(bodies).m_jointSlots.free.swap(saved.jointFree);
+  Core(bodies).m_noCollide.clear();
+  for (RRigidBody& b : Core(bodies).m_slots.items) Core(b).m_jointNoCollide = false;
+  for (const RJoint& j : Core(bodies).m_jointSlots.items) {
     if (!j.def.b.IsValid() || j.def.collideConnected) continue;
     const std::uint32_t a = j.def.a.index, b = j.def.b.index;
-    bodies.m_noCollide.push_back(a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a);
+    Core(bodies).m_noCollide.push_back(a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a);
     Core(bodies[j.def.a]).m_jointNoCollide = Core(bodies[j.def.b]).m_jointNoCollide = true;
   }
-  std::sort(bodies.m_noCollide.begin(), bodies.m_noCollide.end());
+  std::sort(Core(bodies).m_noCollide.begin(), Core(bodies).m_noCollide.end());
 }
 
 }  // namespace REngine

@@ -31,7 +31,8 @@ RJacobiSnCnDn RStateAccess::ReadJacobi(RReader& r, const char* field, bool check
 // The exact rotation's cache, as it is: the next step reuses it, and what it would compute
 // afresh differs in the last bits (its phase is the last step's output, stepped on). Only
 // a body of three distinct moments has one: the others' closed forms never touch it.
-void RStateAccess::WriteRotation(RWriter& w, const RFreeRotation& f) {
+void RStateAccess::WriteRotation(RWriter& w, const RFreeRotation& rotation) {
+  const RFreeRotationCore& f = Core(rotation);
   w.Bool(f.m_symmetry == RInertiaSymmetry::kGeneral);
   if (f.m_symmetry != RInertiaSymmetry::kGeneral) return;
   w.Bool(f.m_cacheValid);
@@ -51,7 +52,8 @@ void RStateAccess::WriteRotation(RWriter& w, const RFreeRotation& f) {
   w.I32(f.m_periodPanels);
 }
 
-void RStateAccess::ReadRotation(RReader& r, RFreeRotation& f) {
+void RStateAccess::ReadRotation(RReader& r, RFreeRotation& rotation) {
+  RFreeRotationCore& f = Core(rotation);
   const bool general = r.Bool("rotation.general");
   if (general != (f.m_symmetry == RInertiaSymmetry::kGeneral)) {
     r.Fail("rotation.general", "contradicts the symmetry of the body's moments of inertia");
@@ -227,7 +229,8 @@ void RStateAccess::WriteBodies(RWriter& w, const RWorldStep& s, const std::vecto
   for (const RRigidBody& b : bodies) WriteBody(w, b, keys.Of(Core(b).m_prepared), WorldOf(b, s));
 }
 
-void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const RBodies& c) {
+void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const RBodies& bodies) {
+  const RBodiesCore& c = Core(bodies);
   w.U8(0);  // an RBodies
   w.U64(c.m_slots.generation.size());
   for (std::uint32_t g : c.m_slots.generation) w.U32(g);
@@ -242,7 +245,7 @@ void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const RBodies
   w.U64(c.m_wakeBoxes.size());
   for (const RVec3& corner : c.m_wakeBoxes) w.Vec3(corner);
   WriteBodies(w, s, c.m_slots.items);
-  WriteJoints(w, c);
+  WriteJoints(w, bodies);
 }
 
 void RStateAccess::WriteContainer(RWriter& w, const RWorldStep& s, const std::vector<RRigidBody>& c) {
@@ -274,7 +277,7 @@ RStateAccess::RSavedBodies RStateAccess::ReadContainer(RReader& r, const RShapeC
     count = r.Count("bodies", 8 + 360);
     if (enabled > count) r.Fail("enabled", "is more than the bodies (" + std::to_string(count) + ")");
     out.enabled = static_cast<std::size_t>(enabled);
-    const std::uint32_t kFree = RBodies::kFree;
+    const std::uint32_t kFree = RBodiesCore::kFree;
     out.denseOfSlot.assign(out.generation.size(), kFree);
     out.handles.resize(count);
     for (std::size_t d = 0; d < count; ++d) {

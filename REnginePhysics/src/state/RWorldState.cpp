@@ -20,8 +20,8 @@ void RStateAccess::Save(const RIntegrator& integrator, const Container& bodies, 
   out.resize(state::kHeaderBytes);
   RWriter w(out);
   w.U64(worldTag);
-  WriteStep(w, *integrator.m_w, serialOwned);
-  WriteContainer(w, *integrator.m_w, bodies);
+  WriteStep(w, *Core(integrator).m_w, serialOwned);
+  WriteContainer(w, *Core(integrator).m_w, bodies);
   state::Seal(out);
 }
 
@@ -79,7 +79,7 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
                             ": a state saved from another world");
   }
   RSavedStep step = ReadStep(r);
-  RWorldStep& w = *integrator.m_w;
+  RWorldStep& w = *Core(integrator).m_w;
   const std::uint64_t foreignId = NextCacheStamp();
   RSavedBodies saved = ReadContainer(r, Catalog(target, options), w.m_worldId.value, foreignId);
   if (r.Left() != 0) {
@@ -137,7 +137,7 @@ std::uint64_t RStateAccess::SerialAt(const RSavedBodies& saved, RBodyHandle h) {
 
 void RStateAccess::LoadInto(RIntegrator& integrator, RBodies& bodies, const std::uint8_t* data, std::size_t size,
                      const RLoadOptions& options) {
-  Load(integrator, bodies.m_slots.items, data, size, options, false, [&bodies](RSavedBodies& saved) {
+  Load(integrator, Core(bodies).m_slots.items, data, size, options, false, [&bodies](RSavedBodies& saved) {
     // Another world's state names a body the container holds as another body.
     RShapeKeys keys;
     for (std::size_t d = 0; d < saved.bodies.size(); ++d) {
@@ -155,17 +155,17 @@ void RStateAccess::LoadInto(RIntegrator& integrator, RBodies& bodies, const std:
                                                     "\" with another shape, kind or mass: a state of another world");
       }
     }
-    bodies.m_slots.items.swap(saved.bodies);
-    bodies.m_slots.handles.swap(saved.handles);
-    bodies.m_slots.generation.swap(saved.generation);
-    bodies.m_slots.denseOfSlot.swap(saved.denseOfSlot);
-    bodies.m_slots.free.swap(saved.free);
-    bodies.m_wakeIslands.swap(saved.wakeIslands);
-    bodies.m_enabled = saved.enabled;
-    bodies.m_wakeAll = saved.wakeAll;
-    bodies.m_wakeBoxes.swap(saved.wakeBoxes);
+    Core(bodies).m_slots.items.swap(saved.bodies);
+    Core(bodies).m_slots.handles.swap(saved.handles);
+    Core(bodies).m_slots.generation.swap(saved.generation);
+    Core(bodies).m_slots.denseOfSlot.swap(saved.denseOfSlot);
+    Core(bodies).m_slots.free.swap(saved.free);
+    Core(bodies).m_wakeIslands.swap(saved.wakeIslands);
+    Core(bodies).m_enabled = saved.enabled;
+    Core(bodies).m_wakeAll = saved.wakeAll;
+    Core(bodies).m_wakeBoxes.swap(saved.wakeBoxes);
     CommitJoints(bodies, saved);
-    bodies.LayoutChanged();  // queries' trees are rebuilt
+    Core(bodies).LayoutChanged();  // queries' trees are rebuilt
   });
 }
 

@@ -45,13 +45,13 @@ double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(
 
 
 
-RIntegrator::RIntegrator() : m_w(std::make_unique<RWorldStep>()) {}
+RIntegrator::RIntegrator() : RIntegratorCore{std::make_unique<RWorldStep>()} {}
 RIntegrator::RIntegrator(const RWorldSettings& settings) : RIntegrator() {
   m_w->m_settings = settings;
 }
 RIntegrator::~RIntegrator() = default;
 RIntegrator::RIntegrator(const RIntegrator& other)
-    : m_w(std::make_unique<RWorldStep>(*other.m_w)), m_gameJobs(other.m_gameJobs) {}
+    : RIntegratorCore{std::make_unique<RWorldStep>(*other.m_w)}, m_gameJobs(other.m_gameJobs) {}
 RIntegrator& RIntegrator::operator=(const RIntegrator& other) {
   if (this != &other) *m_w = *other.m_w, m_gameJobs = other.m_gameJobs;
   return *this;
@@ -161,24 +161,24 @@ void CheckDt(RScalar dt) {
 void RIntegrator::Update(RBodies& bodies, RScalar dt) {
   CheckDt(dt);
   RStepBodies view;
-  view.data = bodies.m_slots.items.data();
-  view.count = bodies.m_enabled;
-  view.handles = bodies.m_slots.handles.data();
-  view.denseOfSlot = bodies.m_slots.denseOfSlot.data();
-  view.slotCount = bodies.m_slots.denseOfSlot.size();
+  view.data = Core(bodies).m_slots.items.data();
+  view.count = Core(bodies).m_enabled;
+  view.handles = Core(bodies).m_slots.handles.data();
+  view.denseOfSlot = Core(bodies).m_slots.denseOfSlot.data();
+  view.slotCount = Core(bodies).m_slots.denseOfSlot.size();
   view.byIndex = false;
-  view.wakeIslands = &bodies.m_wakeIslands;
-  view.wakeAll = &bodies.m_wakeAll;
-  view.wakeBoxes = &bodies.m_wakeBoxes;
-  view.joints = bodies.m_jointSlots.items.data();
-  view.jointCount = bodies.m_jointSlots.items.size();
-  view.noCollidePairs = bodies.m_noCollide.data();
-  view.noCollideCount = bodies.m_noCollide.size();
+  view.wakeIslands = &Core(bodies).m_wakeIslands;
+  view.wakeAll = &Core(bodies).m_wakeAll;
+  view.wakeBoxes = &Core(bodies).m_wakeBoxes;
+  view.joints = Core(bodies).m_jointSlots.items.data();
+  view.jointCount = Core(bodies).m_jointSlots.items.size();
+  view.noCollidePairs = Core(bodies).m_noCollide.data();
+  view.noCollideCount = Core(bodies).m_noCollide.size();
   // Queries' caches of the poses (RQueries) see the bodies moved, also when the step throws
   // part way.
-  bodies.m_poseStamp.Bump();
+  Core(bodies).m_poseStamp.Bump();
   Step(view, dt);
-  bodies.m_poseStamp.Bump();
+  Core(bodies).m_poseStamp.Bump();
 }
 
 void RIntegrator::Update(std::vector<RRigidBody>& bodies, RScalar dt) {
