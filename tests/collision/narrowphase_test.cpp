@@ -1,6 +1,7 @@
 // Narrow phase and pair loop on cases with closed-form answers. The cross-checks against
-// exact references, FCL and libccd live in narrowphase_random_pairs_test.cpp and
-// narrowphase_adversarial_test.cpp (narrowphase_oracle_tests).
+// exact references, FCL and libccd live in narrowphase_oracle_tests
+// (narrowphase_random_pairs_test.cpp, narrowphase_references_test.cpp,
+// narrowphase_adversarial_test.cpp, narrowphase_hard_pairs_test.cpp).
 #include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RIntegrator.h>

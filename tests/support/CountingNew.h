@@ -1,7 +1,7 @@
 // Heap allocations counted while g_countAllocations is set: this header replaces the binary's
-// operator new and delete, so include it in exactly one file of a test binary (events_test,
-// spacegame_test). gcc takes the replaced pair, once inlined, for malloc freed by delete: it
-// is not.
+// operator new and delete, so include it in exactly one file of a test binary
+// (events_reporting_test, spacegame_test). gcc takes the replaced pair, once inlined, for
+// malloc freed by delete: it is not.
 #pragma once
 
 #include <atomic>

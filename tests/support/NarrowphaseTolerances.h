@@ -1,6 +1,6 @@
 // What the narrow phase (RCollisionSolver) is held to against the exact references of
 // support/CollisionOracles.h, shared by the random-pair and the adversarial oracle tests
-// (narrowphase_random_pairs_test.cpp, narrowphase_adversarial_test.cpp).
+// (narrowphase_oracle_tests: collision/RandomPairs.h, collision/AdversarialPairs.h).
 //
 // Tolerances. The API resolves separations to its touching band,
 // band = RCollisionSolver::kTouchingTolerance * (rA + rB) = 1e-9 of the pair's size: below
