@@ -166,7 +166,7 @@ bool RWorldStep::JoinSweep(std::size_t pairTasks) {
   }
   for (std::size_t t = 0; t < pairTasks; ++t) {
     RSweepTask& st = m_sweepTasks[t];
-    for (std::uint32_t island : st.wake) m_wakeMark[island] = 1, woke = true;
+    for (std::uint32_t island : st.wake) m_sleep.Mark(island), woke = true;
     m_pairStats.rejectedFilter += st.rejectedFilter;
     m_pairStats.rejectedBoxes += st.rejectedBoxes;
     m_pairStats.narrowPhase += st.narrowPhase;

@@ -1,5 +1,8 @@
 // Sleeping islands (RWorldSettings::RShortcuts::sleeping): waking before the step, putting to
-// sleep after it; see RIntegrator.h.
+// sleep after it (RSleeping, sleep/RSleeping.h); see RIntegrator.h. And the contact solver's
+// warm starts of the pairs that sleep, kept while they sleep (KeepSleepingWarmStarts).
+#include "sleep/RSleeping.h"
+
 #include "world/RWorldStep.h"
 
 #include "solver/RSolverRows.h"
@@ -28,7 +31,7 @@ void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
   }
 }
 
-void RWorldStep::WakeIslands(const RStepBodies& bodies) {
+void RSleeping::WakeIslands(const RStepBodies& bodies, const RWorldSettings& settings) {
   const std::size_t n = bodies.size();
   // Island ids are slots (a plain vector's: indices).
   m_wakeMark.assign(bodies.slotCount, 0);  // keeps its capacity: no allocation once sized
@@ -68,10 +71,9 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   m_wakeAll = false;
   if (bodies.wakeAll) *bodies.wakeAll = false;
   const bool countChanged = bodies.byIndex && n != m_sleepBodyCount;
-  if (!m_settings.shortcuts.sleeping || countChanged || moved ||
-      m_settings.gravity_W != m_sleepGravity_W) {
+  if (!settings.shortcuts.sleeping || countChanged || moved || settings.gravity_W != m_sleepGravity_W) {
     m_sleepBodyCount = n;
-    m_sleepGravity_W = m_settings.gravity_W;
+    m_sleepGravity_W = settings.gravity_W;
     if (bodies.wakeIslands) bodies.wakeIslands->clear();
     for (RBodyCore& b : bodies) {
       if (b.m_sleeping || b.m_sleepIsland != RBodyCore::kNoIsland) {
@@ -100,7 +102,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
     if (!b.m_sleeping || m_wakeBoxes.empty() || !(b.m_sleepIsland < m_wakeMark.size())) continue;
     RVec3 lo, hi;
     b.WorldBox(lo, hi);
-    const RScalar grow = 2 * m_settings.penetrationSlop + RScalar(0.01) * b.m_boundingRadius;
+    const RScalar grow = 2 * settings.penetrationSlop + RScalar(0.01) * b.m_boundingRadius;
     lo.array() -= grow, hi.array() += grow;
     for (std::size_t k = 0; k < m_wakeBoxes.size(); k += 2) {
       if ((lo.array() <= m_wakeBoxes[k + 1].array()).all() && (m_wakeBoxes[k].array() <= hi.array()).all()) {
@@ -119,7 +121,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   auto moves = [&](std::uint32_t i) {
     if (i == world || i >= n) return false;  // the world; a disabled body
     const RBodyCore& b = bodies[i];
-    if (b.Immovable()) return b.m_staticMoved || (b.m_isKinematic && !StillKinematic(b));
+    if (b.Immovable()) return b.m_staticMoved || (b.m_isKinematic && !RWorldStep::StillKinematic(b));
     return !b.m_sleeping;
   };
   for (std::size_t k = 0; k < bodies.jointCount; ++k) {
@@ -135,7 +137,7 @@ void RWorldStep::WakeIslands(const RStepBodies& bodies) {
   if (any) WakeMarked(bodies);
 }
 
-void RWorldStep::WakeMarked(const RStepBodies& bodies) {
+void RSleeping::WakeMarked(const RStepBodies& bodies) {
   for (RBodyCore& b : bodies) {
     if (b.m_sleepIsland < m_wakeMark.size() && m_wakeMark[b.m_sleepIsland]) {
       b.m_sleeping = false, b.m_restTime = 0, b.m_sleepIsland = RBodyCore::kNoIsland;
@@ -148,29 +150,33 @@ void RWorldStep::WakeMarked(const RStepBodies& bodies) {
 // bodies. An island sleeps when every body in it has been slower than the sleep speed for
 // the sleep time and either static geometry holds it (a static body pushed one of its
 // bodies this step) or it is exactly still: a drifting body in space is never stopped.
-void RWorldStep::SleepIslands(const RStepBodies& bodies) {
+template <class StepJoint>
+std::uint64_t RSleeping::SleepIslands(const RStepBodies& bodies, const RWorldSettings& settings,
+                                      const std::vector<RContact>& contacts,
+                                      const std::vector<std::uint8_t>& bodyFlags,
+                                      const std::vector<StepJoint>& joints) {
   const std::size_t n = bodies.size();
   bool anyRested = false;
   std::uint64_t asleep = 0;
   for (std::size_t i = 0; i < n; ++i) {
     RBodyCore& b = bodies[i];
     b.m_staticMoved = false, b.m_wakeFromSet = false, b.m_slot = bodies.Slot(i), b.m_slotWorld = m_worldId.value;
-    anyRested = anyRested || (!b.Immovable() && !b.m_sleeping && b.m_restTime >= m_settings.sleepTime);
+    anyRested = anyRested || (!b.Immovable() && !b.m_sleeping && b.m_restTime >= settings.sleepTime);
     asleep += b.m_sleeping;
   }
-  m_pairStats.sleepingBodies = asleep;
   // Islands are built only in a step where some body has rested long enough.
-  if (!m_settings.shortcuts.sleeping || !anyRested) return;
+  if (!settings.shortcuts.sleeping || !anyRested) return asleep;
   m_sleepSets.Reset(n);
   m_sleepRest.assign(n, std::numeric_limits<RScalar>::infinity());
   m_sleepSupported.assign(n, 0);
   m_sleepStill.assign(n, 1);
   auto find = [this](std::uint32_t i) { return m_sleepSets.Find(i); };
-  for (const RContact& c : m_contacts) {
+  for (const RContact& c : contacts) {
     if (!c.resolved) continue;
     // A kinematic body holds as static geometry does, and joins no island: the islands on a
     // platform sleep and wake apart (its motion wakes what it touches, SetShapePose the sleepers about where it was and is).
-    const bool staticA = ImmovableAt(c.a), staticB = ImmovableAt(c.b);
+    const bool staticA = bodyFlags[c.a] & RWorldStep::kFlagImmovable;
+    const bool staticB = bodyFlags[c.b] & RWorldStep::kFlagImmovable;
     if (staticA || staticB) {
       // Held: the static body pushed this step (a speculative contact, or a body sliding
       // along a floor in space, is not held).
@@ -184,7 +190,7 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
   // Joints bind islands as contacts do (they sleep and wake as one); a joint to the world or
   // to static geometry that held its body this step supports it.
   const std::uint32_t world = static_cast<std::uint32_t>(n);
-  for (const RStepJoint& j : m_stepJoints) {
+  for (const StepJoint& j : joints) {
     const bool immovableA = bodies[j.a].Immovable(), immovableB = j.b == world || bodies[j.b].Immovable();
     if (!immovableA && !immovableB) {
       m_sleepSets.Union(j.a, j.b);
@@ -205,13 +211,20 @@ void RWorldStep::SleepIslands(const RStepBodies& bodies) {
     RBodyCore& b = bodies[i];
     if (b.Immovable() || b.m_sleeping) continue;
     const std::uint32_t r = find(i);
-    if (m_sleepRest[r] >= m_settings.sleepTime && (m_sleepSupported[r] || m_sleepStill[r])) {
+    if (m_sleepRest[r] >= settings.sleepTime && (m_sleepSupported[r] || m_sleepStill[r])) {
       b.m_sleeping = true;
       b.m_sleepIsland = bodies.Slot(r);  // the id: its root's slot
       b.m_v_W.setZero(), b.m_w_B.setZero(), b.m_w_W.setZero();
-      ++m_pairStats.sleepingBodies;
+      ++asleep;
     }
   }
+  return asleep;
 }
+
+// The one kind of joint list SleepIslands is given: the step's (RWorldStep::RStepJoint, a type
+// RSleeping.h cannot name, RWorldStep holding an RSleeping).
+template std::uint64_t RSleeping::SleepIslands(const RStepBodies&, const RWorldSettings&, const std::vector<RContact>&,
+                                               const std::vector<std::uint8_t>&,
+                                               const std::vector<RWorldStep::RStepJoint>&);
 
 }  // namespace REngine

@@ -107,7 +107,7 @@ void RStateAccess::ReadRotation(RReader& r, RFreeRotation& rotation) {
 // (0), by this integrator (1), by another (2). Ids are process-wide, so never stored.
 std::uint8_t RStateAccess::WorldOf(const RRigidBody& body, const RWorldStep& s) {
   const RBodyCore& b = Core(body);
-  return b.m_slotWorld == 0 ? 0 : s.m_worldId.Owns(b.m_slotWorld) ? 1 : 2;
+  return b.m_slotWorld == 0 ? 0 : s.m_sleep.OwnsBody(b.m_slotWorld) ? 1 : 2;
 }
 
 void RStateAccess::WriteBody(RWriter& w, const RRigidBody& body, std::uint64_t shapeKey, std::uint8_t world) {

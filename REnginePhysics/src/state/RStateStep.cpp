@@ -108,9 +108,10 @@ RContactManifold RStateAccess::ReadManifold(RReader& r) {
 void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned& serialOwned) {
   WriteSettings(w, s.m_settings);
   w.U64(s.m_stepCount);
-  w.U64(s.m_warmBodyCount), w.U64(s.m_sleepBodyCount);
-  w.Bool(s.m_wakeAll);
-  w.Vec3(s.m_sleepGravity_W);
+  const RSleeping::RSaved sleep = s.m_sleep.Saved();
+  w.U64(s.m_warmBodyCount), w.U64(sleep.bodyCount);
+  w.Bool(sleep.wakeAll);
+  w.Vec3(sleep.gravity_W);
   w.Bool(s.m_nonFinite.has_value());
   if (s.m_nonFinite) {
     const RNonFiniteBody& nf = *s.m_nonFinite;

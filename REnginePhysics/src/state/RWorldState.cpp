@@ -81,7 +81,7 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   RSavedStep step = ReadStep(r);
   RWorldStep& w = *Core(integrator).m_w;
   const std::uint64_t foreignId = NextCacheStamp();
-  RSavedBodies saved = ReadContainer(r, Catalog(target, options), w.m_worldId.value, foreignId);
+  RSavedBodies saved = ReadContainer(r, Catalog(target, options), w.m_sleep.WorldId(), foreignId);
   if (r.Left() != 0) {
     throw RStateError("payload", std::to_string(r.Left()) + " bytes follow the last body (corrupt)");
   }
@@ -111,14 +111,11 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_settings.threads = threads;
   w.m_stepCount = step.stepCount;
   w.m_warmBodyCount = static_cast<std::size_t>(step.warmBodyCount);
-  w.m_sleepBodyCount = static_cast<std::size_t>(step.sleepBodyCount);
-  w.m_wakeAll = step.wakeAll;
-  w.m_sleepGravity_W = step.sleepGravity_W;
+  w.m_sleep.RestoreForLoad({step.sleepBodyCount, step.wakeAll, step.sleepGravity_W});
   w.m_nonFinite = std::move(step.nonFinite);
   w.m_warm = std::move(step.warm);
   w.m_manifolds = std::move(step.manifolds);
   w.m_touching = std::move(step.touching);
-  w.m_worldId.inherited = 0;
   w.m_cacheStamp = NextCacheStamp();
   w.m_nonFiniteLast.clear(), w.m_contacts.clear(), w.m_contactMemory.clear(), w.m_events.clear();
   w.m_pairStats = RPairStats{}, w.m_profile = RStepProfile{};

@@ -60,7 +60,7 @@ RIntegrator::RIntegrator(RIntegrator&&) noexcept = default;
 RIntegrator& RIntegrator::operator=(RIntegrator&&) noexcept = default;
 
 void RIntegrator::ForgetContacts() {
-  m_w->m_warm.clear(), m_w->m_manifolds.clear(), m_w->m_wakeAll = true;
+  m_w->m_warm.clear(), m_w->m_manifolds.clear(), m_w->m_sleep.WakeAllNextStep();
 }
 const RWorldSettings& RIntegrator::Settings() const { return m_w->m_settings; }
 RWorldSettings& RIntegrator::Settings() { return m_w->m_settings; }
@@ -144,7 +144,7 @@ void RIntegrator::PrepareJobs() {
 }
 
 void RIntegrator::SetPairFilter(RPairFilter filter, void* user) {
-  m_w->m_filter = filter, m_w->m_filterUser = user, m_w->m_wakeAll = true;
+  m_w->m_filter = filter, m_w->m_filterUser = user, m_w->m_sleep.WakeAllNextStep();
 }
 
 namespace {
@@ -207,7 +207,7 @@ void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   PrepareJobs();  // before anything moves: a bad setting throws with the world untouched
   w.m_cacheStamp = NextCacheStamp();
   ++w.m_stepCount;
-  w.WakeIslands(bodies);
+  w.m_sleep.WakeIslands(bodies, w.m_settings);
   CollisionDetection(bodies, dt);
   const auto t1 = Clock::now();
   w.KeepStartPoses(bodies);  // the contact events compare the poses before and after
@@ -232,7 +232,7 @@ void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {
   // with each other, skipped while they slept, must be found too. Each rerun wakes at least
   // one island, so this ends.
   while (w.DetectPairs(bodies, dt)) {
-    w.WakeMarked(bodies);
+    w.m_sleep.WakeMarked(bodies);
     ++wakeRuns;
   }
   w.m_pairStats.wakeRuns = wakeRuns;
@@ -243,7 +243,9 @@ void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {
 
 void RIntegrator::UpdateObjects(const RStepBodies& bodies, RScalar dt) {
   m_w->Integrate(bodies, dt);
-  m_w->SleepIslands(bodies);
+  RWorldStep& w = *m_w;
+  w.m_pairStats.sleepingBodies =
+      w.m_sleep.SleepIslands(bodies, w.m_settings, w.m_contacts, w.m_bodyFlags, w.m_stepJoints);
 }
 
 }  // namespace REngine

@@ -14,7 +14,7 @@
 //   RImpactPhase.cpp    SolveIslandImpacts, ImpactGeometry
 //   RJointImpacts.cpp   BeginImpactJoints, ImpactJointsPass, EndImpactJoints
 //   RIslandSolver.cpp   LayOutIslands, SolveIslandDirect
-//   RSleeping.cpp       WakeIslands, WakeMarked, SleepIslands, KeepSleepingWarmStarts
+//   RSleeping.cpp       KeepSleepingWarmStarts (sleeping itself: RSleeping, sleep/RSleeping.h)
 //   RIntegration.cpp    Integrate (the motion)
 //   RBodyMotion.cpp     kinematic bodies, angular locks, drag, gravity scales
 //   RContactEvents.cpp  KeepStartPoses, FindContactEvents (after the motion)
@@ -33,6 +33,7 @@
 #include "pairs/RBoundsTree.h"
 #include "body/RBodyAccess.h"
 #include "joints/RJointSparse.h"
+#include "sleep/RSleeping.h"
 #include "world/RUnionFind.h"
 
 #include <Eigen/Core>
@@ -174,7 +175,7 @@ class RWorldStep {
   static RScalar GravitySpread(const RStepBodies& bodies);
 
   // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
-  // island touched (marked in m_wakeMark): the islands are woken and the sweep runs again.
+  // island touched (marked in m_sleep): the islands are woken and the sweep runs again.
   bool DetectPairs(const RStepBodies& bodies, RScalar dt);
   // Its parts: the set-up pass over the bodies (centres, step motion, reach, flags, sweep
   // boxes); stage 2 (RPairNarrow.cpp), returning its task count; the tasks' results joined
@@ -183,9 +184,6 @@ class RWorldStep {
   std::size_t NarrowPairs(const RStepBodies& bodies, RScalar dt, RScalar allowance, RScalar grow);
   bool JoinSweep(std::size_t pairTasks);
   static constexpr std::size_t kSweepPairGrain = 32;  // pairs per stage-2 task, at least
-  // Sleeping (RWorldSettings::RShortcuts::sleeping): before the step, wakes every island
-  // one of whose bodies the game woke (or all, when gravity or a plain vector's count changed);
-  // after it, puts to sleep the islands that have rested long enough.
   // The broad phase (RBroadPhase.cpp): a body's sweep box (where the all-pairs loop can
   // pair it this sweep) and fat box (a sweep box it may move inside without a new search),
   // the tree of fat boxes and the sorted list of their overlapping pairs, kept between
@@ -277,9 +275,6 @@ class RWorldStep {
   // into (1 on one thread). Set by RIntegrator before each step.
   RJobSystem* m_jobs = nullptr;
   std::size_t m_tasks = 1;
-  void WakeIslands(const RStepBodies& bodies);
-  void WakeMarked(const RStepBodies& bodies);
-  void SleepIslands(const RStepBodies& bodies);
   // Solves the contacts found this step for impulses and accumulates them on the bodies;
   // called from CollisionDetection. Sequential impulses, warm-started, with each manifold's
   // normal rows solved as one block and an impacting manifold bouncing through one row.
@@ -637,34 +632,7 @@ class RWorldStep {
   // Keeps the warm starts of pairs that sleep (both bodies asleep, or one asleep and one
   // static): they are not solved while asleep, and start warm when woken.
   void KeepSleepingWarmStarts(const RStepBodies& bodies);
-  // Sleeping: islands to wake (by island id), union-find and per-island state (scratch).
-  std::vector<char> m_wakeMark;
-  std::vector<RVec3> m_wakeBoxes;  // WakeIslands: boxes whose sleepers wake (min, max, ...)
-  RUnionFind m_sleepSets;
-  std::vector<RScalar> m_sleepRest;
-  std::vector<char> m_sleepSupported, m_sleepStill;
-  std::size_t m_sleepBodyCount = 0;
-  bool m_wakeAll = false;  // ForgetContacts, SetPairFilter
-  // This integrator, as the bodies it stepped remember it (a process-wide count). A copy of
-  // an integrator draws its own id, and until its first step also takes the bodies the
-  // original stepped as its own: a world copied with its bodies goes on as the original
-  // would, sleepers asleep, while bodies the original steps after the copy's first step wake
-  // everything when the copy steps them (their island ids are another world's). A load
-  // (RWorldState.cpp) gives the bodies it restores this integrator's id.
-  struct RWorldId {
-    std::uint64_t value = NextCacheStamp();
-    std::uint64_t inherited = 0;  // the original's id until the first step; 0: none
-    RWorldId() = default;
-    RWorldId(const RWorldId& other) : value(NextCacheStamp()), inherited(other.Lineage()) {}
-    RWorldId& operator=(const RWorldId& other) {
-      value = NextCacheStamp(), inherited = other.Lineage();
-      return *this;
-    }
-    // The id the bodies of this world carry: a copy not yet stepped has only its original's.
-    std::uint64_t Lineage() const { return inherited != 0 ? inherited : value; }
-    bool Owns(std::uint64_t slotWorld) const { return slotWorld == value || (inherited != 0 && slotWorld == inherited); }
-  } m_worldId;
-  RVec3 m_sleepGravity_W = RVec3::Zero();
+  RSleeping m_sleep;  // sleeping islands (sleep/RSleeping.h)
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;
