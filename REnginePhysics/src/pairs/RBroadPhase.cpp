@@ -10,6 +10,8 @@
 // step's sweep boxes. Since a sweep box lies inside its fat box, two sweep boxes that
 // overlap belong to a listed pair: the pairs found are exactly the all-pairs loop's
 // (Box2D's and Bullet's dynamic trees keep fat boxes and a pair list the same way).
+#include "pairs/RBroadPhase.h"
+
 #include "world/RWorldStep.h"
 
 #include <algorithm>
@@ -19,7 +21,7 @@
 
 namespace REngine {
 
-RBoundsTree::RBox RWorldStep::SweepBox(const RBodyCore& b, std::size_t i) const {
+RBoundsTree::RBox RBroadPhase::SweepBox(const RBodyCore& b, RScalar cx, RScalar cy, RScalar cz, RScalar reach) {
   // Where the all-pairs loop can pass a pair: its grown spheres touch and its world boxes,
   // grown by the same motion (DetectPairs' stage 2), overlap. So a body's box here is the
   // part of its grown sphere's box that its grown world box can reach, the world box
@@ -27,8 +29,7 @@ RBoundsTree::RBox RWorldStep::SweepBox(const RBodyCore& b, std::size_t i) const 
   // Both are widened by a millionth of the growth and by a few units in the last place of
   // every term, so that no pair the loop passes, with its own rounding, has boxes apart
   // here. (A non-finite orientation leaves the sphere's box alone.)
-  const RScalar c[3] = {m_cx[i], m_cy[i], m_cz[i]};
-  const RScalar reach = m_reach[i];
+  const RScalar c[3] = {cx, cy, cz};
   const RScalar grow = (reach - b.m_boundingRadius) * (1 + 1e-6);
   const RMat3 R = b.m_q_WB.toRotationMatrix();
   const RVec3 centre = R * b.m_boxCenter_B;
@@ -75,14 +76,14 @@ bool IsEmpty(const RBoundsTree::RBox& b) { return std::memcmp(&b, &kEmpty, sizeo
 
 }  // namespace
 
-RBoundsTree::RBox RWorldStep::FatBox(const RBodyCore& b, std::size_t i) const {
+RBoundsTree::RBox RBroadPhase::FatBox(const RBodyCore& b, std::size_t i, RScalar reach) const {
   const RBoundsTree::RBox& box = m_sweepBoxes[i];
   if (!Valid(box)) return kEmpty;
   // A quarter of the reach, plus four steps of its motion: a resting body never leaves
   // its fat box, a fast one leaves it every few steps rather than every step. Only the
   // speed of the search depends on it.
-  const RScalar motion = m_reach[i] - b.m_boundingRadius;
-  const RScalar margin = RScalar(0.25) * m_reach[i] + 4 * motion;
+  const RScalar motion = reach - b.m_boundingRadius;
+  const RScalar margin = RScalar(0.25) * reach + 4 * motion;
   RBoundsTree::RBox fat = box;
   for (int a = 0; a < 3; ++a) fat.lo[a] -= margin, fat.hi[a] += margin;
   // Infinite sums stay infinite (a finite bound and an infinite margin give an infinite
@@ -91,7 +92,8 @@ RBoundsTree::RBox RWorldStep::FatBox(const RBodyCore& b, std::size_t i) const {
 }
 
 // The sweep boxes are this step's (DetectPairs made them with the reaches).
-void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
+template <class Task>
+void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& sweep, std::vector<Task>& tasks) {
   const std::size_t n = bodies.size();
   // The bodies that left their fat boxes (or whose box stopped or started being a number).
   m_moved.clear();
@@ -106,18 +108,18 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   // Many moved (bodies added or removed shift the indices): a new tree and list, O(n log n
   // + pairs); otherwise the moved bodies' pairs are replaced, O(moved log n + pairs).
   if (rebuild || 4 * m_moved.size() > n) {
-    RebuildFatPairs(bodies);
+    RebuildFatPairs(bodies, sweep, tasks);
     return;
   }
   ++m_fatRefits;
   if (m_moved.empty()) return;
   m_movedMark.resize(n, 0);  // all 0 between steps: cleared below after use
-  for (std::uint32_t i : m_moved) m_fatBoxes[i] = FatBox(bodies[i], i), m_movedMark[i] = 1;
+  for (std::uint32_t i : m_moved) m_fatBoxes[i] = FatBox(bodies[i], i, sweep.reach[i]), m_movedMark[i] = 1;
   m_fatTree.Refit(m_fatBoxes.data());
   // Each moved body's new partners, from the tree; a pair of two moved bodies is taken by
   // the first of them.
-  const std::size_t used = ParallelRanges(m_jobs, m_moved.size(), m_tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t task) {
-    RSweepTask& st = m_sweepTasks[task];
+  const std::size_t used = ParallelRanges(sweep.jobs, m_moved.size(), sweep.tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    Task& st = tasks[task];
     st.pairs.clear();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::uint32_t i = m_moved[k];
@@ -131,7 +133,7 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
   });
   m_fatScratch.clear();
   for (std::size_t t = 0; t < used; ++t) {
-    m_fatScratch.insert(m_fatScratch.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
+    m_fatScratch.insert(m_fatScratch.end(), tasks[t].pairs.begin(), tasks[t].pairs.end());
   }
   std::sort(m_fatScratch.begin(), m_fatScratch.end());
   // The unmoved pairs, kept in order, merged with the new ones (std::merge into a list kept
@@ -149,22 +151,23 @@ void RWorldStep::UpdateBroadPhase(const RStepBodies& bodies) {
 
 // Every body's fat box anew, its tree built, and every pair of overlapping fat boxes
 // found by the tree's pair search (split into tasks), then sorted by (i, then j).
-void RWorldStep::RebuildFatPairs(const RStepBodies& bodies) {
+template <class Task>
+void RBroadPhase::RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep, std::vector<Task>& tasks) {
   const std::size_t n = bodies.size();
   m_fatBoxes.resize(n);
   m_treeIds.resize(n);
-  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
-    for (std::size_t i = i0; i < i1; ++i) m_fatBoxes[i] = FatBox(bodies[i], i), m_treeIds[i] = static_cast<std::uint32_t>(i);
+  ParallelRanges(sweep.jobs, n, sweep.tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) m_fatBoxes[i] = FatBox(bodies[i], i, sweep.reach[i]), m_treeIds[i] = static_cast<std::uint32_t>(i);
   });
   m_fatTree.Build(m_fatBoxes.data(), m_treeIds.data(), n);
   m_fatValid = true;
   m_fatRefits = 0;
-  const std::size_t tasks = m_tasks;
-  m_fatTree.PairSeeds(m_fatTree, 8 * tasks, m_seeds, m_seedScratch);
+  const std::size_t taskCount = sweep.tasks;
+  m_fatTree.PairSeeds(m_fatTree, 8 * taskCount, m_seeds, m_seedScratch);
   // Trees of a few hundred bodies are searched on one thread.
   const std::size_t grain = n < 256 ? m_seeds.size() : 1;
-  const std::size_t used = ParallelRanges(m_jobs, m_seeds.size(), tasks, grain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
-    RSweepTask& st = m_sweepTasks[task];
+  const std::size_t used = ParallelRanges(sweep.jobs, m_seeds.size(), taskCount, grain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    Task& st = tasks[task];
     st.pairs.clear();
     auto found = [&st](std::uint32_t x, std::uint32_t y) { st.pairs.emplace_back(std::min(x, y), std::max(x, y)); };
     for (std::size_t k = k0; k < k1; ++k) m_fatTree.Pairs(m_fatTree, m_seeds[k], st.nodeStack, found);
@@ -174,13 +177,13 @@ void RWorldStep::RebuildFatPairs(const RStepBodies& bodies) {
   m_pairStart.assign(n + 1, 0);
   std::size_t total = 0;
   for (std::size_t t = 0; t < used; ++t) {
-    for (const auto& [i, j] : m_sweepTasks[t].pairs) ++m_pairStart[i + 1];
-    total += m_sweepTasks[t].pairs.size();
+    for (const auto& [i, j] : tasks[t].pairs) ++m_pairStart[i + 1];
+    total += tasks[t].pairs.size();
   }
   for (std::size_t i = 0; i < n; ++i) m_pairStart[i + 1] += m_pairStart[i];
   m_fatPairs.resize(total);
   for (std::size_t t = 0; t < used; ++t) {
-    for (const auto& pair : m_sweepTasks[t].pairs) m_fatPairs[m_pairStart[pair.first]++] = pair;
+    for (const auto& pair : tasks[t].pairs) m_fatPairs[m_pairStart[pair.first]++] = pair;
   }
   for (std::size_t first = 0, i = 0; i < n; first = m_pairStart[i++]) {
     std::sort(m_fatPairs.begin() + static_cast<std::ptrdiff_t>(first),
@@ -192,10 +195,17 @@ void RWorldStep::RebuildFatPairs(const RStepBodies& bodies) {
 // contact (not both passive) and whose sweep boxes overlap, each through the all-pairs
 // loop's sphere test (the same operands in the same order, so the same answer to the bit).
 // The list is in (i, then j) order, and so are the tasks' ranges of it, joined in order.
-void RWorldStep::TreePairs(RScalar grow) {
+template <class Task>
+void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<Task>& tasks, std::vector<RPair>& pairs,
+                            RPairStats& stats) {
   constexpr std::size_t kBoxAhead = 16;
-  const std::size_t used = ParallelRanges(m_jobs, m_fatPairs.size(), m_tasks, 4096, [&](std::size_t k0, std::size_t k1, std::size_t task) {
-    RSweepTask& st = m_sweepTasks[task];
+  const std::vector<char>& passive = sweep.passive;
+  const std::vector<RScalar>& cx = sweep.cx;
+  const std::vector<RScalar>& cy = sweep.cy;
+  const std::vector<RScalar>& cz = sweep.cz;
+  const std::vector<RScalar>& reach = sweep.reach;
+  const std::size_t used = ParallelRanges(sweep.jobs, m_fatPairs.size(), sweep.tasks, 4096, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+    Task& st = tasks[task];
     st.pairs.clear();
     st.sphereTests = 0;
     for (std::size_t k = k0; k < k1; ++k) {
@@ -204,21 +214,26 @@ void RWorldStep::TreePairs(RScalar grow) {
       if (k + kBoxAhead < k1) {
         const std::uint32_t ahead = m_fatPairs[k + kBoxAhead].second;
         PrefetchBytes(&m_sweepBoxes[ahead], sizeof(RBoundsTree::RBox));
-        __builtin_prefetch(&m_passive[ahead]);
+        __builtin_prefetch(&passive[ahead]);
       }
       const auto [i, j] = m_fatPairs[k];
-      if ((m_passive[i] && m_passive[j]) || !Overlap(m_sweepBoxes[i], m_sweepBoxes[j])) continue;
+      if ((passive[i] && passive[j]) || !Overlap(m_sweepBoxes[i], m_sweepBoxes[j])) continue;
       ++st.sphereTests;
-      const RScalar dx = m_cx[j] - m_cx[i], dy = m_cy[j] - m_cy[i], dz = m_cz[j] - m_cz[i];
-      const RScalar lim = (m_reach[i] + m_reach[j]) * grow;
+      const RScalar dx = cx[j] - cx[i], dy = cy[j] - cy[i], dz = cz[j] - cz[i];
+      const RScalar lim = (reach[i] + reach[j]) * grow;
       if (lim * lim - (dx * dx + dy * dy + dz * dz) >= 0) st.pairs.emplace_back(i, j);
     }
   });
-  m_pairs.clear();
+  pairs.clear();
   for (std::size_t t = 0; t < used; ++t) {
-    m_pairs.insert(m_pairs.end(), m_sweepTasks[t].pairs.begin(), m_sweepTasks[t].pairs.end());
-    m_pairStats.sphereTests += m_sweepTasks[t].sphereTests;
+    pairs.insert(pairs.end(), tasks[t].pairs.begin(), tasks[t].pairs.end());
+    stats.sphereTests += tasks[t].sphereTests;
   }
 }
+
+// The pair sweep's tasks lend their scratch.
+template void RBroadPhase::UpdateBroadPhase(const RStepBodies&, const RSweep&, std::vector<RWorldStep::RSweepTask>&);
+template void RBroadPhase::TreePairs(RScalar, const RSweep&, std::vector<RWorldStep::RSweepTask>&, std::vector<RPair>&,
+                                     RPairStats&);
 
 }  // namespace REngine

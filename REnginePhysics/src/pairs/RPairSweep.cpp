@@ -138,7 +138,7 @@ void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
       m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
       m_passive[i] = Passive(b);
       m_bodyFlags[i] = static_cast<std::uint8_t>((b.Immovable() ? kFlagImmovable : 0) | (b.m_responds ? kFlagResponds : 0));
-      if (sweepBoxes) m_sweepBoxes[i] = SweepBox(b, i);
+      if (sweepBoxes) m_broad.MakeSweepBox(i, b, m_cx[i], m_cy[i], m_cz[i], m_reach[i]);
     }
   });
 }
@@ -248,7 +248,7 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // the cache: a pass of their own waited for every body again (30000 bodies: 2 ms a
   // step). A world small enough for the all-pairs loop makes them unread, for little.
   const bool sweepBoxes = shortcuts.boundsRejection && shortcuts.broadPhase;
-  if (sweepBoxes) m_sweepBoxes.resize(n);
+  if (sweepBoxes) m_broad.ResizeSweepBoxes(n);
   SweepMotion(bodies, dt, allowance, sweepBoxes);
   // The bodies that can start a contact (not Passive), in index order. A passive body is only paired with
   // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
@@ -276,8 +276,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // and the result are the same.
   const double activeCount = static_cast<double>(m_active.size());
   const double loopWork = activeCount * (0.5 * activeCount + static_cast<double>(passiveCount));
-  const double listed = m_fatValid ? static_cast<double>(m_fatPairs.size()) : 4.0 * static_cast<double>(m_lastPairCount);
-  const double treeWork = (64.0 * static_cast<double>(n) + 8.0 * listed) * (m_fatValid ? 0.5 : 1.0);
+  const double listed = m_broad.ListValid() ? static_cast<double>(m_broad.ListedPairs()) : 4.0 * static_cast<double>(m_lastPairCount);
+  const double treeWork = (64.0 * static_cast<double>(n) + 8.0 * listed) * (m_broad.ListValid() ? 0.5 : 1.0);
   const bool tree = bounds && shortcuts.broadPhase && (shortcuts.broadPhaseAlways || loopWork > treeWork);
   m_pairStats.broadPhase = tree;
 
@@ -285,10 +285,11 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   const std::size_t tasks = m_tasks;
   if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
   if (tree) {
-    UpdateBroadPhase(bodies);
-    TreePairs(kGrow);
+    const RBroadPhase::RSweep sweep{m_cx, m_cy, m_cz, m_reach, m_passive, m_jobs, m_tasks};
+    m_broad.UpdateBroadPhase(bodies, sweep, m_sweepTasks);
+    m_broad.TreePairs(kGrow, sweep, m_sweepTasks, m_pairs, m_pairStats);
   } else {
-    m_fatValid = false;  // the list is not kept up to date by the loop
+    m_broad.Invalidate();  // the list is not kept up to date by the loop
     AllPairs(bodies, kGrow);
   }
 

@@ -120,7 +120,7 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_nonFiniteLast.clear(), w.m_contacts.clear(), w.m_contactMemory.clear(), w.m_events.clear();
   w.m_pairStats = RPairStats{}, w.m_profile = RStepProfile{};
   w.m_solved = false;
-  w.m_fatValid = false, w.m_fatRefits = 0, w.m_lastPairCount = 0;
+  w.m_broad.Invalidate(), w.m_lastPairCount = 0;
 }
 
 std::uint64_t RStateAccess::SerialAt(const RSavedBodies& saved, RBodyHandle h) {

@@ -3,8 +3,7 @@
 // is in an installed header). Each subsystem's functions are defined in its own file:
 //   RPairSweep.cpp      DetectPairs, SweepMotion, AllPairs, JoinSweep
 //   RPairNarrow.cpp     NarrowPairs, TimeOfImpact
-//   RBroadPhase.cpp     UpdateBroadPhase, RebuildFatPairs, SweepBox, FatBox, TreePairs
-//                       (trees: RBoundsTree.cpp)
+//   RBroadPhase.cpp     RBroadPhase, the broad phase (m_broad; trees: RBoundsTree.cpp)
 //   RContactSolver.cpp  FindImpulses, SolveIsland, MayImpact, ShiftArmsAfterImpacts,
 //                       SolveNormalBlock
 //   RContactPasses.cpp  SolveIslandContacts, BlockInverse, SolveIslandBlocks,
@@ -31,6 +30,7 @@
 #include <REnginePhysics/RJoint.h>
 
 #include "pairs/RBoundsTree.h"
+#include "pairs/RBroadPhase.h"
 #include "body/RBodyAccess.h"
 #include "joints/RJointSparse.h"
 #include "sleep/RSleeping.h"
@@ -184,20 +184,8 @@ class RWorldStep {
   std::size_t NarrowPairs(const RStepBodies& bodies, RScalar dt, RScalar allowance, RScalar grow);
   bool JoinSweep(std::size_t pairTasks);
   static constexpr std::size_t kSweepPairGrain = 32;  // pairs per stage-2 task, at least
-  // The broad phase (RBroadPhase.cpp): a body's sweep box (where the all-pairs loop can
-  // pair it this sweep) and fat box (a sweep box it may move inside without a new search),
-  // the tree of fat boxes and the sorted list of their overlapping pairs, kept between
-  // steps while the broad phase is in use.
-  void UpdateBroadPhase(const RStepBodies& bodies);
-  void RebuildFatPairs(const RStepBodies& bodies);
-  RBoundsTree::RBox SweepBox(const RBodyCore& b, std::size_t i) const;
-  RBoundsTree::RBox FatBox(const RBodyCore& b, std::size_t i) const;
-  std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
-  std::vector<RBoundsTree::RBox> m_fatBoxes;    // per body
-  RBoundsTree m_fatTree;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_fatPairs, m_fatScratch, m_fatMerged;  // (i < j), sorted
-  std::vector<std::uint32_t> m_treeIds, m_moved;
-  std::vector<char> m_movedMark, m_passive;  // per body
+  RBroadPhase m_broad;  // the broad phase (pairs/RBroadPhase.h): stage 1 with a tree
+  std::vector<char> m_passive;  // per body, this sweep: Passive (below)
   // Per body, this step (DetectPairs' set-up pass): whether it is static or kinematic and
   // whether it responds, a byte each beside the others, for the contact phase's passes
   // over contacts and bodies, which would otherwise wait for each body's first line.
@@ -205,9 +193,6 @@ class RWorldStep {
   std::vector<std::uint8_t> m_bodyFlags;
   bool ImmovableAt(std::size_t i) const { return m_bodyFlags[i] & kFlagImmovable; }
   bool RespondsAt(std::size_t i) const { return m_bodyFlags[i] & kFlagResponds; }
-  bool m_fatValid = false;  // the list matches the fat boxes (false after a sweep without it)
-  int m_fatRefits = 0;      // steps since the tree was built: it is rebuilt every kFatRefits
-  static constexpr int kFatRefits = 64;
   // Manifold memory (RShortcuts::contactReuse): each contact's manifold in its A frame with
   // the relative pose it was computed at, in the sweep's (i, then j) order, kept for the
   // next step's sweep. The margins between keptMax and droppedMin keep the same points.
@@ -249,10 +234,7 @@ class RWorldStep {
   };
   std::vector<RSweepTask> m_sweepTasks;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
-  std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch;  // RebuildFatPairs
-  std::vector<std::uint32_t> m_pairStart;  // RebuildFatPairs: counting sort by i
   std::size_t m_lastPairCount = 0;  // pairs the last sweep found (the trees' cost estimate)
-  void TreePairs(RScalar grow);
   void AllPairs(const RStepBodies& bodies, RScalar grow);
   // Bodies that cannot start a contact: asleep, static, or kinematic and still, and
   // responding (a sensor keeps reporting what sleeps on it). A pair of two of them is
