@@ -129,7 +129,7 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
   for (std::uint32_t i : sc.jointBodies) {
     RSolverBody& s = m_solverBodies[i];
     const RJointPose& p = m_jointPoses[i];
-    if (WeldOf(i)) {
+    if (m_welds.Welded(i)) {
       // A weld's member does not move with its own velocity (its group turns it about the
       // group's centre): the correction alone, on top of the pseudo-velocities predicted.
       s.vp += (p.x - p.xPredicted) / dt;

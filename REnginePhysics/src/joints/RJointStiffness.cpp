@@ -94,7 +94,7 @@ RScalar RWorldStep::JointStiffness(const RStepBodies& bodies, std::size_t island
   for (std::uint32_t q = rowsFirst; q < rowsLast; ++q) sc.stiffness[m_rows[q].a] = 0, sc.stiffness[m_rows[q].b] = 0;
   // (A body with angular locks turns about its free axes alone; a weld's member with its group.)
   for (std::uint32_t i : sc.jointBodies) {
-    if (bodies[i].m_angularLocked || WeldOf(i)) sc.stiffness[i] = 0;
+    if (bodies[i].m_angularLocked || m_welds.Welded(i)) sc.stiffness[i] = 0;
   }
   // The step follows a body's turn under one joint's pull while (omega dt)^2 is small: the
   // added inertia over the body's own about the anchor, I + m r^2 (its turn about its centre
@@ -135,7 +135,7 @@ bool RWorldStep::FreeJointIsland(const RStepBodies& bodies, std::size_t island, 
     if (m_solverBodies[sj.a].invM == 0 || m_solverBodies[sj.b].invM == 0) return false;
   }
   for (std::uint32_t i : sc.jointBodies) {
-    if (bodies[i].m_angularLocked || m_solverBodies[i].linLocked || WeldOf(i)) return false;
+    if (bodies[i].m_angularLocked || m_solverBodies[i].linLocked || m_welds.Welded(i)) return false;
   }
   return true;
 }

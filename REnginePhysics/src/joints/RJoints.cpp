@@ -126,8 +126,8 @@ RScalar RWorldStep::PredictJoints(const RStepBodies& bodies, std::size_t island,
   const RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   for (std::uint32_t i : sc.jointBodies) {
     // A weld's members move as one body: predicted together, when its first is met.
-    if (const RWeldGroup* g = WeldOf(i)) {
-      if (m_weldMembers[g->first].body == i) PredictWeld(bodies, *g, dt);
+    if (const std::uint32_t g = m_welds.WeldOf(i); g != RWeldGroups::kNoWeld) {
+      if (m_welds.Root(g) == i) m_welds.PredictWeld(bodies, g, dt, m_solverBodies, m_jointPoses);
       continue;
     }
     m_jointPoses[i] = PredictPose(bodies[i], i, dt);
@@ -165,11 +165,11 @@ void RWorldStep::SetJointTargets(std::size_t island, RScalar dt, RIslandScratch&
   // velocities, so its error is 0 at any prediction and the Newton step above says nothing.
   // What its rows must do is make the members answer contacts and other joints as that one
   // body: no relative velocity.
-  if (m_weldGroups.empty()) return;
+  if (m_welds.GroupCount() == 0) return;
   for (std::uint32_t p = j0; p < j1; ++p) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
-    const RWeldGroup* g = WeldOf(sj.a);
-    if (!g || g != WeldOf(sj.b)) continue;
+    const std::uint32_t g = m_welds.WeldOf(sj.a);
+    if (g == RWeldGroups::kNoWeld || g != m_welds.WeldOf(sj.b)) continue;
     for (int k = 0; k < kRows; ++k) {
       RJointRow& r = rows[std::size_t(p - j0) * kRows + k];
       if (r.kind == Kind::kEquality || r.kind == Kind::kLimit) r.target = 0;

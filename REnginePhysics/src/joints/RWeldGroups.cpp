@@ -22,6 +22,8 @@
 // A group is a weld only when its members move alike: no axis locks (a locked member makes
 // the composite's motion not a free one) and one drag rate for all; otherwise its joints
 // stay RATTLE's.
+#include "joints/RWeldGroups.h"
+
 #include "world/RWorldStep.h"
 
 #include "world/RLimits.h"
@@ -45,14 +47,15 @@ RMat3 InertiaAt(const RQuat& q, const RVec3& I) {
 
 }  // namespace
 
-void RWorldStep::GatherWelds(const RStepBodies& bodies) {
+template <class StepJoint>
+void RWeldGroups::GatherWelds(const RStepBodies& bodies, const std::vector<StepJoint>& stepJoints) {
   m_weldGroups.clear(), m_weldMembers.clear(), m_weldJoints.clear();
   const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
   auto Weldable = [](const RBodyCore& b) {
     return !b.Immovable() && !b.m_sleeping && !b.m_linearLocked && !b.m_angularLocked;
   };
-  for (std::uint32_t k = 0; k < m_stepJoints.size(); ++k) {
-    const RStepJoint& sj = m_stepJoints[k];
+  for (std::uint32_t k = 0; k < stepJoints.size(); ++k) {
+    const StepJoint& sj = stepJoints[k];
     if (bodies.joints[sj.joint].def.type != RJointType::kFixed || sj.b == world) continue;
     if (Weldable(bodies[sj.a]) && Weldable(bodies[sj.b])) m_weldJoints.push_back(k);
   }
@@ -64,19 +67,19 @@ void RWorldStep::GatherWelds(const RStepBodies& bodies) {
   m_weldSets.Reset(n);
   m_weldOf.assign(n, 0);
   for (std::uint32_t k : m_weldJoints) {
-    const RStepJoint& sj = m_stepJoints[k];
+    const StepJoint& sj = stepJoints[k];
     m_weldSets.Union(sj.a, sj.b);
   }
   // The groups in the order of their smallest body (the union-find's root), each joint
   // listed under its group: the same grouping and order on any run.
   std::sort(m_weldJoints.begin(), m_weldJoints.end(), [&](std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t rx = m_weldSets.Find(m_stepJoints[x].a), ry = m_weldSets.Find(m_stepJoints[y].a);
+    const std::uint32_t rx = m_weldSets.Find(stepJoints[x].a), ry = m_weldSets.Find(stepJoints[y].a);
     return rx != ry ? rx < ry : x < y;
   });
   for (std::size_t j0 = 0; j0 < m_weldJoints.size();) {
-    const std::uint32_t root = m_weldSets.Find(m_stepJoints[m_weldJoints[j0]].a);
+    const std::uint32_t root = m_weldSets.Find(stepJoints[m_weldJoints[j0]].a);
     std::size_t j1 = j0;
-    while (j1 < m_weldJoints.size() && m_weldSets.Find(m_stepJoints[m_weldJoints[j1]].a) == root) ++j1;
+    while (j1 < m_weldJoints.size() && m_weldSets.Find(stepJoints[m_weldJoints[j1]].a) == root) ++j1;
     RWeldGroup g;
     g.first = static_cast<std::uint32_t>(m_weldMembers.size());
     const RBodyCore& R = bodies[root];
@@ -89,7 +92,7 @@ void RWorldStep::GatherWelds(const RStepBodies& bodies) {
     for (bool placed = true; placed;) {
       placed = false;
       for (std::size_t t = j0; t < j1; ++t) {
-        const RStepJoint& sj = m_stepJoints[m_weldJoints[t]];
+        const StepJoint& sj = stepJoints[m_weldJoints[t]];
         if (m_weldOf[sj.a] == m_weldOf[sj.b]) continue;
         const RJoint& J = bodies.joints[sj.joint];
         const bool fromA = m_weldOf[sj.a] != 0;
@@ -160,7 +163,7 @@ void RWorldStep::GatherWelds(const RStepBodies& bodies) {
 // The group's centre of mass where its members are: summed from the root, whose position is
 // exact, of the members' offsets from it (exact too: differences of nearby coordinates), so
 // that 1e6 m from the origin the sum adds one rounding of the coordinates, not one a member.
-RVec3 RWorldStep::Centre(const RStepBodies& bodies, const RWeldGroup& g) const {
+RVec3 RWeldGroups::Centre(const RStepBodies& bodies, const RWeldGroup& g) const {
   const RWeldMember* members = m_weldMembers.data() + g.first;
   const RVec3 x0 = bodies[members[0].body].m_x_W;
   RVec3 moment = RVec3::Zero();
@@ -172,7 +175,13 @@ RVec3 RWorldStep::Centre(const RStepBodies& bodies, const RWeldGroup& g) const {
 }
 
 // One group's motion: Integrate's steps for one body (RIntegration.cpp), on the composite.
-void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScalar dt) {
+template <class SolverBody>
+void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar dt,
+                           const RWorldSettings& settings,
+                           const std::vector<SolverBody>& solverBodies,
+                           const std::vector<char>& inRows, bool solved,
+                           std::vector<char>& putBack) const {
+  const RWeldGroup& g = m_weldGroups[group];
   const RScalar halfDt = RScalar(0.5) * dt;
   const RWeldMember* members = m_weldMembers.data() + g.first;
   const RBodyCore& root = bodies[members[0].body];
@@ -205,7 +214,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
     forced = forced || !b.m_force_W.isZero(0);
     weight += b.m_mass * b.m_gravityScale;
     scaled = scaled || b.m_gravityScale != root.m_gravityScale;
-    const RSolverBody* out = m_solved && m_inRows[i] ? &m_solverBodies[i] : nullptr;
+    const SolverBody* out = solved && inRows[i] ? &solverBodies[i] : nullptr;
     if (!out) continue;
     if (!out->vp.isZero(0) || !out->wp.isZero(0)) {
       Pp += b.m_mass * out->vp, Lp += InertiaAt(b.m_q_WB, b.m_I_B) * out->wp + r.cross(b.m_mass * out->vp);
@@ -219,14 +228,14 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
   // composite's orientation: taken where it is at each kick (kick-drift-kick, as for any
   // force that depends on the pose; the same moment in both kicks would be first order and
   // gain energy).
-  const RVec3 accel = scaled ? RVec3(F * invM + m_settings.gravity_W * (weight * invM))
-                             : RVec3(F * invM + Gravity(root, m_settings.gravity_W));
+  const RVec3 accel = scaled ? RVec3(F * invM + settings.gravity_W * (weight * invM))
+                             : RVec3(F * invM + RWorldStep::Gravity(root, settings.gravity_W));
   auto moment = [&](const RQuat& turn) {
     RVec3 m = T;
     if (!forced && !scaled) return m;
     for (std::uint32_t k = 0; k < g.count; ++k) {
       const RBodyCore& b = bodies[members[k].body];
-      const RVec3 f = scaled ? RVec3(b.m_force_W + b.m_mass * b.m_gravityScale * m_settings.gravity_W) : b.m_force_W;
+      const RVec3 f = scaled ? RVec3(b.m_force_W + b.m_mass * b.m_gravityScale * settings.gravity_W) : b.m_force_W;
       m += RVec3(turn * members[k].p).cross(f);
     }
     return m;
@@ -236,12 +245,12 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
 
   // Linear: kick-drift-kick, drag's factors around it.
   RVec3 v = P * invM;
-  if (root.m_linearDamping != 0) v *= Decay(root.m_linearDamping, halfDt);
+  if (root.m_linearDamping != 0) v *= RWorldStep::Decay(root.m_linearDamping, halfDt);
   const RVec3 vHalf = v + J * invM + accel * halfDt;
   c += vHalf * dt;
   v = vHalf + accel * halfDt;
   // Angular: drag, the start kick, the exact free flow of the composite, the end kick.
-  if (root.m_angularDamping != 0) w_C *= Decay(root.m_angularDamping, halfDt);
+  if (root.m_angularDamping != 0) w_C *= RWorldStep::Decay(root.m_angularDamping, halfDt);
   const RVec3 kick0 = H + moment(q) * halfDt;
   if (!kick0.isZero(0)) w_C += invI.cwiseProduct(q.conjugate() * kick0);
   RFreeRotation flow;
@@ -265,12 +274,12 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
     v += endJ * invM;
     w_C += invI.cwiseProduct(q.conjugate() * RVec3(endH - (c - c0).cross(endJ)));
   }
-  if (root.m_linearDamping != 0) v *= Decay(root.m_linearDamping, halfDt);
-  if (root.m_angularDamping != 0) w_C *= Decay(root.m_angularDamping, halfDt);
+  if (root.m_linearDamping != 0) v *= RWorldStep::Decay(root.m_linearDamping, halfDt);
+  if (root.m_angularDamping != 0) w_C *= RWorldStep::Decay(root.m_angularDamping, halfDt);
 
   // The members on the composite; a composite whose new state is not finite, or whose centre
   // left kMaxPosition, stays where it was, at rest, its members reported as Integrate reports
-  // a body (m_putBack, RWorldStep::Kept).
+  // a body (putBack, RWorldStep::Kept).
   const bool finite = AllFinite(v) && AllFinite(w_C) && AllFinite(q) && c.cwiseAbs().maxCoeff() <= kMaxPosition;
   const RVec3 w_W = q * w_C;
   const RScalar pseudoSpin = wp.norm(), spin = w_C.norm();
@@ -282,7 +291,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
     if (!finite) {
       b.m_v_W.setZero(), b.m_w_B.setZero(), b.m_w_W.setZero();
       b.m_restTime = 0;
-      m_putBack[m.body] = 1;
+      putBack[m.body] = 1;
       continue;
     }
     const RVec3 r = q * m.p;
@@ -294,7 +303,7 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
     const RScalar pseudoSpeed =
         pseudoSpin == 0 && vp.isZero(0) ? 0 : RVec3(vp + wp.cross(r)).norm() + pseudoSpin * b.m_boundingRadius;
     const RScalar speed = std::max(b.m_v_W.norm() + spin * b.m_boundingRadius, pseudoSpeed);
-    b.m_restTime = speed < m_settings.sleepSpeed ? b.m_restTime + dt : 0;
+    b.m_restTime = speed < settings.sleepSpeed ? b.m_restTime + dt : 0;
   }
 }
 
@@ -302,7 +311,11 @@ void RWorldStep::MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScala
 // the step (the second kick, the end impulses), as PredictPose predicts a body's. The
 // group's own fixed joints then hold exactly at the prediction; the Newton rounds of the
 // other joints see where the group really goes.
-void RWorldStep::PredictWeld(const RStepBodies& bodies, const RWeldGroup& g, RScalar dt) {
+template <class SolverBody, class JointPose>
+void RWeldGroups::PredictWeld(const RStepBodies& bodies, std::size_t group, RScalar dt,
+                              const std::vector<SolverBody>& solverBodies,
+                              std::vector<JointPose>& jointPoses) const {
+  const RWeldGroup& g = m_weldGroups[group];
   const RWeldMember* members = m_weldMembers.data() + g.first;
   const RScalar invM = 1 / g.mass;
   const RVec3 invI = g.I.cwiseInverse();
@@ -312,7 +325,7 @@ void RWorldStep::PredictWeld(const RStepBodies& bodies, const RWeldGroup& g, RSc
   for (std::uint32_t k = 0; k < g.count; ++k) {
     const std::uint32_t i = members[k].body;
     const RBodyCore& b = bodies[i];
-    const RSolverBody& s = m_solverBodies[i];
+    const SolverBody& s = solverBodies[i];
     const RVec3 r = q * members[k].p, move = s.deferV.isZero(0) ? s.v : RVec3(s.v - s.deferV);
     const RMat3 I_W = InertiaAt(b.m_q_WB, b.m_I_B);
     P += b.m_mass * move, L += r.cross(b.m_mass * move) + I_W * s.w;
@@ -334,7 +347,7 @@ void RWorldStep::PredictWeld(const RStepBodies& bodies, const RWeldGroup& g, RSc
   const RVec3 wEnd_W = q * w_C;
   for (std::uint32_t k = 0; k < g.count; ++k) {
     const RWeldMember& m = members[k];
-    RJointPose& p = m_jointPoses[m.body];
+    JointPose& p = jointPoses[m.body];
     const RVec3 r = q * m.p;
     p.x = p.xPredicted = c + r;
     p.q = p.qPredicted = (q * m.q).normalized();
@@ -343,5 +356,15 @@ void RWorldStep::PredictWeld(const RStepBodies& bodies, const RWeldGroup& g, RSc
     p.wEnd_W = wEnd_W;
   }
 }
+
+// The step's own joint, solver body and joint pose types (RWorldStep.h).
+template void RWeldGroups::GatherWelds(const RStepBodies&,
+                                       const std::vector<RWorldStep::RStepJoint>&);
+template void RWeldGroups::MoveWeld(const RStepBodies&, std::size_t, RScalar, const RWorldSettings&,
+                                    const std::vector<RWorldStep::RSolverBody>&,
+                                    const std::vector<char>&, bool, std::vector<char>&) const;
+template void RWeldGroups::PredictWeld(const RStepBodies&, std::size_t, RScalar,
+                                       const std::vector<RWorldStep::RSolverBody>&,
+                                       std::vector<RWorldStep::RJointPose>&) const;
 
 }  // namespace REngine

@@ -38,7 +38,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       }
       RBodyCore& b = bodies[i];
       // A welded body moves with its group (below).
-      if (!m_weldOf.empty() && m_weldOf[i]) continue;
+      if (m_welds.Welded(i)) continue;
       // A sleeping body has no velocity, and nothing touched it: it stays where it is. A
       // kinematic body moves with its own velocities, whatever pushed it.
       if (b.m_isStatic || b.m_sleeping || b.m_isKinematic) {
@@ -141,8 +141,10 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
     }
   });
   // Each weld group as the one rigid body it forms (RWeldGroups.cpp): groups share no body.
-  ParallelRanges(m_jobs, m_weldGroups.size(), m_tasks, 16, [&](std::size_t g0, std::size_t g1, std::size_t) {
-    for (std::size_t g = g0; g < g1; ++g) MoveWeld(bodies, m_weldGroups[g], dt);
+  ParallelRanges(m_jobs, m_welds.GroupCount(), m_tasks, 16, [&](std::size_t g0, std::size_t g1, std::size_t) {
+    for (std::size_t g = g0; g < g1; ++g) {
+      m_welds.MoveWeld(bodies, g, dt, m_settings, m_solverBodies, m_inRows, m_solved, m_putBack);
+    }
   });
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!m_putBack[i]) continue;

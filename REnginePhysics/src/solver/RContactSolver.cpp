@@ -46,7 +46,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   m_solverBodies.resize(n + 1);
   const RScalar halfDt = RScalar(0.5) * dt;
   GatherJoints(bodies);
-  GatherWelds(bodies);
+  m_welds.GatherWelds(bodies, m_stepJoints);
   bool anyRow = !m_stepJoints.empty();
   for (const RContact& c : m_contacts) {
     anyRow = anyRow || (RespondsAt(c.a) && RespondsAt(c.b) && !(ImmovableAt(c.a) && ImmovableAt(c.b)) &&
@@ -236,7 +236,7 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
     }
     k0 = k1;
   }
-  if (!m_weldGroups.empty()) JoinWeldImpacts(bodies, first, last);
+  if (m_welds.GroupCount() != 0) JoinWeldImpacts(bodies, first, last);
 }
 
 // The same for a weld (RWeldGroups.cpp), one rigid body made of several: its members'
@@ -248,12 +248,13 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
 // contact's alone).
 void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
   auto group = [this](std::uint32_t i) -> std::uint64_t {
-    const RWeldGroup* g = WeldOf(i);
-    return g ? std::uint64_t(m_weldMembers[g->first].body) | (std::uint64_t(1) << 32) : i;
+    const std::uint32_t g = m_welds.WeldOf(i);
+    if (g == RWeldGroups::kNoWeld) return i;
+    return std::uint64_t(m_welds.Root(g)) | (std::uint64_t(1) << 32);
   };
   for (std::uint32_t k0 = first; k0 < last; ++k0) {
     const RContact& c0 = m_contacts[m_blockContact[k0]];
-    if (!WeldOf(c0.a) && !WeldOf(c0.b)) continue;
+    if (!m_welds.Welded(c0.a) && !m_welds.Welded(c0.b)) continue;
     if (!std::isfinite(m_impacts[k0].gap) || m_impacts[k0].joined) continue;  // (joined already)
     const std::uint64_t ga = group(c0.a), gb = group(c0.b);
     if (ga == gb) continue;

@@ -19,7 +19,7 @@
 //   RContactEvents.cpp  KeepStartPoses, FindContactEvents (after the motion)
 //   RJoints.cpp         GatherJoints, BuildIslandJoints, JointTargets, SolveJointsPass,
 //                       ReportJoints, SolveJointsAtEnd (rows: RJointRows.cpp)
-//   RWeldGroups.cpp     GatherWelds, MoveWeld (fixed joints' bodies as one rigid body)
+//   RWeldGroups.cpp     RWeldGroups (fixed joints' bodies as one rigid body; m_welds)
 // Stages that run as tasks (RJobSystem, m_jobs and m_tasks) write only their own outputs:
 // per-task scratch, or slots counted beforehand; the results do not depend on the threads.
 #pragma once
@@ -33,6 +33,7 @@
 #include "pairs/RBroadPhase.h"
 #include "body/RBodyAccess.h"
 #include "joints/RJointSparse.h"
+#include "joints/RWeldGroups.h"
 #include "sleep/RSleeping.h"
 #include "world/RUnionFind.h"
 
@@ -661,37 +662,8 @@ class RWorldStep {
   };
   std::vector<RStepJoint> m_stepJoints;
   void GatherJoints(const RStepBodies& bodies);
-  // Welds (RWeldGroups.cpp): the awake dynamic bodies joined by the step's fixed joints, in
-  // groups moved as the one rigid body each forms (GatherWelds after GatherJoints; MoveWeld
-  // from Integrate, instead of the members' own motion). A member's pose in its group's
-  // frame (principal axes at the group's centre of mass; while grouping, the root's frame):
-  // q (q_CB) and p (m).
-  struct RWeldMember {
-    std::uint32_t body;
-    RQuat q;
-    RVec3 p;
-  };
-  struct RWeldGroup {
-    std::uint32_t first = 0, count = 0;  // its members in m_weldMembers; the first is the root
-    RScalar mass = 0;                    // kg
-    RVec3 I = RVec3::Ones();             // principal moments, ascending, kg m^2
-    RQuat q_RC = RQuat::Identity();      // the principal frame in the root's
-  };
-  std::vector<RWeldGroup> m_weldGroups;
-  std::vector<RWeldMember> m_weldMembers;
-  std::vector<std::uint32_t> m_weldOf;      // per body: its group's index + 1, 0 for none (empty when no group)
-  std::vector<std::uint32_t> m_weldJoints;  // (GatherWelds' scratch)
-  RUnionFind m_weldSets;
-  void GatherWelds(const RStepBodies& bodies);
-  void MoveWeld(const RStepBodies& bodies, const RWeldGroup& g, RScalar dt);
-  // The group's members' end poses as MoveWeld will make them from the solver's velocities
-  // (the joints' prediction, PredictJoints, for a weld's bodies).
-  void PredictWeld(const RStepBodies& bodies, const RWeldGroup& g, RScalar dt);
-  RVec3 Centre(const RStepBodies& bodies, const RWeldGroup& g) const;  // its centre of mass now, world
-  // The weld group of body i, or null (also for the world's solver body, index bodies.size()).
-  const RWeldGroup* WeldOf(std::uint32_t i) const {
-    return i >= m_weldOf.size() || m_weldOf[i] == 0 ? nullptr : &m_weldGroups[m_weldOf[i] - 1];
-  }
+  // Welds (joints/RWeldGroups.h): the fixed joints' bodies in groups moved as one rigid body.
+  RWeldGroups m_welds;
   // Each island's joints: m_islandJoints[m_islandJointStart[k], m_islandJointStart[k + 1])
   // are indices into m_stepJoints, in its order (LayOutIslands).
   std::vector<std::uint32_t> m_islandJoints, m_islandJointStart;
