@@ -1,7 +1,9 @@
-// Contact events (RWorldStep::KeepStartPoses, FindContactEvents; RContactEvents.h says what
-// they mean): after the motion, each of the step's contacts is classified (did it touch at
-// the start, within the step, at the end), then merged with the pairs that touched at the
-// end of the last step, both in handle order, into begin, persist and end events.
+// Contact events (RContactEventLog.h; RContactEvents.h says what they mean): after the
+// motion, each of the step's contacts is classified (did it touch at the start, within the
+// step, at the end), then merged with the pairs that touched at the end of the last step,
+// both in handle order, into begin, persist and end events.
+#include "events/RContactEventLog.h"
+
 #include "world/RWorldStep.h"
 
 #include "collision/RGjkEpa.h"
@@ -12,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 namespace REngine {
 
@@ -51,8 +54,8 @@ std::size_t DenseOf(const RStepBodies& bodies, RBodyHandle h) {
 // The poses the contacts' manifolds were computed at: after the motion they say how far
 // each pair moved (whether its end needs the narrow phase again) and along which path (the
 // shape cast of a body that does not respond). Copied for every body: 56 bytes each.
-void RWorldStep::KeepStartPoses(const RStepBodies& bodies) {
-  if (!m_settings.contactEvents) return;
+void RContactEventLog::KeepStartPoses(const RStepBodies& bodies, bool enabled) {
+  if (!enabled) return;
   m_startPoses.resize(bodies.size());
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     m_startPoses[i].x_W = bodies[i].m_x_W;
@@ -60,25 +63,28 @@ void RWorldStep::KeepStartPoses(const RStepBodies& bodies) {
   }
 }
 
-void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
+template <class RImpactRow>
+void RContactEventLog::FindContactEvents(const RStepBodies& bodies, const RStepInputs& in,
+                                         const std::vector<RImpactRow>& impacts) {
+  const std::vector<RContact>& contacts = in.contacts;
   m_events.clear();
   m_touchingNext.clear();
-  if (!m_settings.contactEvents) {
+  if (!in.enabled) {
     m_touching.clear();  // turned on again, it starts afresh: every touching pair begins
     IndexEventsByBody();
     return;
   }
-  const std::size_t count = m_contacts.size();
+  const std::size_t count = contacts.size();
   m_eventContacts.resize(count);
   for (REventContact& e : m_eventContacts) e.flags = 0;
   // An impact row pushes only once ImpactGeometry has brought its bodies to touching (or to
   // within the slop, where the solver treats them as touching) at its moment in the step;
   // where and along which normal is the pair's point of touch.
   // (Only islands with impact rows this step wrote theirs: SolveIsland.)
-  for (std::size_t isl = 0; isl < m_islandImpacts.size(); ++isl) {
-    if (!m_islandImpacts[isl]) continue;
-    for (std::uint32_t k = m_blockIslands[isl].first; k < m_blockIslands[isl].second; ++k) {
-      const RImpactRow& r = m_impacts[k];
+  for (std::size_t isl = 0; isl < in.islandImpacts.size(); ++isl) {
+    if (!in.islandImpacts[isl]) continue;
+    for (std::uint32_t k = in.blockIslands[isl].first; k < in.blockIslands[isl].second; ++k) {
+      const RImpactRow& r = impacts[k];
       if (!(r.lambdaN > 0)) continue;
       REventContact& e = m_eventContacts[r.contact];
       e.flags |= kImpact, e.point_W = r.point_W, e.normal_W = r.normal_W;
@@ -86,9 +92,9 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   }
 
   // Each contact alone (tasks over contacts, each writing its own entry).
-  ParallelRanges(m_jobs, count, m_tasks, 64, [&](std::size_t c0, std::size_t c1, std::size_t) {
+  ParallelRanges(in.jobs, count, in.tasks, 64, [&](std::size_t c0, std::size_t c1, std::size_t) {
     for (std::size_t ci = c0; ci < c1; ++ci) {
-      const RContact& c = m_contacts[ci];
+      const RContact& c = contacts[ci];
       REventContact& e = m_eventContacts[ci];
       const RBodyCore& A = bodies[c.a];
       const RBodyCore& B = bodies[c.b];
@@ -164,9 +170,9 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   m_eventOrder.resize(count);
   std::iota(m_eventOrder.begin(), m_eventOrder.end(), std::uint32_t(0));
   // (A compound's child pairs are contacts of one pair of bodies: kept in their order.)
-  const auto contactBefore = [this](std::uint32_t x, std::uint32_t y) {
-    const RContact& cx = m_contacts[x];
-    const RContact& cy = m_contacts[y];
+  const auto contactBefore = [&contacts](std::uint32_t x, std::uint32_t y) {
+    const RContact& cx = contacts[x];
+    const RContact& cy = contacts[y];
     if (PairBefore(cx.handleA, cx.handleB, cy.handleA, cy.handleB)) return true;
     return cx.handleA == cy.handleA && cx.handleB == cy.handleB && x < y;
   };
@@ -187,7 +193,7 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   // still in contact), or it came apart beyond the margin in one go (game code moved it).
   const auto lone = [&](const RTouchingPair& p) {
     const std::size_t ia = DenseOf(bodies, p.a), ib = DenseOf(bodies, p.b);
-    if (ia != kGone && ib != kGone && m_passive[ia] && m_passive[ib]) {
+    if (ia != kGone && ib != kGone && in.passive[ia] && in.passive[ib]) {
       m_touchingNext.push_back(p);
     } else {
       emit(RContactEventType::kEnd, p.a, p.b, p.point_W, p.normal_W, 0, 0);
@@ -197,15 +203,15 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   std::size_t p = 0;
   for (std::size_t k = 0; k < count;) {
     const std::uint32_t ci = m_eventOrder[k];
-    const RContact& c = m_contacts[ci];
+    const RContact& c = contacts[ci];
     REventContact e = m_eventContacts[ci];
     RScalar normalImpulse = c.normalImpulse[0] + c.normalImpulse[1] + c.normalImpulse[2] + c.normalImpulse[3];
     RVec3 friction = c.frictionImpulse_W;
     // A compound's child pairs: one pair of bodies, one event. It touches when any of them
     // does, at the first one's point that touched; the impulses add.
-    for (++k; k < count && m_contacts[m_eventOrder[k]].handleA == c.handleA &&
-              m_contacts[m_eventOrder[k]].handleB == c.handleB; ++k) {
-      const RContact& c2 = m_contacts[m_eventOrder[k]];
+    for (++k; k < count && contacts[m_eventOrder[k]].handleA == c.handleA &&
+              contacts[m_eventOrder[k]].handleB == c.handleB; ++k) {
+      const RContact& c2 = contacts[m_eventOrder[k]];
       const REventContact& e2 = m_eventContacts[m_eventOrder[k]];
       constexpr std::uint8_t kTouches = kTouchedDuring | kTouchingEnd;
       if (!(e.flags & kTouches) && (e2.flags & kTouches)) e.point_W = e2.point_W, e.normal_W = e2.normal_W;
@@ -234,10 +240,14 @@ void RWorldStep::FindContactEvents(const RStepBodies& bodies) {
   std::swap(m_touching, m_touchingNext);
   IndexEventsByBody();
 }
+// For the contact solver's impact rows, the one kind there is (a type of RWorldStep's, which
+// RContactEventLog.h cannot name).
+template void RContactEventLog::FindContactEvents(const RStepBodies& bodies, const RStepInputs& in,
+                                                  const std::vector<RWorldStep::RImpactRow>& impacts);
 
 // A counting sort of the events' two sides by slot, O(events + slots): a stable pass keeps
 // each slot's run in m_events' order.
-void RWorldStep::IndexEventsByBody() {
+void RContactEventLog::IndexEventsByBody() {
   m_eventsBySlot.clear(), m_eventsByBody.clear();
   if (m_events.empty()) return;
   std::uint32_t slots = 0;
@@ -269,6 +279,35 @@ void RWorldStep::IndexEventsByBody() {
       }
     }
   }
+}
+
+RBodyContactEvents RContactEventLog::EventsOf(RBodyHandle body) const {
+  // (Empty when the index does not describe m_events: a load cleared them.)
+  if (body.index + std::size_t(1) >= m_eventsBySlot.size() || m_eventsByBody.size() != 2 * m_events.size()) {
+    return {};
+  }
+  const std::uint32_t* first = m_eventsByBody.data() + m_eventsBySlot[body.index];
+  const std::uint32_t* last = m_eventsByBody.data() + m_eventsBySlot[body.index + 1];
+  const auto names = [&](std::uint32_t k) {
+    const RContactEvent& e = m_events[k];
+    return e.handleA == body || e.handleB == body;
+  };
+  first = std::find_if(first, last, names);
+  return {m_events.data(), first, std::find_if_not(first, last, names)};
+}
+
+RContactEventSpan RContactEventLog::EventsBetween(RBodyHandle a, RBodyHandle b) const {
+  const std::vector<RContactEvent>& events = m_events;
+  if (b.index < a.index) std::swap(a, b);  // handleA has the lower slot
+  const auto before = [](const RContactEvent& e, std::pair<RBodyHandle, RBodyHandle> key) {
+    return e.handleA < key.first || (e.handleA == key.first && e.handleB < key.second);
+  };
+  const auto after = [](std::pair<RBodyHandle, RBodyHandle> key, const RContactEvent& e) {
+    return key.first < e.handleA || (key.first == e.handleA && key.second < e.handleB);
+  };
+  const auto first = std::lower_bound(events.begin(), events.end(), std::make_pair(a, b), before);
+  const auto last = std::upper_bound(first, events.end(), std::make_pair(a, b), after);
+  return {events.data() + (first - events.begin()), events.data() + (last - events.begin())};
 }
 
 }  // namespace REngine

@@ -113,7 +113,7 @@ struct RStateAccess {
     std::vector<RWorldStep::RWarmStart> warm;
     std::vector<RWorldStep::RManifoldMemory> manifolds;
     std::vector<std::uint8_t> manifoldSerials;  // per manifold: bit 0 A's serial was its body's, bit 1 B's
-    std::vector<RWorldStep::RTouchingPair> touching;
+    std::vector<RContactEventLog::RTouchingPair> touching;
   };
 
   static void WriteSettings(RWriter& w, const RWorldSettings& s);

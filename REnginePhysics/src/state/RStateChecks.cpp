@@ -103,7 +103,7 @@ void RStateAccess::CheckReferences(const RSavedStep& step, const RSavedBodies& s
     }
   }
   for (std::size_t k = 0; k < step.touching.size(); ++k) {
-    const RWorldStep::RTouchingPair& t = step.touching[k];
+    const RContactEventLog::RTouchingPair& t = step.touching[k];
     if (!issued(t.a)) {
       throw RStateError(Indexed("touching", k) + ".handle_a", HandleText(t.a) + " names a body the container never held");
     }

@@ -142,8 +142,8 @@ void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned
     w.Bool(m.hasInverse);
     if (m.hasInverse) w.Matrix(m.K), w.Matrix(m.pinv);
   }
-  w.U64(s.m_touching.size());
-  for (const RWorldStep::RTouchingPair& t : s.m_touching) {
+  w.U64(s.m_eventLog.Touching().size());
+  for (const RContactEventLog::RTouchingPair& t : s.m_eventLog.Touching()) {
     w.U32(t.a.index), w.U32(t.a.generation), w.U32(t.b.index), w.U32(t.b.generation);
     w.Vec3(t.point_W), w.Vec3(t.normal_W);
   }
@@ -237,13 +237,13 @@ RStateAccess::RSavedStep RStateAccess::ReadStep(RReader& r) {
   s.touching.resize(r.Count("touching", 64));
   for (std::size_t k = 0; k < s.touching.size(); ++k) {
     r.SetRecord(Indexed("touching", k));
-    RWorldStep::RTouchingPair& t = s.touching[k];
+    RContactEventLog::RTouchingPair& t = s.touching[k];
     t.a = ReadHandle(r, "handle_a"), t.b = ReadHandle(r, "handle_b");
     // Two bodies, the lower slot first (as the sweep orders a pair's bodies).
     if (!(t.a.index < t.b.index)) r.Fail("handle_b", "must name another body than handle_a, at a higher slot");
     t.point_W = r.FiniteVec3("point"), t.normal_W = r.FiniteVec3("normal");
     if (k > 0) {
-      const RWorldStep::RTouchingPair& prev = s.touching[k - 1];
+      const RContactEventLog::RTouchingPair& prev = s.touching[k - 1];
       if (!(prev.a < t.a || (prev.a == t.a && !(t.b < prev.b)))) {
         r.Fail("handle_a", "is out of order (touching pairs are sorted by handles)");
       }

@@ -115,9 +115,9 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_nonFinite = std::move(step.nonFinite);
   w.m_warm = std::move(step.warm);
   w.m_manifolds = std::move(step.manifolds);
-  w.m_touching = std::move(step.touching);
+  w.m_eventLog.RestoreForLoad(std::move(step.touching));
   w.m_cacheStamp = NextCacheStamp();
-  w.m_nonFiniteLast.clear(), w.m_contacts.clear(), w.m_contactMemory.clear(), w.m_events.clear();
+  w.m_nonFiniteLast.clear(), w.m_contacts.clear(), w.m_contactMemory.clear();
   w.m_pairStats = RPairStats{}, w.m_profile = RStepProfile{};
   w.m_solved = false;
   w.m_broad.Invalidate(), w.m_lastPairCount = 0;

@@ -72,36 +72,10 @@ const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
   return m_w->m_nonFiniteLast;
 }
 const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
-const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_events; }
-
-RBodyContactEvents RIntegrator::EventsOf(RBodyHandle body) const {
-  const RWorldStep& w = *m_w;
-  // (Empty when the index does not describe m_events: a load cleared them.)
-  if (body.index + std::size_t(1) >= w.m_eventsBySlot.size() || w.m_eventsByBody.size() != 2 * w.m_events.size()) {
-    return {};
-  }
-  const std::uint32_t* first = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index];
-  const std::uint32_t* last = w.m_eventsByBody.data() + w.m_eventsBySlot[body.index + 1];
-  const auto names = [&](std::uint32_t k) {
-    const RContactEvent& e = w.m_events[k];
-    return e.handleA == body || e.handleB == body;
-  };
-  first = std::find_if(first, last, names);
-  return {w.m_events.data(), first, std::find_if_not(first, last, names)};
-}
-
+const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_eventLog.Events(); }
+RBodyContactEvents RIntegrator::EventsOf(RBodyHandle body) const { return m_w->m_eventLog.EventsOf(body); }
 RContactEventSpan RIntegrator::EventsBetween(RBodyHandle a, RBodyHandle b) const {
-  const std::vector<RContactEvent>& events = m_w->m_events;
-  if (b.index < a.index) std::swap(a, b);  // handleA has the lower slot
-  const auto before = [](const RContactEvent& e, std::pair<RBodyHandle, RBodyHandle> key) {
-    return e.handleA < key.first || (e.handleA == key.first && e.handleB < key.second);
-  };
-  const auto after = [](std::pair<RBodyHandle, RBodyHandle> key, const RContactEvent& e) {
-    return key.first < e.handleA || (key.first == e.handleA && key.second < e.handleB);
-  };
-  const auto first = std::lower_bound(events.begin(), events.end(), std::make_pair(a, b), before);
-  const auto last = std::upper_bound(first, events.end(), std::make_pair(a, b), after);
-  return {events.data() + (first - events.begin()), events.data() + (last - events.begin())};
+  return m_w->m_eventLog.EventsBetween(a, b);
 }
 const RPairStats& RIntegrator::PairStats() const { return m_w->m_pairStats; }
 void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
@@ -210,11 +184,15 @@ void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   w.m_sleep.WakeIslands(bodies, w.m_settings);
   CollisionDetection(bodies, dt);
   const auto t1 = Clock::now();
-  w.KeepStartPoses(bodies);  // the contact events compare the poses before and after
+  // The contact events compare the poses before and after.
+  w.m_eventLog.KeepStartPoses(bodies, w.m_settings.contactEvents);
   UpdateObjects(bodies, dt);
   const auto t2 = Clock::now();
   // Contact events: begin, persist, end, from the contacts and the motion (RContactEvents.h).
-  w.FindContactEvents(bodies);
+  const RContactEventLog::RStepInputs events{w.m_settings.contactEvents, w.m_contacts,
+                                             w.m_islandImpacts, w.m_blockIslands, w.m_passive,
+                                             w.m_jobs, w.m_tasks};
+  w.m_eventLog.FindContactEvents(bodies, events, w.m_impacts);
   // The bodies moved: a new stamp, so world forms that detection cached at the old poses
   // are recomputed when game code asks after the step.
   w.m_cacheStamp = NextCacheStamp();

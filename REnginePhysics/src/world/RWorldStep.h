@@ -16,7 +16,7 @@
 //   RSleeping.cpp       KeepSleepingWarmStarts (sleeping itself: RSleeping, sleep/RSleeping.h)
 //   RIntegration.cpp    Integrate (the motion)
 //   RBodyMotion.cpp     kinematic bodies, angular locks, drag, gravity scales
-//   RContactEvents.cpp  KeepStartPoses, FindContactEvents (after the motion)
+//   RContactEvents.cpp  RContactEventLog (events/RContactEventLog.h): the contact events
 //   RJoints.cpp         GatherJoints, BuildIslandJoints, JointTargets, SolveJointsPass,
 //                       ReportJoints, SolveJointsAtEnd (rows: RJointRows.cpp)
 //   RWeldGroups.cpp     RWeldGroups (fixed joints' bodies as one rigid body; m_welds)
@@ -29,6 +29,7 @@
 #include <REnginePhysics/RJobSystem.h>
 #include <REnginePhysics/RJoint.h>
 
+#include "events/RContactEventLog.h"
 #include "pairs/RBoundsTree.h"
 #include "pairs/RBroadPhase.h"
 #include "body/RBodyAccess.h"
@@ -619,36 +620,8 @@ class RWorldStep {
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;
-  // Contact events (RContactEvents.cpp, RWorldSettings::contactEvents): the poses before
-  // the motion (KeepStartPoses, before UpdateObjects); after it, which of this step's
-  // contacts touched within the step and at its end, merged with the pairs that touched at
-  // the end of the last step into m_events. Every vector keeps its capacity.
-  void KeepStartPoses(const RStepBodies& bodies);
-  void FindContactEvents(const RStepBodies& bodies);
-  struct RStartPose {
-    RVec3 x_W;   // centre of mass, m
-    RQuat q_WB;
-  };
-  std::vector<RStartPose> m_startPoses;  // per body, this step
-  // A pair that touched at the end of the last step (or sleeps in contact since), with
-  // the point and normal last reported; sorted by (a, b).
-  struct RTouchingPair {
-    RBodyHandle a, b;
-    RVec3 point_W, normal_W;
-  };
-  std::vector<RTouchingPair> m_touching, m_touchingNext;
-  // Per contact of this step: what it did (REventFlags) and the point and normal to report.
-  struct REventContact {
-    std::uint8_t flags;
-    RVec3 point_W, normal_W;
-  };
-  std::vector<REventContact> m_eventContacts;
-  std::vector<std::uint32_t> m_eventOrder;  // this step's contacts, sorted by handles
-  std::vector<RContactEvent> m_events;
-  // m_events by body (RIntegrator::EventsOf): per slot, where its run of event positions
-  // starts in m_eventsByBody (by generation, then in m_events' order); two per event.
-  std::vector<std::uint32_t> m_eventsBySlot, m_eventsByBody, m_eventsFill;
-  void IndexEventsByBody();
+  // Contact events (RWorldSettings::contactEvents): poses before the motion, events after.
+  RContactEventLog m_eventLog;
   // Identity handles for the plain-vector path (RStepBodies::byIndex).
   std::vector<RBodyHandle> m_indexHandles;
   std::vector<std::uint32_t> m_indexSlots;
