@@ -12,6 +12,8 @@
 #include <REnginePhysics/RContactEvents.h>
 #include <REnginePhysics/RIntegrator.h>
 
+#include "solver/RSolverTypes.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -41,10 +43,8 @@ class RContactEventLog {
 
   // Before the motion: every body's pose (when enabled, RWorldSettings::contactEvents).
   void KeepStartPoses(const RStepBodies& bodies, bool enabled);
-  // After the motion: this step's events (Events()) and the pairs touching at its end. The
-  // impact rows are the contact solver's (RWorldStep::RImpactRow: a type of the step's,
-  // hence the template, instantiated for it in RContactEvents.cpp).
-  template <class RImpactRow>
+  // After the motion: this step's events (Events()) and the pairs touching at its end.
+  // impacts: the contact solver's impact rows, by block (see RStepInputs).
   void FindContactEvents(const RStepBodies& bodies, const RStepInputs& in, const std::vector<RImpactRow>& impacts);
 
   // The last step's events, by handles (handleA, handleB), then in the order they happened.

@@ -63,7 +63,6 @@ void RContactEventLog::KeepStartPoses(const RStepBodies& bodies, bool enabled) {
   }
 }
 
-template <class RImpactRow>
 void RContactEventLog::FindContactEvents(const RStepBodies& bodies, const RStepInputs& in,
                                          const std::vector<RImpactRow>& impacts) {
   const std::vector<RContact>& contacts = in.contacts;
@@ -240,10 +239,6 @@ void RContactEventLog::FindContactEvents(const RStepBodies& bodies, const RStepI
   std::swap(m_touching, m_touchingNext);
   IndexEventsByBody();
 }
-// For the contact solver's impact rows, the one kind there is (a type of RWorldStep's, which
-// RContactEventLog.h cannot name).
-template void RContactEventLog::FindContactEvents(const RStepBodies& bodies, const RStepInputs& in,
-                                                  const std::vector<RWorldStep::RImpactRow>& impacts);
 
 // A counting sort of the events' two sides by slot, O(events + slots): a stable pass keeps
 // each slot's run in m_events' order.

@@ -50,7 +50,7 @@ RScalar HingeAngle(const RJointGeometry& g) {
 }
 
 template <class Body>
-void SetJointMass(RWorldStep::RDirection& dir, const Body& a, const Body& b) {
+void SetJointMass(RDirection& dir, const Body& a, const Body& b) {
   dir.iA = a.invI * dir.rAxd;
   dir.iB = b.invI * dir.rBxd;
   const RScalar dd = dir.d.dot(dir.d);
@@ -58,10 +58,10 @@ void SetJointMass(RWorldStep::RDirection& dir, const Body& a, const Body& b) {
           dir.rBxd.dot(dir.iB);
 }
 
-void Linear(RWorldStep::RDirection& dir, const RVec3& d, const RVec3& armA, const RVec3& armB) {
+void Linear(RDirection& dir, const RVec3& d, const RVec3& armA, const RVec3& armB) {
   dir.d = d, dir.rAxd = armA.cross(d), dir.rBxd = armB.cross(d);
 }
-void Angular(RWorldStep::RDirection& dir, const RVec3& u) {
+void Angular(RDirection& dir, const RVec3& u) {
   dir.d.setZero(), dir.rAxd = u, dir.rBxd = u;
 }
 
@@ -78,12 +78,12 @@ void Angular(RWorldStep::RDirection& dir, const RVec3& u) {
 //   distance  0 min (equality when min = max), 1 max
 template <class Body>
 void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb, const Body& sa,
-                    const Body& sb, std::uint32_t a, std::uint32_t b, RScalar dt, RWorldStep::RJointRow* rows,
+                    const Body& sb, std::uint32_t a, std::uint32_t b, RScalar dt, RJointRow* rows,
                     RScalar* C) {
-  using Kind = RWorldStep::RJointRowKind;
+  using Kind = RJointRowKind;
   const RJointGeometry g = Geometry(J, pa, pb);
   for (int k = 0; k < RJoint::kMaxRows; ++k) {
-    RWorldStep::RJointRow& r = rows[k];
+    RJointRow& r = rows[k];
     r.a = a, r.b = b, r.kind = Kind::kOff, r.target = 0, r.lo = -kInf, r.hi = kInf, r.lambda = 0;
     r.dir.d.setZero(), r.dir.rAxd.setZero(), r.dir.rBxd.setZero(), r.dir.iA.setZero(), r.dir.iB.setZero();
     r.dir.k = 0;
@@ -158,9 +158,9 @@ void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn&
 
 // The position errors of rows built by BuildJointRows (their directions) at other poses:
 // what the step's end poses leave of each constraint.
-void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb, const RWorldStep::RJointRow* rows,
+void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb, const RJointRow* rows,
                  RScalar* C) {
-  using Kind = RWorldStep::RJointRowKind;
+  using Kind = RJointRowKind;
   const RJointGeometry g = Geometry(J, pa, pb);
   const RVec3 u = g.pB - g.pA;
   for (int k = 0; k < RJoint::kMaxRows; ++k) C[k] = 0;
@@ -205,20 +205,19 @@ RScalar JointHingeAngle(const RJoint& J, const RJointPoseIn& pa, const RJointPos
   return HingeAngle(Geometry(J, pa, pb));
 }
 
-template void BuildJointRows<RWorldStep::RSolverBody>(const RJoint&, const RJointPoseIn&, const RJointPoseIn&,
-                                                      const RWorldStep::RSolverBody&, const RWorldStep::RSolverBody&,
-                                                      std::uint32_t, std::uint32_t, RScalar, RWorldStep::RJointRow*,
-                                                      RScalar*);
+template void BuildJointRows<RSolverBody>(const RJoint&, const RJointPoseIn&, const RJointPoseIn&, const RSolverBody&,
+                                          const RSolverBody&, std::uint32_t, std::uint32_t, RScalar, RJointRow*,
+                                          RScalar*);
 template void BuildJointRows<RWorldStep::RIslandScratch::REndBody>(
     const RJoint&, const RJointPoseIn&, const RJointPoseIn&, const RWorldStep::RIslandScratch::REndBody&,
-    const RWorldStep::RIslandScratch::REndBody&, std::uint32_t, std::uint32_t, RScalar, RWorldStep::RJointRow*,
+    const RWorldStep::RIslandScratch::REndBody&, std::uint32_t, std::uint32_t, RScalar, RJointRow*,
     RScalar*);
 
 // The pose the motion (Integrate) will give a movable body from its solver state: its
 // centre moved with the mid-step velocity and position correction's pseudo-velocity, its
 // orientation by the same exact free flow (a copy of the body's, whose cache the motion
 // keeps) and then position correction's turn; its spin at the end of the flow.
-RWorldStep::RJointPose RWorldStep::PredictPose(const RBodyCore& b, std::uint32_t i, RScalar dt) const {
+RJointPose RWorldStep::PredictPose(const RBodyCore& b, std::uint32_t i, RScalar dt) const {
   const RSolverBody& s = m_solverBodies[i];
   RJointPose p;
   p.vMid = s.v;

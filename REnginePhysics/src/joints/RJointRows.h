@@ -11,10 +11,10 @@ namespace REngine {
 // linMask, linLocked), and each row's position error in C.
 template <class Body>
 void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb, const Body& sa,
-                    const Body& sb, std::uint32_t a, std::uint32_t b, RScalar dt, RWorldStep::RJointRow* rows,
+                    const Body& sb, std::uint32_t a, std::uint32_t b, RScalar dt, RJointRow* rows,
                     RScalar* C);
 // The position errors of those rows at other poses.
-void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb, const RWorldStep::RJointRow* rows,
+void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb, const RJointRow* rows,
                  RScalar* C);
 // A hinge's angle (rad) at the poses.
 RScalar JointHingeAngle(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb);

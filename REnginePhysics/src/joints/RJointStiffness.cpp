@@ -33,7 +33,7 @@ using namespace joints;
 namespace {
 
 // The rows' masses again, from the solver bodies' inverse inertias.
-void Remass(RJointRow* rows, std::size_t count, const RWorldStep::RSolverBody* bodies) {
+void Remass(RJointRow* rows, std::size_t count, const RSolverBody* bodies) {
   for (std::size_t q = 0; q < count; ++q) {
     RJointRow& r = rows[q];
     if (r.kind == Kind::kOff) continue;
@@ -51,7 +51,7 @@ RMat3 Stiffened(const RMat3& invI, RScalar added) { return RMat3(invI.inverse() 
 // The rigid turn (rad/s) that changes the island's angular momentum by -net about its centre
 // of mass: its bodies' centres at x(i), their world inertias I(i); a turn moves no joint.
 template <class Centre, class Inertia>
-RVec3 IslandTurn(const std::vector<std::uint32_t>& island, const RWorldStep::RSolverBody* solver, const RVec3& net,
+RVec3 IslandTurn(const std::vector<std::uint32_t>& island, const RSolverBody* solver, const RVec3& net,
                  Centre x, Inertia I, RVec3& centre) {
   RScalar mass = 0;
   centre = RVec3::Zero();

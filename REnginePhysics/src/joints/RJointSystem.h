@@ -21,8 +21,7 @@ namespace REngine::joints {
 using solver::LinearCoupling;
 using solver::SkylineCholesky;
 using solver::SkylineSolve;
-using RJointRow = RWorldStep::RJointRow;
-using Kind = RWorldStep::RJointRowKind;
+using Kind = RJointRowKind;
 using RIslandScratch = RWorldStep::RIslandScratch;
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 inline constexpr int kRows = RJoint::kMaxRows;

@@ -47,15 +47,14 @@ RMat3 InertiaAt(const RQuat& q, const RVec3& I) {
 
 }  // namespace
 
-template <class StepJoint>
-void RWeldGroups::GatherWelds(const RStepBodies& bodies, const std::vector<StepJoint>& stepJoints) {
+void RWeldGroups::GatherWelds(const RStepBodies& bodies, const std::vector<RStepJoint>& stepJoints) {
   m_weldGroups.clear(), m_weldMembers.clear(), m_weldJoints.clear();
   const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
   auto Weldable = [](const RBodyCore& b) {
     return !b.Immovable() && !b.m_sleeping && !b.m_linearLocked && !b.m_angularLocked;
   };
   for (std::uint32_t k = 0; k < stepJoints.size(); ++k) {
-    const StepJoint& sj = stepJoints[k];
+    const RStepJoint& sj = stepJoints[k];
     if (bodies.joints[sj.joint].def.type != RJointType::kFixed || sj.b == world) continue;
     if (Weldable(bodies[sj.a]) && Weldable(bodies[sj.b])) m_weldJoints.push_back(k);
   }
@@ -67,7 +66,7 @@ void RWeldGroups::GatherWelds(const RStepBodies& bodies, const std::vector<StepJ
   m_weldSets.Reset(n);
   m_weldOf.assign(n, 0);
   for (std::uint32_t k : m_weldJoints) {
-    const StepJoint& sj = stepJoints[k];
+    const RStepJoint& sj = stepJoints[k];
     m_weldSets.Union(sj.a, sj.b);
   }
   // The groups in the order of their smallest body (the union-find's root), each joint
@@ -92,7 +91,7 @@ void RWeldGroups::GatherWelds(const RStepBodies& bodies, const std::vector<StepJ
     for (bool placed = true; placed;) {
       placed = false;
       for (std::size_t t = j0; t < j1; ++t) {
-        const StepJoint& sj = stepJoints[m_weldJoints[t]];
+        const RStepJoint& sj = stepJoints[m_weldJoints[t]];
         if (m_weldOf[sj.a] == m_weldOf[sj.b]) continue;
         const RJoint& J = bodies.joints[sj.joint];
         const bool fromA = m_weldOf[sj.a] != 0;
@@ -175,10 +174,9 @@ RVec3 RWeldGroups::Centre(const RStepBodies& bodies, const RWeldGroup& g) const 
 }
 
 // One group's motion: Integrate's steps for one body (RIntegration.cpp), on the composite.
-template <class SolverBody>
 void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar dt,
                            const RWorldSettings& settings,
-                           const std::vector<SolverBody>& solverBodies,
+                           const std::vector<RSolverBody>& solverBodies,
                            const std::vector<char>& inRows, bool solved,
                            std::vector<char>& putBack) const {
   const RWeldGroup& g = m_weldGroups[group];
@@ -214,7 +212,7 @@ void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar
     forced = forced || !b.m_force_W.isZero(0);
     weight += b.m_mass * b.m_gravityScale;
     scaled = scaled || b.m_gravityScale != root.m_gravityScale;
-    const SolverBody* out = solved && inRows[i] ? &solverBodies[i] : nullptr;
+    const RSolverBody* out = solved && inRows[i] ? &solverBodies[i] : nullptr;
     if (!out) continue;
     if (!out->vp.isZero(0) || !out->wp.isZero(0)) {
       Pp += b.m_mass * out->vp, Lp += InertiaAt(b.m_q_WB, b.m_I_B) * out->wp + r.cross(b.m_mass * out->vp);
@@ -311,10 +309,9 @@ void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar
 // the step (the second kick, the end impulses), as PredictPose predicts a body's. The
 // group's own fixed joints then hold exactly at the prediction; the Newton rounds of the
 // other joints see where the group really goes.
-template <class SolverBody, class JointPose>
 void RWeldGroups::PredictWeld(const RStepBodies& bodies, std::size_t group, RScalar dt,
-                              const std::vector<SolverBody>& solverBodies,
-                              std::vector<JointPose>& jointPoses) const {
+                              const std::vector<RSolverBody>& solverBodies,
+                              std::vector<RJointPose>& jointPoses) const {
   const RWeldGroup& g = m_weldGroups[group];
   const RWeldMember* members = m_weldMembers.data() + g.first;
   const RScalar invM = 1 / g.mass;
@@ -325,7 +322,7 @@ void RWeldGroups::PredictWeld(const RStepBodies& bodies, std::size_t group, RSca
   for (std::uint32_t k = 0; k < g.count; ++k) {
     const std::uint32_t i = members[k].body;
     const RBodyCore& b = bodies[i];
-    const SolverBody& s = solverBodies[i];
+    const RSolverBody& s = solverBodies[i];
     const RVec3 r = q * members[k].p, move = s.deferV.isZero(0) ? s.v : RVec3(s.v - s.deferV);
     const RMat3 I_W = InertiaAt(b.m_q_WB, b.m_I_B);
     P += b.m_mass * move, L += r.cross(b.m_mass * move) + I_W * s.w;
@@ -347,7 +344,7 @@ void RWeldGroups::PredictWeld(const RStepBodies& bodies, std::size_t group, RSca
   const RVec3 wEnd_W = q * w_C;
   for (std::uint32_t k = 0; k < g.count; ++k) {
     const RWeldMember& m = members[k];
-    JointPose& p = jointPoses[m.body];
+    RJointPose& p = jointPoses[m.body];
     const RVec3 r = q * m.p;
     p.x = p.xPredicted = c + r;
     p.q = p.qPredicted = (q * m.q).normalized();
@@ -356,15 +353,5 @@ void RWeldGroups::PredictWeld(const RStepBodies& bodies, std::size_t group, RSca
     p.wEnd_W = wEnd_W;
   }
 }
-
-// The step's own joint, solver body and joint pose types (RWorldStep.h).
-template void RWeldGroups::GatherWelds(const RStepBodies&,
-                                       const std::vector<RWorldStep::RStepJoint>&);
-template void RWeldGroups::MoveWeld(const RStepBodies&, std::size_t, RScalar, const RWorldSettings&,
-                                    const std::vector<RWorldStep::RSolverBody>&,
-                                    const std::vector<char>&, bool, std::vector<char>&) const;
-template void RWeldGroups::PredictWeld(const RStepBodies&, std::size_t, RScalar,
-                                       const std::vector<RWorldStep::RSolverBody>&,
-                                       std::vector<RWorldStep::RJointPose>&) const;
 
 }  // namespace REngine

@@ -5,16 +5,15 @@
 // built each step (GatherWelds, after the joint solver gathers the step's joints) and read
 // only within it: the joint solver predicts a group's members as one (PredictWeld), the
 // motion moves them as one (MoveWeld, instead of each member's own motion), and the joint
-// and contact solvers ask which bodies are welded together (WeldOf, Welded, Root).
-//
-// What the functions read and write of the joint and contact solvers (the step's joints,
-// the solver bodies, the joint poses) are their own types, template parameters here; they
-// are instantiated in RWeldGroups.cpp for the step's types (world/RWorldStep.h), which this
-// header cannot name since the step holds the groups.
+// and contact solvers ask which bodies are welded together (WeldOf, Welded, Root). What the
+// functions read and write of the joint and contact solvers (the step's joints, the solver
+// bodies, the joint poses) comes in as parameters, of those solvers' own types.
 #pragma once
 
 #include <REngineMath/RMath.h>
 
+#include "joints/RJointTypes.h"
+#include "solver/RSolverTypes.h"
 #include "world/RUnionFind.h"
 
 #include <cstddef>
@@ -31,8 +30,7 @@ class RWeldGroups {
   // Groups the awake dynamic bodies joined by the step's fixed joints. stepJoints: the joint
   // solver's joints of the step, each with its index into bodies.joints (joint) and its
   // bodies' dense indices (a, b; b = bodies.size() for a joint to the world).
-  template <class StepJoint>
-  void GatherWelds(const RStepBodies& bodies, const std::vector<StepJoint>& stepJoints);
+  void GatherWelds(const RStepBodies& bodies, const std::vector<RStepJoint>& stepJoints);
 
   // This step's groups (after GatherWelds), and the group body i (a dense index) moves with:
   // an index below GroupCount(), or kNoWeld (also for the world's solver body, index
@@ -55,17 +53,15 @@ class RWeldGroups {
   // outputs are read from solverBodies (per dense index) for members in its rows (inRows)
   // when it solved this step; a member of a group whose new state is not finite is marked in
   // putBack (per dense index). Groups share no body: they move side by side.
-  template <class SolverBody>
   void MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar dt,
-                const RWorldSettings& settings, const std::vector<SolverBody>& solverBodies,
+                const RWorldSettings& settings, const std::vector<RSolverBody>& solverBodies,
                 const std::vector<char>& inRows, bool solved, std::vector<char>& putBack) const;
   // The group's members' end poses as MoveWeld will make them from the solver's velocities
   // (solverBodies, per dense index), written to their jointPoses (the joint solver's end
   // poses, per dense index): the joints' prediction for a weld's bodies.
-  template <class SolverBody, class JointPose>
   void PredictWeld(const RStepBodies& bodies, std::size_t group, RScalar dt,
-                   const std::vector<SolverBody>& solverBodies,
-                   std::vector<JointPose>& jointPoses) const;
+                   const std::vector<RSolverBody>& solverBodies,
+                   std::vector<RJointPose>& jointPoses) const;
 
  private:
   // A member's pose in its group's frame (principal axes at the group's centre of mass;

@@ -150,11 +150,10 @@ void RSleeping::WakeMarked(const RStepBodies& bodies) {
 // bodies. An island sleeps when every body in it has been slower than the sleep speed for
 // the sleep time and either static geometry holds it (a static body pushed one of its
 // bodies this step) or it is exactly still: a drifting body in space is never stopped.
-template <class StepJoint>
 std::uint64_t RSleeping::SleepIslands(const RStepBodies& bodies, const RWorldSettings& settings,
                                       const std::vector<RContact>& contacts,
                                       const std::vector<std::uint8_t>& bodyFlags,
-                                      const std::vector<StepJoint>& joints) {
+                                      const std::vector<RStepJoint>& joints) {
   const std::size_t n = bodies.size();
   bool anyRested = false;
   std::uint64_t asleep = 0;
@@ -190,7 +189,7 @@ std::uint64_t RSleeping::SleepIslands(const RStepBodies& bodies, const RWorldSet
   // Joints bind islands as contacts do (they sleep and wake as one); a joint to the world or
   // to static geometry that held its body this step supports it.
   const std::uint32_t world = static_cast<std::uint32_t>(n);
-  for (const StepJoint& j : joints) {
+  for (const RStepJoint& j : joints) {
     const bool immovableA = bodies[j.a].Immovable(), immovableB = j.b == world || bodies[j.b].Immovable();
     if (!immovableA && !immovableB) {
       m_sleepSets.Union(j.a, j.b);
@@ -220,11 +219,5 @@ std::uint64_t RSleeping::SleepIslands(const RStepBodies& bodies, const RWorldSet
   }
   return asleep;
 }
-
-// The one kind of joint list SleepIslands is given: the step's (RWorldStep::RStepJoint, a type
-// RSleeping.h cannot name, RWorldStep holding an RSleeping).
-template std::uint64_t RSleeping::SleepIslands(const RStepBodies&, const RWorldSettings&, const std::vector<RContact>&,
-                                               const std::vector<std::uint8_t>&,
-                                               const std::vector<RWorldStep::RStepJoint>&);
 
 }  // namespace REngine

@@ -11,6 +11,7 @@
 
 #include <REnginePhysics/RIntegrator.h>
 
+#include "joints/RJointTypes.h"
 #include "world/RUnionFind.h"
 
 #include <cstdint>
@@ -36,14 +37,11 @@ class RSleeping {
   // and by its joints) that have rested for settings.sleepTime and that static geometry held
   // this step or that are exactly still. contacts: this step's, with their normal impulses
   // (N s); bodyFlags: per body, RWorldStep::kFlagImmovable for a static or kinematic one;
-  // joints: the step's joints (RWorldStep::RStepJoint: joint, its index in bodies.joints; a
-  // and b, its bodies' dense indices, b == bodies.size() for the world; a template since that
-  // type is declared in RWorldStep, which holds an RSleeping: RSleeping.cpp has the one
-  // instance). Returns how many bodies sleep after the step.
-  template <class StepJoint>
+  // joints: the step's joints (joint, its index in bodies.joints; a and b, its bodies' dense
+  // indices, b == bodies.size() for the world). Returns how many bodies sleep after the step.
   std::uint64_t SleepIslands(const RStepBodies& bodies, const RWorldSettings& settings,
                              const std::vector<RContact>& contacts, const std::vector<std::uint8_t>& bodyFlags,
-                             const std::vector<StepJoint>& joints);
+                             const std::vector<RStepJoint>& joints);
 
   // The next step wakes everything (RIntegrator::ForgetContacts, SetPairFilter).
   void WakeAllNextStep() { m_wakeAll = true; }

@@ -15,7 +15,7 @@ using namespace solver;
 
 // The leading points of a manifold: its deepest, and the centre of those within the slop of
 // it, where an impact acts. count is 0 when the separations are not numbers.
-RWorldStep::RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) const {
+RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) const {
   RLeadingPoints lead;
   for (int k = 1; k < m.pointCount; ++k) {
     if (m.points[k].separation < m.points[lead.deepest].separation) lead.deepest = k;

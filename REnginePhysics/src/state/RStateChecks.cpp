@@ -85,7 +85,7 @@ void RStateAccess::CheckReferences(const RSavedStep& step, const RSavedBodies& s
   // Remembered pairs name bodies the container holds or held.
   const RIssued issued(saved);
   for (std::size_t k = 0; k < step.warm.size(); ++k) {
-    const RWorldStep::RWarmStart& w = step.warm[k];
+    const RWarmStart& w = step.warm[k];
     const RBodyHandle a{static_cast<std::uint32_t>(w.pair >> 32), w.genA};
     const RBodyHandle b{static_cast<std::uint32_t>(w.pair & 0xffffffffu), w.genB};
     if (!issued(a) || !issued(b)) {

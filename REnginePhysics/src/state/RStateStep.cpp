@@ -120,7 +120,7 @@ void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned
     w.U64(nf.step);
   }
   w.U64(s.m_warm.size());
-  for (const RWorldStep::RWarmStart& ws : s.m_warm) {
+  for (const RWarmStart& ws : s.m_warm) {
     w.U64(ws.pair), w.U32(ws.genA), w.U32(ws.genB), w.U32(ws.feature);
     w.Vec3(ws.point_A);
     w.F64(ws.lambdaN), w.F64(ws.lambdaE);
@@ -179,7 +179,7 @@ RStateAccess::RSavedStep RStateAccess::ReadStep(RReader& r) {
   s.warm.resize(r.Count("warm_starts", 124));
   for (std::size_t k = 0; k < s.warm.size(); ++k) {
     r.SetRecord(Indexed("warm_starts", k));
-    RWorldStep::RWarmStart& ws = s.warm[k];
+    RWarmStart& ws = s.warm[k];
     ws.pair = r.U64("pair");
     // A pair of two slots, the lower first (as the sweep orders a pair's bodies).
     if (!(ws.pair >> 32 < (ws.pair & 0xffffffffu))) r.Fail("pair", "must name two slots, the lower first");
@@ -193,7 +193,7 @@ RStateAccess::RSavedStep RStateAccess::ReadStep(RReader& r) {
       ws.twistImpulse[p] = r.Within("twist_impulse", kMaxImpulse);
     }
     if (k > 0) {
-      const RWorldStep::RWarmStart& prev = s.warm[k - 1];
+      const RWarmStart& prev = s.warm[k - 1];
       if (!(prev.pair < ws.pair || (prev.pair == ws.pair && prev.feature <= ws.feature))) {
         r.Fail("pair", "is out of order (warm starts are sorted by pair, then feature)");
       }

@@ -34,8 +34,10 @@
 #include "pairs/RBroadPhase.h"
 #include "body/RBodyAccess.h"
 #include "joints/RJointSparse.h"
+#include "joints/RJointTypes.h"
 #include "joints/RWeldGroups.h"
 #include "sleep/RSleeping.h"
+#include "solver/RSolverTypes.h"
 #include "world/RUnionFind.h"
 
 #include <Eigen/Core>
@@ -64,12 +66,6 @@ inline void PrefetchBytes(const void* from, std::size_t bytes) {
   __builtin_prefetch(p + bytes - 1);
 }
 inline void PrefetchBody(const RBodyCore& b, std::size_t bytes) { PrefetchBytes(&b, bytes); }
-
-// A body's pose for its joints: centre of mass (world, m) and orientation q_WB.
-struct RJointPoseIn {
-  RVec3 x;
-  RQuat q;
-};
 
 struct RStepBodies {
   RRigidBody* data = nullptr;
@@ -162,7 +158,6 @@ class RWorldStep {
   // every other body.
   static RVec3 KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end);
   // A body's solver state at the start of FindImpulses: vMove its mid-step velocity (m/s).
-  struct RSolverBody;
   static void InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
                              const RVec3& gravity_W);
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
@@ -267,130 +262,8 @@ class RWorldStep {
   // centre of mass and the exact free flow between half torque kicks for the rotation.
   void Integrate(const RStepBodies& bodies, RScalar dt);
 
-  // One direction of a contact point's constraint, with everything the solver's inner
-  // loop needs precomputed (Catto's formulation): relative velocity along d is
-  // d.(vB - vA) + rBxd.wB - rAxd.wA, and an impulse lambda d changes wA by -lambda iA and
-  // wB by lambda iB.
-  struct RDirection {
-    RVec3 d;                   // unit direction, world
-    RVec3 rAxd, rBxd;          // lever arms crossed with d, m
-    RVec3 iA, iB;              // inverse inertia times the lever arms, 1/(kg m)
-    RScalar k;                 // inverse effective mass along d, 1/kg
-  };
-  // One scalar constraint of a joint (a row of its Jacobian, RJoints.cpp): the relative
-  // velocity along it is Speed(dir, ...) as for a contact's normal; an angular row has
-  // dir.d = 0 and rAxd = rBxd = its world axis. Its impulse stays within [lo, hi].
-  enum class RJointRowKind : std::uint8_t { kOff, kEquality, kLimit, kMotor };
-  struct RJointRow {
-    RDirection dir;
-    std::uint32_t a, b;      // solver bodies (b: bodies.size() for the world)
-    RJointRowKind kind;
-    RScalar target;          // relative velocity to reach, m/s or rad/s
-    RScalar lo, hi;          // impulse bounds, N s or N m s
-    RScalar lambda;          // accumulated impulse
-  };
-  // One contact point's normal constraint, built once per step (solver scratch). Friction
-  // acts per manifold (RBlock).
-  struct RContactRow {
-    std::uint32_t a, b;        // body indices
-    std::uint32_t contact;     // index into m_contacts
-    std::uint32_t block;       // index into m_blocks
-    int point;                 // index into its manifold
-    RDirection n;              // the normal, A to B (arms shifted after impacts: FindImpulses)
-    RVec3 rA, rB;              // contact point from each centre of mass, world, m
-    RScalar lever;             // distance from the manifold's centroid, m
-    RScalar gap;               // separation at the start of the step, m
-    RScalar deferN;            // normal velocity the impacts deferred to the step's end, m/s
-    RScalar target;            // normal relative velocity to reach, m/s
-    RScalar pseudoTarget;      // normal pseudo-velocity for position correction, m/s
-    RScalar endTarget;         // at the end of the step: 0, or -inf when not in contact
-    // Accumulated normal impulses, N s: at the start of the step, of position correction,
-    // at the end of the step.
-    RScalar lambdaN, lambdaP, lambdaE;
-  };
-  // What a solve works on: the velocities with the impulses at the start of the step, the
-  // pseudo-velocities of position correction, or the velocities at the end of the step.
-  enum class RPhase : std::uint8_t { kVelocity, kPosition, kEnd };
-  static RScalar& Lambda(RContactRow& r, RPhase phase) {
-    return phase == RPhase::kVelocity ? r.lambdaN : phase == RPhase::kPosition ? r.lambdaP : r.lambdaE;
-  }
-  static RScalar Target(const RContactRow& r, RPhase phase) {
-    return phase == RPhase::kVelocity ? r.target : phase == RPhase::kPosition ? r.pseudoTarget : r.endTarget;
-  }
-  // A manifold's impact constraint: one point at the centre of its leading points, where
-  // restitution acts (solver scratch, built once per step for every resolved contact).
-  struct RImpactRow {
-    std::uint32_t a, b;        // body indices
-    std::uint32_t contact;     // index into m_contacts
-    int point;                 // the manifold's deepest point, where the impulse is reported
-    RDirection normal;         // A to B, with the arms of the leading points' centre
-    RVec3 tangent[2];          // the tangents' directions (arms worked out at the impact)
-    RVec3 rA, rB;              // the point from each centre of mass, world, m
-    RScalar gap;               // the leading points' separation, m (negative: overlap)
-    RScalar restitution;       // combined coefficient
-    RScalar friction;          // combined Coulomb coefficient
-    RScalar lambdaN, lambdaT1, lambdaT2;  // accumulated impulses, N s
-    // The impulse on B (world, N s) and its moments about each centre of mass, N m s: the
-    // lever arms depend on when within the step each application happened.
-    RVec3 impulse, angularA, angularB;
-    RVec3 frictionImpulse;     // the tangential part of impulse (contact events), N s
-    // Where and along which normal (A to B) the last application acted, world (contact
-    // events: where a pair that met within the step touched).
-    RVec3 point_W, normal_W;
-    bool miss;                 // found, along the motion, not to meet within the step
-    bool joined;               // a weld's contacts joined in it: its point whenever it meets
-  };
-  // Working state of a body during the solve: velocities that include every pending change.
-  struct RSolverBody {
-    RVec3 v, w;                // linear and angular velocity, world
-    RVec3 vp, wp;              // pseudo-velocities (position correction), world
-    RVec3 vMid;                // the velocity it moves with, kept for the end of the step
-    // Impacts within the step (SolveIslandImpacts): displacement travelled up to time tau of the
-    // step, and the velocity change deferred to the step's end.
-    RVec3 moved;
-    RScalar tau;
-    RVec3 deferV;
-    RVec3 vImpacts;            // its velocity after the impact phase
-    RVec3 contactDeltaV;      // the contact phase's velocity change after that, m/s
-    RMat3 invI;                // inverse inertia, world, 1/(kg m^2) (locks: see InvInertia_W)
-    RScalar invM;              // 1/kg (0: static or kinematic)
-    // Linear locks: the inverse mass along world axis k is invM * linMask[k] (1 free, 0
-    // locked); only read when linLocked.
-    RVec3 linMask;
-    bool linLocked;
-    // The solver's outputs for the motion (Integrate), besides the impulses it accumulates
-    // on the body: contact impulses at the end of the step (world, N s and N m s about the
-    // centre of mass at the start of the step), and the impacts' velocity change deferred
-    // to the step's end (N s). Valid when m_solved.
-    RVec3 endLinear, endAngular;
-    RVec3 deferredImpulse;
-    // What CloseAtEnd asks of the body, read here instead of from the body: its acceleration
-    // (0 when static), bounding radius, and whether its spin turns a contact's arm (a
-    // dynamic polyhedron's does; a sphere's contact point does not turn with it).
-    RVec3 accel;
-    RScalar radius;
-    bool armTurns;
-    // The body's impulses (world, N s and N m s about its centre): its own, then the
-    // contacts' added (FindImpulses), written back to the body at the end of the solve.
-    RVec3 impulse, angularImpulse;
-  };
   // Whether FindImpulses solved this step (else no body has solver outputs).
   bool m_solved = false;
-  // Warm-start memory: last step's impulses by (slot a, slot b, feature id), a the lower
-  // slot; the generations tell a body that took over a freed slot from its former holder.
-  struct RWarmStart {
-    // Left unset: next step's memory is resized to its slots each step (FindImpulses),
-    // every one of which is then written whole, and 5 MB of zeros a step would be wasted.
-    RWarmStart() {}
-    std::uint64_t pair;        // (slot a, slot b)
-    std::uint32_t genA, genB;  // the bodies' handle generations
-    std::uint32_t feature;
-    RVec3 point_A;             // contact point in body a's frame, m
-    RScalar lambdaN, lambdaE;  // at the start and at the end of the step, N s
-    // Its manifold's friction impulse (world, N s) and twist (N m s), start and end.
-    RVec3 tangentImpulse[2];
-    RScalar twistImpulse[2];
-  };
 
   RWorldSettings m_settings;
   RStepProfile m_profile;
@@ -404,45 +277,12 @@ class RWorldStep {
   std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
   std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
   std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
+  // The contact solver's rows, impact rows, bodies and blocks this step (solver/RSolverTypes.h).
   std::vector<RContactRow> m_rows;
   std::vector<RImpactRow> m_impacts;
   std::vector<RSolverBody> m_solverBodies;
-  // A manifold: its rows, the minimum-norm inverse of their normal block (up to 4 x 4), and
-  // its friction patch at the centroid of its points.
-  struct RBlock {
-    std::uint32_t first;
-    int count;
-    bool useBlock;
-    // Its inverse this step: 0 not needed yet (SolveNormalBlock asks for it when the block has
-    // something to solve), 1 computed, 2 kept from the manifold's memory.
-    std::uint8_t inverse;
-    Eigen::Matrix<RScalar, 4, 4> pinv;
-    RDirection t[2];           // tangents at the centroid (arms shifted as the rows')
-    RVec3 rA, rB;              // the centroid from each centre of mass, world, m
-    RVec3 normal;              // world, A to B
-    RVec3 twistIA, twistIB;    // inverse inertias times the normal, 1/(kg m^2)
-    RScalar kTwist;            // inverse effective inertia about the normal, 1/(kg m^2)
-    RScalar friction;          // combined Coulomb coefficient
-    // Tangential impulses (N s) and twist about the normal (N m s), at the start [0] and
-    // at the end [1] of the step.
-    RScalar lambdaT1[2], lambdaT2[2];
-    RScalar lambdaTwist[2];
-    // Tangential relative velocity (B less A, along t[0], t[1], m/s) that sticking means, at
-    // the start [0] and at the end [1] of the step: 0 but against a spinning kinematic body
-    // (KinematicDrift_W).
-    RScalar targetT[2][2];
-  };
   std::vector<RBlock> m_blocks;
-  // Row building (FindImpulses): where each resolved contact's rows and block go (its impact
-  // row has its block's index), and where its rows' warm starts go in next step's memory.
-  // Blocks and rows are laid out island by island (LayOutIslands): the whole contact phase
-  // works island by island and reads them in order; the warm starts are in the contacts'
-  // order.
-  struct RContactSlots {
-    std::uint32_t row, block, warm;
-    std::uint32_t warmFound;  // where its pair's entries begin in last step's memory (m_warm)
-  };
-  std::vector<RContactSlots> m_rowStart;
+  std::vector<RContactSlots> m_rowStart;  // per resolved contact (LayOutIslands)
   std::vector<std::uint32_t> m_blockContact;  // the contact of each block
   // Per body: in some resolved contact's rows this step. Only those have solver state (the
   // others' m_solverBodies entries are not read: Integrate asks m_inRows), so a 30 000-body
@@ -453,22 +293,10 @@ class RWorldStep {
   std::vector<std::uint32_t> m_islandBodies, m_islandBodyStart, m_islandBodyFill, m_islandOfRoot;
   std::vector<std::uint32_t> m_immovableRowBodies;
   std::vector<RVec3> m_rowPoint_A;  // per row: its point in body a's frame (next warm start)
-  // Each task's counts: rows warm-started, block inverses kept; and whether one of its warm
-  // starts was not finite (dropped from the memory).
-  struct RIslandTally {
-    std::uint64_t warmStarted = 0, reusedInverses = 0, computedInverses = 0;  // (see RPairStats)
-    bool dropped = false;
-    bool warmUnordered = false;  // some contact's points' features decrease (ReportIsland)
-  };
-  std::vector<RIslandTally> m_islandTallies;
+  std::vector<RIslandTally> m_islandTallies;  // per task of the islands' solve
   // The resolved contacts' pair keys increase from one to the next (LayOutIslands): next
   // step's warm starts are then in order unless some contact's features are not.
   bool m_warmPairsIncrease = false;
-  struct RLeadingPoints {
-    int deepest = 0;
-    int count = 0;
-    RVec3 centre;  // contact frame as the manifold's points
-  };
   RLeadingPoints LeadingPoints(const RContactManifold& m) const;
   std::uint32_t BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt);
   void PrefetchContact(std::uint32_t ci) const;  // (only speed depends on it)
@@ -626,13 +454,7 @@ class RWorldStep {
   std::vector<RBodyHandle> m_indexHandles;
   std::vector<std::uint32_t> m_indexSlots;
 
-  // Joints (RJoints.cpp, RJointRows.cpp). The step's joints: those whose bodies are both
-  // stepped, one at least dynamic and awake, in the container's order; b is the world's
-  // solver body (index bodies.size()) for a joint to the world.
-  struct RStepJoint {
-    std::uint32_t joint;  // index into RStepBodies::joints
-    std::uint32_t a, b;   // dense indices
-  };
+  // Joints (RJoints.cpp, RJointRows.cpp): the step's joints (joints/RJointTypes.h).
   std::vector<RStepJoint> m_stepJoints;
   void GatherJoints(const RStepBodies& bodies);
   // Welds (joints/RWeldGroups.h): the fixed joints' bodies in groups moved as one rigid body.
@@ -644,19 +466,7 @@ class RWorldStep {
   // The joints' rows, kMaxRows a joint, island by island: the island's joint at position p
   // of m_islandJoints has its rows at p * RJoint::kMaxRows.
   std::vector<RJointRow> m_jointRows;
-  // A body's pose at the end of the step as the motion will make it from the solver's
-  // velocities (what the joints' position errors are predicted at), and its velocities
-  // then (before the end impulses). Per movable body in some joint; kept from the last
-  // prediction of the step.
-  struct RJointPose {
-    RVec3 x;        // centre of mass, world, m
-    RQuat q;        // q_WB
-    RQuat qFlow;    // q_WB after the free flow, before position correction's turn
-    RVec3 vMid;     // the velocity it moves with, m/s
-    RVec3 wEnd_W;   // its spin at the end of the free flow, world, rad/s (before the end kick)
-    RVec3 xPredicted;  // x and q as predicted, before ProjectJoints corrects them
-    RQuat qPredicted;
-  };
+  // Per movable body in some joint: its end pose, kept from the last prediction of the step.
   std::vector<RJointPose> m_jointPoses;
   RJointPose PredictPose(const RBodyCore& b, std::uint32_t i, RScalar dt) const;
   // A joint body's pose at the start of the step, or at its end as predicted (end = true;
