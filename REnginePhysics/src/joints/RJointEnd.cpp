@@ -35,7 +35,7 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
       const RJointPose& p = m_jointPoses[i];
       REndBody e;
       const RMat3 R = p.q.toRotationMatrix();
-      e.invI = b.m_angularLocked ? InvInertia_W(b, R) : RMat3(R * b.m_invI_B.asDiagonal() * R.transpose());
+      e.invI = b.m_angularLocked ? RMotion::InvInertia_W(b, R) : RMat3(R * b.m_invI_B.asDiagonal() * R.transpose());
       // (Stiffened: as the rounds solved it, RJointStiffness.cpp.)
       if (sc.stiffened && sc.stiffness[i] > 0) e.invI = RMat3(e.invI.inverse() + sc.stiffness[i] * RMat3::Identity()).inverse();
       e.invM = s.invM, e.linMask = s.linMask, e.linLocked = s.linLocked;
@@ -46,9 +46,9 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
         // end of the free flow.
         // (An impact's deferred change is in vMid: the body moves with vMid - deferV and
         // gets deferV back at the end.)
-        e.v = p.vMid + Acceleration(b, m_settings.gravity_W) * halfDt + LinearKick(b, s.endLinear);
+        e.v = p.vMid + RMotion::Acceleration(b, m_settings.gravity_W) * halfDt + RMotion::LinearKick(b, s.endLinear);
         const RVec3 h = s.endAngular - (p.x - b.m_x_W).cross(s.endLinear);
-        e.w = p.wEnd_W + e.invI * (EndAngularKick_W(b, halfDt) + h);
+        e.w = p.wEnd_W + e.invI * (RMotion::EndAngularKick_W(b, halfDt) + h);
       }
       sc.mark[i] = static_cast<std::uint32_t>(sc.endBodies.size());
       sc.endBodies.push_back(e);

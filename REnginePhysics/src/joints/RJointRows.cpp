@@ -244,7 +244,7 @@ RJointPose RWorldStep::PredictPose(const RBodyCore& b, std::uint32_t i, RScalar 
 
 RJointPoseIn ImmovablePose(const RBodyCore& b, RScalar dt, bool end) {
   if (!end || !b.m_isKinematic) return {b.m_x_W, b.m_q_WB};
-  // As RWorldStep::MoveKinematic moves it.
+  // As RMotion::MoveKinematic moves it.
   RQuat q = b.m_q_WB;
   const RVec3 w = Body(b).AngularVelocity_W();
   if (!w.isZero(0)) q = QuatExp(w * dt) * q, q.normalize();

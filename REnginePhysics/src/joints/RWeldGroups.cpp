@@ -227,7 +227,7 @@ void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar
   // force that depends on the pose; the same moment in both kicks would be first order and
   // gain energy).
   const RVec3 accel = scaled ? RVec3(F * invM + settings.gravity_W * (weight * invM))
-                             : RVec3(F * invM + RWorldStep::Gravity(root, settings.gravity_W));
+                             : RVec3(F * invM + RMotion::Gravity(root, settings.gravity_W));
   auto moment = [&](const RQuat& turn) {
     RVec3 m = T;
     if (!forced && !scaled) return m;
@@ -243,12 +243,12 @@ void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar
 
   // Linear: kick-drift-kick, drag's factors around it.
   RVec3 v = P * invM;
-  if (root.m_linearDamping != 0) v *= RWorldStep::Decay(root.m_linearDamping, halfDt);
+  if (root.m_linearDamping != 0) v *= RMotion::Decay(root.m_linearDamping, halfDt);
   const RVec3 vHalf = v + J * invM + accel * halfDt;
   c += vHalf * dt;
   v = vHalf + accel * halfDt;
   // Angular: drag, the start kick, the exact free flow of the composite, the end kick.
-  if (root.m_angularDamping != 0) w_C *= RWorldStep::Decay(root.m_angularDamping, halfDt);
+  if (root.m_angularDamping != 0) w_C *= RMotion::Decay(root.m_angularDamping, halfDt);
   const RVec3 kick0 = H + moment(q) * halfDt;
   if (!kick0.isZero(0)) w_C += invI.cwiseProduct(q.conjugate() * kick0);
   RFreeRotation flow;
@@ -272,12 +272,12 @@ void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar
     v += endJ * invM;
     w_C += invI.cwiseProduct(q.conjugate() * RVec3(endH - (c - c0).cross(endJ)));
   }
-  if (root.m_linearDamping != 0) v *= RWorldStep::Decay(root.m_linearDamping, halfDt);
-  if (root.m_angularDamping != 0) w_C *= RWorldStep::Decay(root.m_angularDamping, halfDt);
+  if (root.m_linearDamping != 0) v *= RMotion::Decay(root.m_linearDamping, halfDt);
+  if (root.m_angularDamping != 0) w_C *= RMotion::Decay(root.m_angularDamping, halfDt);
 
   // The members on the composite; a composite whose new state is not finite, or whose centre
   // left kMaxPosition, stays where it was, at rest, its members reported as Integrate reports
-  // a body (putBack, RWorldStep::Kept).
+  // a body (putBack, RMotion::Kept).
   const bool finite = AllFinite(v) && AllFinite(w_C) && AllFinite(q) && c.cwiseAbs().maxCoeff() <= kMaxPosition;
   const RVec3 w_W = q * w_C;
   const RScalar pseudoSpin = wp.norm(), spin = w_C.norm();

@@ -2,6 +2,8 @@
 // inverse inertia the solver sees for them, drag and gravity scales. Integrate
 // (RIntegration.cpp) and the solver's set-up (RContactSolver.cpp) call these for the bodies
 // that need them; a body without any of it takes the plain free body's path, bit for bit.
+#include "motion/RMotion.h"
+
 #include "world/RWorldStep.h"
 
 #include <REngineMath/RQuaternion.h>
@@ -18,7 +20,7 @@ namespace REngine {
 // w . I_W w / 2 of the constrained body, so a collision at restitution 1 conserves it.
 // One free axis e: 1 / (e . I_W e) on it; two: the inverse of their 2 x 2 block, whose
 // determinant is positive since I_W is (never a NaN, whatever the orientation).
-RMat3 RWorldStep::InvInertia_W(const RBodyCore& b, const RMat3& R_WB) {
+RMat3 RMotion::InvInertia_W(const RBodyCore& b, const RMat3& R_WB) {
   if (b.Immovable()) return RMat3::Zero();
   if (!b.m_angularLocked) return R_WB * b.m_invI_B.asDiagonal() * R_WB.transpose();
   const RMat3 I_W = R_WB * b.m_I_B.asDiagonal() * R_WB.transpose();
@@ -40,8 +42,8 @@ RMat3 RWorldStep::InvInertia_W(const RBodyCore& b, const RMat3& R_WB) {
   return M;
 }
 
-RVec3 RWorldStep::MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3& invI_W,
-                                RScalar halfDt) {
+RVec3 RMotion::MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3& invI_W,
+                             RScalar halfDt) {
   if (b.m_isKinematic) return b.m_w_W;
   RVec3 w = b.m_worldSpin ? b.m_w_W : RVec3(R_WB * b.m_w_B);
   if (b.m_angularDamping != 0) w *= Decay(b.m_angularDamping, halfDt);
@@ -49,10 +51,11 @@ RVec3 RWorldStep::MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMa
   return kick.isZero(0) ? w : RVec3(w + invI_W * kick);
 }
 
+// The contact solver's body state (RWorldStep's type), from the motion's definitions.
 void RWorldStep::InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
                                 const RVec3& gravity_W) {
   s.invM = b.m_invMass;
-  s.accel = b.m_isStatic ? RVec3::Zero() : Acceleration(b, gravity_W);
+  s.accel = b.m_isStatic ? RVec3::Zero() : RMotion::Acceleration(b, gravity_W);
   s.radius = b.m_boundingRadius;
   // A sphere's contact normal passes through its centre: its arm does not turn with it.
   s.armTurns = (b.m_polyhedron_B || b.m_coreHalfHeight > 0 || b.m_childCount > 0 || b.m_mesh) && b.m_invMass != 0;
@@ -73,18 +76,18 @@ void RWorldStep::InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3&
   const RMat3 R = b.m_q_WB.toRotationMatrix();
   s.v = vMove;
   if (b.m_angularLocked || b.m_angularDamping != 0) {
-    s.invI = InvInertia_W(b, R);
-    s.w = MidStepSpin_W(b, R, s.invI, halfDt);
+    s.invI = RMotion::InvInertia_W(b, R);
+    s.w = RMotion::MidStepSpin_W(b, R, s.invI, halfDt);
     return;
   }
   s.invI = R * b.m_invI_B.asDiagonal() * R.transpose();
-  s.w = R * b.m_w_B + s.invI * StartAngularKick_W(b, halfDt);
+  s.w = R * b.m_w_B + s.invI * RMotion::StartAngularKick_W(b, halfDt);
 }
 
 // Constant velocities: the centre moves on a line and the body turns about the world axis
 // of its spin, q(t) = exp(w t) q(0); one step's rotation exp(w dt) is the same rotation
 // every step, so the pose after n steps is the exact one but for rounding.
-void RWorldStep::MoveKinematic(RBodyCore& b, RScalar dt) {
+void RMotion::MoveKinematic(RBodyCore& b, RScalar dt) {
   b.m_x_W += b.m_v_W * dt;
   if (b.m_w_W.isZero(0)) return;
   b.m_q_WB = QuatExp(b.m_w_W * dt) * b.m_q_WB;
@@ -99,7 +102,7 @@ void RWorldStep::MoveKinematic(RBodyCore& b, RScalar dt) {
 // change as the body turns about e, so the rate is constant. With two free axes it is exact
 // when the inertia is the same about every free axis (a sphere, a cube); otherwise it
 // leaves out the gyroscopic coupling of the two free axes within a step (first order).
-void RWorldStep::TurnLocked(RBodyCore& b, RScalar dt) {
+void RMotion::TurnLocked(RBodyCore& b, RScalar dt) {
   const RScalar halfDt = RScalar(0.5) * dt;
   RVec3 w = b.m_w_W;
   if (b.m_angularDamping != 0) w *= Decay(b.m_angularDamping, halfDt);
@@ -116,13 +119,13 @@ void RWorldStep::TurnLocked(RBodyCore& b, RScalar dt) {
   b.m_w_B = b.m_q_WB.conjugate() * w;
 }
 
-RVec3 RWorldStep::KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end) {
+RVec3 RMotion::KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end) {
   if (!b.m_isKinematic || b.m_w_W.isZero(0)) return RVec3::Zero();
   const RVec3 chord = QuatExp(b.m_w_W * dt) * r_W - r_W;  // the point's displacement, m
   return end ? RVec3(b.m_w_W.cross(chord)) : RVec3(chord / dt - b.m_w_W.cross(r_W));
 }
 
-RScalar RWorldStep::GravitySpread(const RStepBodies& bodies) {
+RScalar RMotion::GravitySpread(const RStepBodies& bodies) {
   RScalar lo = 0, hi = 0;
   for (const RBodyCore& b : bodies) {
     if (b.Immovable()) continue;

@@ -1,5 +1,8 @@
 // The motion (UpdateObjects): every accumulated impulse applied, then the step's one
 // definition of the bodies' velocities; see RIntegrator.h for the scheme.
+#include "motion/RMotion.h"
+
+#include "joints/RWeldGroups.h"
 #include "world/RWorldStep.h"
 
 #include "world/RLimits.h"
@@ -15,18 +18,20 @@ namespace REngine {
 // API accepts (kMaxPosition). A body past them has run away (a joint island blown up, an
 // impulse of 1e300): it is put back and reported, as a non-finite one, rather than carried
 // on to 1e60 m.
-bool RWorldStep::Kept(const RBodyCore& b) {
+bool RMotion::Kept(const RBodyCore& b) {
   return AllFinite(b.m_v_W) && AllFinite(b.m_w_B) && AllFinite(b.m_q_WB) &&
          b.m_x_W.cwiseAbs().maxCoeff() <= kMaxPosition;  // (false for NaN)
 }
 
-void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
+template <class SolverBody, class WarmStart>
+void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs& in,
+                        const std::vector<SolverBody>& solverBodies, std::vector<WarmStart>& warm) {
   const RScalar halfDt = RScalar(0.5) * dt;
   m_nonFiniteLast.clear();
   // Every body moves on its own: the bodies are cut into ranges, one task each; the bodies
   // put back are listed afterwards, in index order.
   m_putBack.assign(bodies.size(), 0);
-  ParallelRanges(m_jobs, bodies.size(), m_tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(in.jobs, bodies.size(), in.tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       // What the motion reads of the body six ahead: its first seven lines (state,
       // accumulators, inverse inertia, drag, masks) and the rotation's cache, not the
@@ -38,7 +43,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       }
       RBodyCore& b = bodies[i];
       // A welded body moves with its group (below).
-      if (m_welds.Welded(i)) continue;
+      if (in.welds.Welded(i)) continue;
       // A sleeping body has no velocity, and nothing touched it: it stays where it is. A
       // kinematic body moves with its own velocities, whatever pushed it.
       if (b.m_isStatic || b.m_sleeping || b.m_isKinematic) {
@@ -60,8 +65,8 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
 
       // Linear: impulse, then kick-drift-kick with constant acceleration (drag's first half
       // factor is in the mid-step velocity).
-      const RVec3 accel = Acceleration(b, m_settings.gravity_W);
-      const RVec3 vHalf = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+      const RVec3 accel = Acceleration(b, in.settings.gravity_W);
+      const RVec3 vHalf = MidStepVelocity(b, in.settings.gravity_W, halfDt);
       b.m_x_W += vHalf * dt;
       b.m_v_W = vHalf + accel * halfDt;
 
@@ -89,7 +94,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       // Position correction: displacement without velocity (split impulses). A body it moves
       // faster than the sleep speed is not at rest.
       RScalar pseudoSpeed = 0;
-      const RSolverBody* out = m_solved && m_inRows[i] ? &m_solverBodies[i] : nullptr;
+      const SolverBody* out = in.solved && in.inRows[i] ? &solverBodies[i] : nullptr;
       if (out && (!out->vp.isZero(0) || !out->wp.isZero(0))) {
         pseudoSpeed = out->vp.norm() + out->wp.norm() * b.m_boundingRadius;
         b.m_x_W += out->vp * dt;
@@ -127,7 +132,7 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       // How long it has been at rest: its centre and the farthest point of its bounding
       // sphere slower than the sleep speed (SleepIslands).
       const RScalar speed = std::max(b.m_v_W.norm() + b.m_w_B.norm() * b.m_boundingRadius, pseudoSpeed);
-      b.m_restTime = speed < m_settings.sleepSpeed ? b.m_restTime + dt : 0;
+      b.m_restTime = speed < in.settings.sleepSpeed ? b.m_restTime + dt : 0;
 
       if (!Kept(b)) {
         // Put back where it was, at rest: with the velocities that carried it out it would
@@ -141,14 +146,14 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
     }
   });
   // Each weld group as the one rigid body it forms (RWeldGroups.cpp): groups share no body.
-  ParallelRanges(m_jobs, m_welds.GroupCount(), m_tasks, 16, [&](std::size_t g0, std::size_t g1, std::size_t) {
+  ParallelRanges(in.jobs, in.welds.GroupCount(), in.tasks, 16, [&](std::size_t g0, std::size_t g1, std::size_t) {
     for (std::size_t g = g0; g < g1; ++g) {
-      m_welds.MoveWeld(bodies, g, dt, m_settings, m_solverBodies, m_inRows, m_solved, m_putBack);
+      in.welds.MoveWeld(bodies, g, dt, in.settings, solverBodies, in.inRows, in.solved, m_putBack);
     }
   });
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!m_putBack[i]) continue;
-    m_nonFiniteLast.push_back(RNonFiniteBody{i, bodies.handles[i], bodies[i].m_name, m_stepCount});
+    m_nonFiniteLast.push_back(RNonFiniteBody{i, bodies.handles[i], bodies[i].m_name, in.step});
     if (!m_nonFinite) m_nonFinite = m_nonFiniteLast.back();
   }
   // A body put back lost this step's impulses, and the contact memory of its pairs holds
@@ -160,13 +165,18 @@ void RWorldStep::Integrate(const RStepBodies& bodies, RScalar dt) {
       }
       return false;
     };
-    m_warm.erase(std::remove_if(m_warm.begin(), m_warm.end(),
-                                [&](const RWarmStart& w) {
-                                  return reverted(static_cast<std::uint32_t>(w.pair >> 32)) ||
-                                         reverted(static_cast<std::uint32_t>(w.pair));
-                                }),
-                 m_warm.end());
+    warm.erase(std::remove_if(warm.begin(), warm.end(),
+                              [&](const WarmStart& w) {
+                                return reverted(static_cast<std::uint32_t>(w.pair >> 32)) ||
+                                       reverted(static_cast<std::uint32_t>(w.pair));
+                              }),
+               warm.end());
   }
 }
+
+// The contact solver's solver body and warm-start types (RWorldStep.h).
+template void RMotion::Integrate(const RStepBodies&, RScalar, const RStepInputs&,
+                                 const std::vector<RWorldStep::RSolverBody>&,
+                                 std::vector<RWorldStep::RWarmStart>&);
 
 }  // namespace REngine

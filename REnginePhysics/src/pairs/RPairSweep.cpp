@@ -115,7 +115,7 @@ void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
         // Reach and margin as if it were awake and resting (half a step of gravity), so
         // that the margin between a sleeper and a resting neighbour is the one two awake
         // bodies have: a neighbour beyond it while both were awake does not wake it.
-        m_moveV[i] = Gravity(b, m_settings.gravity_W) * halfDt, m_moveW[i] = 0;
+        m_moveV[i] = RMotion::Gravity(b, m_settings.gravity_W) * halfDt, m_moveW[i] = 0;
       } else if (b.m_isStatic) {
         m_moveV[i].setZero(), m_moveW[i] = 0;
         // Without the shortcut a static body's world form is recomputed every step, as a
@@ -124,14 +124,14 @@ void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
       } else if (b.m_isKinematic) {
         m_moveV[i] = b.m_v_W, m_moveW[i] = b.m_w_W.norm();
       } else if (b.m_angularLocked || b.m_angularDamping != 0) {
-        m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+        m_moveV[i] = RMotion::MidStepVelocity(b, m_settings.gravity_W, halfDt);
         const RMat3 R = b.m_q_WB.toRotationMatrix();
-        m_moveW[i] = MidStepSpin_W(b, R, InvInertia_W(b, R), halfDt).norm();
+        m_moveW[i] = RMotion::MidStepSpin_W(b, R, RMotion::InvInertia_W(b, R), halfDt).norm();
       } else {
-        m_moveV[i] = MidStepVelocity(b, m_settings.gravity_W, halfDt);
+        m_moveV[i] = RMotion::MidStepVelocity(b, m_settings.gravity_W, halfDt);
         // Most bodies have no angular kick (debris): turning a zero into the body frame
         // and adding it would give w_B to the bit.
-        const RVec3 kick_W = StartAngularKick_W(b, halfDt);
+        const RVec3 kick_W = RMotion::StartAngularKick_W(b, halfDt);
         m_moveW[i] = kick_W.isZero(0) ? b.m_w_B.norm()
                                       : (b.m_w_B + b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick_W)).norm();
       }
@@ -240,7 +240,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // With gravity scales, two bodies separate by at most |g| (max s - min s) dt^2 (a static
   // body's s being 0): GravitySpread is 1 when every scale is 1, and the product unchanged.
   const RScalar gravity = m_settings.gravity_W.norm();
-  const RScalar allowance = gravity * (gravity != 0 ? GravitySpread(bodies) : 1) * dt * dt + m_settings.penetrationSlop;
+  const RScalar allowance =
+      gravity * (gravity != 0 ? RMotion::GravitySpread(bodies) : 1) * dt * dt + m_settings.penetrationSlop;
   m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
   m_moveV.resize(n), m_moveW.resize(n);
   m_passive.resize(n), m_bodyFlags.resize(n);

@@ -115,8 +115,8 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
     const RBodyCore& b = bodies[i];
     RSolverBody& s = m_solverBodies[i];
     s.vMid = s.v - s.deferV;
-    s.v += Acceleration(b, m_settings.gravity_W) * halfDt;
-    s.w += s.invI * EndAngularKick_W(b, halfDt);
+    s.v += RMotion::Acceleration(b, m_settings.gravity_W) * halfDt;
+    s.w += s.invI * RMotion::EndAngularKick_W(b, halfDt);
   }
   WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
   const bool settledAtEnd = SolveIslandBlocks(RPhase::kEnd, iterations, first, last);

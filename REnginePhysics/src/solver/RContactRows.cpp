@@ -197,7 +197,8 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
   for (int ph = 0; ph < 2; ++ph) {
     blk.targetT[ph][0] = blk.targetT[ph][1] = 0;
     if (!(A.m_isKinematic || B.m_isKinematic)) continue;
-    const RVec3 drift = KinematicDrift_W(A, blk.rA, dt, ph == 1) - KinematicDrift_W(B, blk.rB, dt, ph == 1);
+    const RVec3 drift =
+        RMotion::KinematicDrift_W(A, blk.rA, dt, ph == 1) - RMotion::KinematicDrift_W(B, blk.rB, dt, ph == 1);
     blk.targetT[ph][0] = drift.dot(t1), blk.targetT[ph][1] = drift.dot(t2);
   }
   for (int ph = 0; ph < 2; ++ph) blk.lambdaT1[ph] = blk.lambdaT2[ph] = blk.lambdaTwist[ph] = 0;

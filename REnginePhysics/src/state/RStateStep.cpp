@@ -112,9 +112,9 @@ void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned
   w.U64(s.m_warmBodyCount), w.U64(sleep.bodyCount);
   w.Bool(sleep.wakeAll);
   w.Vec3(sleep.gravity_W);
-  w.Bool(s.m_nonFinite.has_value());
-  if (s.m_nonFinite) {
-    const RNonFiniteBody& nf = *s.m_nonFinite;
+  w.Bool(s.m_motion.NonFinite().has_value());
+  if (s.m_motion.NonFinite()) {
+    const RNonFiniteBody& nf = *s.m_motion.NonFinite();
     w.U64(nf.bodyIndex), w.U32(nf.handle.index), w.U32(nf.handle.generation);
     w.String(nf.bodyName);
     w.U64(nf.step);

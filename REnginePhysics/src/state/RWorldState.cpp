@@ -112,12 +112,12 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_stepCount = step.stepCount;
   w.m_warmBodyCount = static_cast<std::size_t>(step.warmBodyCount);
   w.m_sleep.RestoreForLoad({step.sleepBodyCount, step.wakeAll, step.sleepGravity_W});
-  w.m_nonFinite = std::move(step.nonFinite);
+  w.m_motion.RestoreForLoad(std::move(step.nonFinite));
   w.m_warm = std::move(step.warm);
   w.m_manifolds = std::move(step.manifolds);
   w.m_eventLog.RestoreForLoad(std::move(step.touching));
   w.m_cacheStamp = NextCacheStamp();
-  w.m_nonFiniteLast.clear(), w.m_contacts.clear(), w.m_contactMemory.clear();
+  w.m_contacts.clear(), w.m_contactMemory.clear();
   w.m_pairStats = RPairStats{}, w.m_profile = RStepProfile{};
   w.m_solved = false;
   w.m_broad.Invalidate(), w.m_lastPairCount = 0;

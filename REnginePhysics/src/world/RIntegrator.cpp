@@ -67,9 +67,11 @@ RWorldSettings& RIntegrator::Settings() { return m_w->m_settings; }
 const RStepProfile& RIntegrator::Profile() const { return m_w->m_profile; }
 std::uint64_t RIntegrator::StepCount() const { return m_w->m_stepCount; }
 std::uint64_t RIntegrator::CacheStamp() const { return m_w->m_cacheStamp; }
-const std::optional<RNonFiniteBody>& RIntegrator::NonFinite() const { return m_w->m_nonFinite; }
+const std::optional<RNonFiniteBody>& RIntegrator::NonFinite() const {
+  return m_w->m_motion.NonFinite();
+}
 const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
-  return m_w->m_nonFiniteLast;
+  return m_w->m_motion.NonFiniteInLastStep();
 }
 const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
 const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_eventLog.Events(); }
@@ -220,8 +222,10 @@ void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {
 }
 
 void RIntegrator::UpdateObjects(const RStepBodies& bodies, RScalar dt) {
-  m_w->Integrate(bodies, dt);
   RWorldStep& w = *m_w;
+  const RMotion::RStepInputs motion{w.m_settings, w.m_welds, w.m_solved, w.m_inRows,
+                                    w.m_stepCount, w.m_jobs, w.m_tasks};
+  w.m_motion.Integrate(bodies, dt, motion, w.m_solverBodies, w.m_warm);
   w.m_pairStats.sleepingBodies =
       w.m_sleep.SleepIslands(bodies, w.m_settings, w.m_contacts, w.m_bodyFlags, w.m_stepJoints);
 }

@@ -14,8 +14,9 @@
 //   RJointImpacts.cpp   BeginImpactJoints, ImpactJointsPass, EndImpactJoints
 //   RIslandSolver.cpp   LayOutIslands, SolveIslandDirect
 //   RSleeping.cpp       KeepSleepingWarmStarts (sleeping itself: RSleeping, sleep/RSleeping.h)
-//   RIntegration.cpp    Integrate (the motion)
-//   RBodyMotion.cpp     kinematic bodies, angular locks, drag, gravity scales
+//   RIntegration.cpp    RMotion (motion/RMotion.h): Integrate, the motion (m_motion)
+//   RBodyMotion.cpp     RMotion's kinematic bodies, angular locks, drag, gravity scales;
+//                       InitSolverBody
 //   RContactEvents.cpp  RContactEventLog (events/RContactEventLog.h): the contact events
 //   RJoints.cpp         GatherJoints, BuildIslandJoints, JointTargets, SolveJointsPass,
 //                       ReportJoints, SolveJointsAtEnd (rows: RJointRows.cpp)
@@ -36,6 +37,7 @@
 #include "joints/RJointSparse.h"
 #include "joints/RJointTypes.h"
 #include "joints/RWeldGroups.h"
+#include "motion/RMotion.h"
 #include "sleep/RSleeping.h"
 #include "solver/RSolverTypes.h"
 #include "world/RUnionFind.h"
@@ -107,69 +109,12 @@ struct RStepBodies {
 
 class RWorldStep {
  public:
-  // The step's velocities, one definition for every subsystem (kick-drift-kick): a body moves
-  // through the step with its mid-step velocity v + J/m + a dt/2, a = F/m + s g (exact for a
-  // constant a; s the body's gravity scale), and ends it with another a dt/2. Its angular
-  // kick at the start is the angular impulse plus half the torque's impulse, and at the end
-  // the other half (world, N m s). The contact solver solves for the mid-step velocities,
-  // the pair sweep grows the bounds by them, Integrate moves the bodies with them.
-  // Drag (RBodyMotion.cpp) multiplies v by e^(-c dt/2) before the first kick and after the
-  // last, e^(-c dt) a step exactly; locks zero what a kick gives along a locked axis; a
-  // kinematic body moves with its own v, nothing else.
-  static RVec3 Gravity(const RBodyCore& b, const RVec3& gravity_W) {
-    // Scale 1 is not multiplied: the arithmetic of a scene without scales is unchanged.
-    return b.m_gravityScale == 1 ? gravity_W : RVec3(gravity_W * b.m_gravityScale);
-  }
-  static RVec3 Acceleration(const RBodyCore& b, const RVec3& gravity_W) {
-    if (b.m_isKinematic) return RVec3::Zero();
-    const RVec3 a = b.m_force_W * b.m_invMass + Gravity(b, gravity_W);
-    return b.m_linearLocked ? RVec3(a.cwiseProduct(b.m_linearMask)) : a;
-  }
-  // The velocity change of a linear impulse J (N s, world), zero along locked axes.
-  static RVec3 LinearKick(const RBodyCore& b, const RVec3& J) {
-    const RVec3 dv = J * b.m_invMass;
-    return b.m_linearLocked ? RVec3(dv.cwiseProduct(b.m_linearMask)) : dv;
-  }
-  // e^(-c t): a drag rate's factor over time t (1/s, s).
-  static RScalar Decay(RScalar c, RScalar t) { return std::exp(-c * t); }
-  static RVec3 MidStepVelocity(const RBodyCore& b, const RVec3& gravity_W, RScalar halfDt) {
-    if (b.m_isKinematic) return b.m_v_W;
-    const RVec3 v = b.m_linearDamping != 0 ? RVec3(b.m_v_W * Decay(b.m_linearDamping, halfDt)) : b.m_v_W;
-    return v + LinearKick(b, b.m_linearImpulse_W) + Acceleration(b, gravity_W) * halfDt;
-  }
-  static RVec3 StartAngularKick_W(const RBodyCore& b, RScalar halfDt) {
-    return b.m_angularImpulse_W + b.m_torque_W * halfDt;
-  }
-  static RVec3 EndAngularKick_W(const RBodyCore& b, RScalar halfDt) { return b.m_torque_W * halfDt; }
-  // RBodyMotion.cpp: the motion's new concerns. The world inverse inertia (1/(kg m^2)) at
-  // orientation R_WB: R diag(1/I) R^T, or with angular locks the inverse of the inertia
-  // restricted to the free axes (zero rows and columns on the locked ones); zero for a
-  // static or kinematic body.
-  static RMat3 InvInertia_W(const RBodyCore& b, const RMat3& R_WB);
-  // The angular velocity the body turns with this step after its start kick (world, rad/s),
-  // drag included; the solver's and the pair sweep's.
-  static RVec3 MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3& invI_W, RScalar halfDt);
-  // What sticking to a spinning kinematic body means for a point at arm r_W from its centre
-  // (world, m/s), beyond its surface velocity v + w x r there: at the start of the step
-  // (end = false) the chord's velocity, (exp(w dt) r - r) / dt - w x r, which a body moving
-  // in a straight line through the step must have to land on the same point of the surface
-  // (without it a crate on a turntable spirals outwards by r w^2 dt^2 / 2 a step); at the
-  // end, the surface velocity where the point is then, w x (exp(w dt) r - r). Zero for
-  // every other body.
-  static RVec3 KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end);
+  // The motion (motion/RMotion.h): the step's one definition of the bodies' velocities (its
+  // static functions), Integrate, and the bodies put back.
+  RMotion m_motion;
   // A body's solver state at the start of FindImpulses: vMove its mid-step velocity (m/s).
   static void InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
                              const RVec3& gravity_W);
-  // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
-  static void MoveKinematic(RBodyCore& b, RScalar dt);
-  // Whether a body's state after its motion is finite and within kMaxPosition (Integrate).
-  static bool Kept(const RBodyCore& b);
-  // A body with angular locks: its world spin, drag and kicks, turned about the world axis
-  // of its spin (exact with one free axis). Integrate's angular part for such bodies.
-  static void TurnLocked(RBodyCore& b, RScalar dt);
-  // How far gravity can pull two bodies apart in a step, in units of |g|: max(0, s) -
-  // min(0, s) over the dynamic bodies' scales (1 when every scale is 1).
-  static RScalar GravitySpread(const RStepBodies& bodies);
 
   // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
   // island touched (marked in m_sleep): the islands are woken and the sweep runs again.
@@ -258,9 +203,6 @@ class RWorldStep {
   // called from CollisionDetection. Sequential impulses, warm-started, with each manifold's
   // normal rows solved as one block and an impacting manifold bouncing through one row.
   void FindImpulses(const RStepBodies& bodies, RScalar dt);
-  // UpdateObjects' motion: applies the accumulated impulses, then kick-drift-kick for the
-  // centre of mass and the exact free flow between half torque kicks for the rotation.
-  void Integrate(const RStepBodies& bodies, RScalar dt);
 
   // Whether FindImpulses solved this step (else no body has solver outputs).
   bool m_solved = false;
@@ -269,9 +211,6 @@ class RWorldStep {
   RStepProfile m_profile;
   std::uint64_t m_stepCount = 0;
   std::uint64_t m_cacheStamp = 0;
-  std::optional<RNonFiniteBody> m_nonFinite;
-  std::vector<RNonFiniteBody> m_nonFiniteLast;
-  std::vector<char> m_putBack;  // Integrate: bodies whose new state was not finite
   std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
   std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
   std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
