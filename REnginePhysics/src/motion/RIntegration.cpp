@@ -23,9 +23,8 @@ bool RMotion::Kept(const RBodyCore& b) {
          b.m_x_W.cwiseAbs().maxCoeff() <= kMaxPosition;  // (false for NaN)
 }
 
-template <class SolverBody, class WarmStart>
 void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs& in,
-                        const std::vector<SolverBody>& solverBodies, std::vector<WarmStart>& warm) {
+                        const std::vector<RSolverBody>& solverBodies, std::vector<RWarmStart>& warm) {
   const RScalar halfDt = RScalar(0.5) * dt;
   m_nonFiniteLast.clear();
   // Every body moves on its own: the bodies are cut into ranges, one task each; the bodies
@@ -94,7 +93,7 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
       // Position correction: displacement without velocity (split impulses). A body it moves
       // faster than the sleep speed is not at rest.
       RScalar pseudoSpeed = 0;
-      const SolverBody* out = in.solved && in.inRows[i] ? &solverBodies[i] : nullptr;
+      const RSolverBody* out = in.solved && in.inRows[i] ? &solverBodies[i] : nullptr;
       if (out && (!out->vp.isZero(0) || !out->wp.isZero(0))) {
         pseudoSpeed = out->vp.norm() + out->wp.norm() * b.m_boundingRadius;
         b.m_x_W += out->vp * dt;
@@ -166,17 +165,12 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
       return false;
     };
     warm.erase(std::remove_if(warm.begin(), warm.end(),
-                              [&](const WarmStart& w) {
+                              [&](const RWarmStart& w) {
                                 return reverted(static_cast<std::uint32_t>(w.pair >> 32)) ||
                                        reverted(static_cast<std::uint32_t>(w.pair));
                               }),
                warm.end());
   }
 }
-
-// The contact solver's solver body and warm-start types (RWorldStep.h).
-template void RMotion::Integrate(const RStepBodies&, RScalar, const RStepInputs&,
-                                 const std::vector<RWorldStep::RSolverBody>&,
-                                 std::vector<RWorldStep::RWarmStart>&);
 
 }  // namespace REngine

@@ -14,6 +14,8 @@
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/detail/RBodyCore.h>
 
+#include "solver/RSolverTypes.h"
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -111,11 +113,9 @@ class RMotion {
   // body whose new state the world cannot hold (Kept) is put back and reported
   // (NonFiniteInLastStep, NonFinite), and its pairs' warm starts dropped from warm. The
   // solver bodies (per dense index; read for the bodies in.inRows marks, when in.solved)
-  // and the warm-start memory are the contact solver's (RWorldStep's types, hence the
-  // template, instantiated for them in RIntegration.cpp).
-  template <class SolverBody, class WarmStart>
+  // and the warm-start memory are the contact solver's (solver/RSolverTypes.h).
   void Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs& in,
-                 const std::vector<SolverBody>& solverBodies, std::vector<WarmStart>& warm);
+                 const std::vector<RSolverBody>& solverBodies, std::vector<RWarmStart>& warm);
 
   // The first body put back since the world began (or was loaded), if any; the bodies put
   // back by the last step, in index order.

@@ -90,7 +90,7 @@ struct RSolverBody {
   RVec3 deferV;
   RVec3 vImpacts;            // its velocity after the impact phase
   RVec3 contactDeltaV;      // the contact phase's velocity change after that, m/s
-  RMat3 invI;                // inverse inertia, world, 1/(kg m^2) (locks: RWorldStep::InvInertia_W)
+  RMat3 invI;                // inverse inertia, world, 1/(kg m^2) (locks: RMotion::InvInertia_W)
   RScalar invM;              // 1/kg (0: static or kinematic)
   // Linear locks: the inverse mass along world axis k is invM * linMask[k] (1 free, 0
   // locked); only read when linLocked.
@@ -149,7 +149,7 @@ struct RBlock {
   RScalar lambdaTwist[2];
   // Tangential relative velocity (B less A, along t[0], t[1], m/s) that sticking means, at
   // the start [0] and at the end [1] of the step: 0 but against a spinning kinematic body
-  // (KinematicDrift_W).
+  // (RMotion::KinematicDrift_W).
   RScalar targetT[2][2];
 };
 // Row building (FindImpulses): where each resolved contact's rows and block go (its impact
