@@ -278,7 +278,7 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
     if (!bodies[c.a].Immovable()) sa.endLinear -= J, sa.endAngular -= (blk.rA + shift).cross(J);
     if (!bodies[c.b].Immovable()) sb.endLinear += J, sb.endAngular += (blk.rB + shift).cross(J);
-    m_contacts[c.contact].frictionImpulse_W += J;
+    m_sweep.SolverContact(c.contact).frictionImpulse_W += J;
   }
   // What the contacts gave back or added, as their end impulses (at the point ReportIsland
   // puts a contact's end impulse: moved with the lighter body), and in their report.
@@ -293,7 +293,7 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
     if (!bodies[c.a].Immovable()) sa.endLinear -= J, sa.endAngular -= (c.rA + shift).cross(J);
     if (!bodies[c.b].Immovable()) sb.endLinear += J, sb.endAngular += (c.rB + shift).cross(J);
-    m_contacts[c.contact].normalImpulse[c.point] += r.lambda;
+    m_sweep.SolverContact(c.contact).normalImpulse[c.point] += r.lambda;
   }
   // The end impulses to the motion, about the centres where the step starts (Integrate
   // moves their moments to where the centres end); what each joint did.

@@ -92,8 +92,7 @@ RBoundsTree::RBox RBroadPhase::FatBox(const RBodyCore& b, std::size_t i, RScalar
 }
 
 // The sweep boxes are this step's (DetectPairs made them with the reaches).
-template <class Task>
-void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& sweep, std::vector<Task>& tasks) {
+void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& sweep, std::vector<RSweepTask>& tasks) {
   const std::size_t n = bodies.size();
   // The bodies that left their fat boxes (or whose box stopped or started being a number).
   m_moved.clear();
@@ -119,7 +118,7 @@ void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& swee
   // Each moved body's new partners, from the tree; a pair of two moved bodies is taken by
   // the first of them.
   const std::size_t used = ParallelRanges(sweep.jobs, m_moved.size(), sweep.tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t task) {
-    Task& st = tasks[task];
+    RSweepTask& st = tasks[task];
     st.pairs.clear();
     for (std::size_t k = k0; k < k1; ++k) {
       const std::uint32_t i = m_moved[k];
@@ -151,8 +150,7 @@ void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& swee
 
 // Every body's fat box anew, its tree built, and every pair of overlapping fat boxes
 // found by the tree's pair search (split into tasks), then sorted by (i, then j).
-template <class Task>
-void RBroadPhase::RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep, std::vector<Task>& tasks) {
+void RBroadPhase::RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep, std::vector<RSweepTask>& tasks) {
   const std::size_t n = bodies.size();
   m_fatBoxes.resize(n);
   m_treeIds.resize(n);
@@ -167,7 +165,7 @@ void RBroadPhase::RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep
   // Trees of a few hundred bodies are searched on one thread.
   const std::size_t grain = n < 256 ? m_seeds.size() : 1;
   const std::size_t used = ParallelRanges(sweep.jobs, m_seeds.size(), taskCount, grain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
-    Task& st = tasks[task];
+    RSweepTask& st = tasks[task];
     st.pairs.clear();
     auto found = [&st](std::uint32_t x, std::uint32_t y) { st.pairs.emplace_back(std::min(x, y), std::max(x, y)); };
     for (std::size_t k = k0; k < k1; ++k) m_fatTree.Pairs(m_fatTree, m_seeds[k], st.nodeStack, found);
@@ -195,9 +193,8 @@ void RBroadPhase::RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep
 // contact (not both passive) and whose sweep boxes overlap, each through the all-pairs
 // loop's sphere test (the same operands in the same order, so the same answer to the bit).
 // The list is in (i, then j) order, and so are the tasks' ranges of it, joined in order.
-template <class Task>
-void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<Task>& tasks, std::vector<RPair>& pairs,
-                            RPairStats& stats) {
+void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<RSweepTask>& tasks,
+                            std::vector<RPair>& pairs, RPairStats& stats) {
   constexpr std::size_t kBoxAhead = 16;
   const std::vector<char>& passive = sweep.passive;
   const std::vector<RScalar>& cx = sweep.cx;
@@ -205,7 +202,7 @@ void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<Task>
   const std::vector<RScalar>& cz = sweep.cz;
   const std::vector<RScalar>& reach = sweep.reach;
   const std::size_t used = ParallelRanges(sweep.jobs, m_fatPairs.size(), sweep.tasks, 4096, [&](std::size_t k0, std::size_t k1, std::size_t task) {
-    Task& st = tasks[task];
+    RSweepTask& st = tasks[task];
     st.pairs.clear();
     st.sphereTests = 0;
     for (std::size_t k = k0; k < k1; ++k) {
@@ -230,10 +227,5 @@ void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<Task>
     stats.sphereTests += tasks[t].sphereTests;
   }
 }
-
-// The pair sweep's tasks lend their scratch.
-template void RBroadPhase::UpdateBroadPhase(const RStepBodies&, const RSweep&, std::vector<RWorldStep::RSweepTask>&);
-template void RBroadPhase::TreePairs(RScalar, const RSweep&, std::vector<RWorldStep::RSweepTask>&, std::vector<RPair>&,
-                                     RPairStats&);
 
 }  // namespace REngine

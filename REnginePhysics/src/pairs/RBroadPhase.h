@@ -12,6 +12,7 @@
 #include <REngineMath/RMath.h>
 
 #include "pairs/RBoundsTree.h"
+#include "pairs/RSweepTask.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -33,7 +34,7 @@ class RBroadPhase {
   // What the broad phase reads of the pair sweep's set-up pass (SweepMotion), per body by
   // dense index, this sweep: its centre of mass (world, m), its reach (its bounding radius
   // grown by the step's motion and the allowance, m), and whether it is passive (cannot
-  // start a contact: RWorldStep::Passive). And the step's job system (null: one thread)
+  // start a contact: RPairSweep::Passive). And the step's job system (null: one thread)
   // with how many tasks a parallel stage is cut into.
   struct RSweep {
     const std::vector<RScalar>& cx;
@@ -58,18 +59,15 @@ class RBroadPhase {
   // bodies that left their fat boxes get new ones and new pairs, or everything is built
   // anew (the list was not kept, the bodies changed, many moved, or the tree has been
   // refitted kFatRefits times).
-  // Task is the pair sweep's per-task scratch (RWorldStep::RSweepTask, the type these are
-  // instantiated for in RBroadPhase.cpp): its pairs, query, queryStack and nodeStack are
-  // written here, at least sweep.tasks of them.
-  template <class Task>
-  void UpdateBroadPhase(const RStepBodies& bodies, const RSweep& sweep, std::vector<Task>& tasks);
+  // tasks: the pair sweep's per-task scratch, whose pairs, query, queryStack and nodeStack
+  // are written here, at least sweep.tasks of them.
+  void UpdateBroadPhase(const RStepBodies& bodies, const RSweep& sweep, std::vector<RSweepTask>& tasks);
   // Stage 1 of the pair sweep with the broad phase, after UpdateBroadPhase: into `pairs`
   // (cleared first), in (i, then j) order, the listed pairs that can start a contact and
   // whose grown spheres touch (the all-pairs loop's test with the same factor `grow`);
   // counts the sphere tests into stats.sphereTests. Uses the tasks' pairs and sphereTests.
-  template <class Task>
-  void TreePairs(RScalar grow, const RSweep& sweep, std::vector<Task>& tasks, std::vector<RPair>& pairs,
-                 RPairStats& stats);
+  void TreePairs(RScalar grow, const RSweep& sweep, std::vector<RSweepTask>& tasks,
+                 std::vector<RPair>& pairs, RPairStats& stats);
 
   // Whether the pair list is kept up to date with the fat boxes (the last sweep used the
   // broad phase), and how many pairs it holds: the pair sweep's estimate of its cost.
@@ -84,8 +82,7 @@ class RBroadPhase {
   static RBoundsTree::RBox SweepBox(const RBodyCore& b, RScalar cx, RScalar cy, RScalar cz, RScalar reach);
   // Body i's fat box around its sweep box; reach is its reach this sweep (m).
   RBoundsTree::RBox FatBox(const RBodyCore& b, std::size_t i, RScalar reach) const;
-  template <class Task>
-  void RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep, std::vector<Task>& tasks);
+  void RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep, std::vector<RSweepTask>& tasks);
 
   std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
   std::vector<RBoundsTree::RBox> m_fatBoxes;    // per body

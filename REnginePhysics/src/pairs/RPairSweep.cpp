@@ -1,7 +1,9 @@
-// The pair sweep (RWorldStep::DetectPairs): every pair, bounding spheres and boxes grown by
+// The pair sweep (RPairSweep::DetectPairs): every pair, bounding spheres and boxes grown by
 // the step's motion (SweepMotion; stage 1: AllPairs here, TreePairs in RBroadPhase.cpp), the
 // filters, then CheckCollision (stage 2, RPairNarrow.cpp), the tasks' results joined
 // (JoinSweep); see RIntegrator.h.
+#include "pairs/RPairSweep.h"
+
 #include "shape/RCompound.h"
 #include "world/RWorldStep.h"
 
@@ -19,11 +21,11 @@ using namespace solver;
 // Stage 1 of the pair sweep without the broad phase: the all-pairs loop, the reference.
 // Each task takes a contiguous range of i and lists its pairs; the lists, joined in task
 // order, are the loop's order whatever the number of tasks or threads.
-void RWorldStep::AllPairs(const RStepBodies& bodies, RScalar grow) {
+void RPairSweep::AllPairs(const RStepBodies& bodies, RScalar grow, const RStepInputs& in) {
   const std::size_t n = bodies.size();
-  const bool bounds = m_settings.shortcuts.boundsRejection;
+  const bool bounds = in.settings.shortcuts.boundsRejection;
   const RScalar kGrow = grow;
-  const std::size_t used = ParallelRanges(m_jobs, n, m_tasks, 64, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+  const std::size_t used = ParallelRanges(in.jobs, n, in.tasks, 64, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.pairs.clear();
     st.sphereTests = 0;
@@ -101,11 +103,13 @@ void RWorldStep::AllPairs(const RStepBodies& bodies, RScalar grow) {
 // The sweep's set-up pass: each body's centre, the motion it will have this step (moveV,
 // moveW) and its reach (its bounding sphere grown by that motion and the allowance), its
 // flags, and its broad-phase box when the tree may be used.
-void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allowance, bool sweepBoxes) {
+void RPairSweep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allowance, bool sweepBoxes,
+                             const RStepInputs& in, RBroadPhase& broad) {
   const std::size_t n = bodies.size();
-  const RWorldSettings::RShortcuts& shortcuts = m_settings.shortcuts;
+  const RWorldSettings& settings = in.settings;
+  const RWorldSettings::RShortcuts& shortcuts = settings.shortcuts;
   const RScalar halfDt = RScalar(0.5) * dt;
-  ParallelRanges(m_jobs, n, m_tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(in.jobs, n, in.tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       if (i + 6 < i1) PrefetchBody(bodies[i + 6], 7 * 64);  // flags, state, accumulators, masks, box
       RBodyCore& b = bodies[i];
@@ -115,7 +119,7 @@ void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
         // Reach and margin as if it were awake and resting (half a step of gravity), so
         // that the margin between a sleeper and a resting neighbour is the one two awake
         // bodies have: a neighbour beyond it while both were awake does not wake it.
-        m_moveV[i] = RMotion::Gravity(b, m_settings.gravity_W) * halfDt, m_moveW[i] = 0;
+        m_moveV[i] = RMotion::Gravity(b, settings.gravity_W) * halfDt, m_moveW[i] = 0;
       } else if (b.m_isStatic) {
         m_moveV[i].setZero(), m_moveW[i] = 0;
         // Without the shortcut a static body's world form is recomputed every step, as a
@@ -124,11 +128,11 @@ void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
       } else if (b.m_isKinematic) {
         m_moveV[i] = b.m_v_W, m_moveW[i] = b.m_w_W.norm();
       } else if (b.m_angularLocked || b.m_angularDamping != 0) {
-        m_moveV[i] = RMotion::MidStepVelocity(b, m_settings.gravity_W, halfDt);
+        m_moveV[i] = RMotion::MidStepVelocity(b, settings.gravity_W, halfDt);
         const RMat3 R = b.m_q_WB.toRotationMatrix();
         m_moveW[i] = RMotion::MidStepSpin_W(b, R, RMotion::InvInertia_W(b, R), halfDt).norm();
       } else {
-        m_moveV[i] = RMotion::MidStepVelocity(b, m_settings.gravity_W, halfDt);
+        m_moveV[i] = RMotion::MidStepVelocity(b, settings.gravity_W, halfDt);
         // Most bodies have no angular kick (debris): turning a zero into the body frame
         // and adding it would give w_B to the bit.
         const RVec3 kick_W = RMotion::StartAngularKick_W(b, halfDt);
@@ -138,14 +142,14 @@ void RWorldStep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
       m_reach[i] = r + (m_moveV[i].norm() + m_moveW[i] * r) * dt + allowance;
       m_passive[i] = Passive(b);
       m_bodyFlags[i] = static_cast<std::uint8_t>((b.Immovable() ? kFlagImmovable : 0) | (b.m_responds ? kFlagResponds : 0));
-      if (sweepBoxes) m_broad.MakeSweepBox(i, b, m_cx[i], m_cy[i], m_cz[i], m_reach[i]);
+      if (sweepBoxes) broad.MakeSweepBox(i, b, m_cx[i], m_cy[i], m_cz[i], m_reach[i]);
     }
   });
 }
 
 // The tasks' contacts, wake marks, counts, manifold memory and contact memory joined in task
 // order (the pairs' order). Returns whether a sleeping island was touched.
-bool RWorldStep::JoinSweep(std::size_t pairTasks) {
+bool RPairSweep::JoinSweep(std::size_t pairTasks, const RStepInputs& in, RSleeping& sleep) {
   bool woke = false;
   // The tasks' contacts joined in task order: with one task its list is swapped in; with
   // several each task copies its own to its place (a contact is about 400 bytes).
@@ -157,7 +161,7 @@ bool RWorldStep::JoinSweep(std::size_t pairTasks) {
     std::size_t total = 0;
     for (std::size_t t = 0; t < pairTasks; ++t) m_sweepTasks[t].contactsAt = total, total += m_sweepTasks[t].contacts.size();
     m_contacts.resize(total);
-    ParallelRanges(m_jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+    ParallelRanges(in.jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
       for (std::size_t t = t0; t < t1; ++t) {
         const RSweepTask& st = m_sweepTasks[t];
         std::copy(st.contacts.begin(), st.contacts.end(), m_contacts.begin() + static_cast<std::ptrdiff_t>(st.contactsAt));
@@ -166,7 +170,7 @@ bool RWorldStep::JoinSweep(std::size_t pairTasks) {
   }
   for (std::size_t t = 0; t < pairTasks; ++t) {
     RSweepTask& st = m_sweepTasks[t];
-    for (std::uint32_t island : st.wake) m_sleep.Mark(island), woke = true;
+    for (std::uint32_t island : st.wake) sleep.Mark(island), woke = true;
     m_pairStats.rejectedFilter += st.rejectedFilter;
     m_pairStats.rejectedBoxes += st.rejectedBoxes;
     m_pairStats.narrowPhase += st.narrowPhase;
@@ -189,7 +193,7 @@ bool RWorldStep::JoinSweep(std::size_t pairTasks) {
     m_manifolds.resize(manifolds);
   } else {
     m_manifoldsGather.resize(manifolds);
-    ParallelRanges(m_jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+    ParallelRanges(in.jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
       for (std::size_t t = t0; t < t1; ++t) {
         const RSweepTask& st = m_sweepTasks[t];
         const auto from = m_manifolds.begin() + static_cast<std::ptrdiff_t>(st.manifoldsFrom);
@@ -205,7 +209,7 @@ bool RWorldStep::JoinSweep(std::size_t pairTasks) {
     if (pairTasks == 1) std::swap(m_contactMemory, m_sweepTasks[0].contactMemory);
   } else {
     m_contactMemory.resize(contacts);
-    ParallelRanges(m_jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+    ParallelRanges(in.jobs, pairTasks, pairTasks, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
       for (std::size_t t = t0; t < t1; ++t) {
         const RSweepTask& st = m_sweepTasks[t];
         const auto base = static_cast<std::uint32_t>(st.manifoldsAt);
@@ -219,12 +223,14 @@ bool RWorldStep::JoinSweep(std::size_t pairTasks) {
   return woke;
 }
 
-bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
+bool RPairSweep::DetectPairs(const RStepBodies& bodies, RScalar dt, const RStepInputs& in, RBroadPhase& broad,
+                             RSleeping& sleep) {
   // (m_contacts is replaced at the end of the sweep: not cleared here, so that joining
   // several tasks' contacts resizes it without constructing 4 MB of contacts again.)
   m_pairStats = RPairStats{};
   const std::size_t n = bodies.size();
-  const RWorldSettings::RShortcuts& shortcuts = m_settings.shortcuts;
+  const RWorldSettings& settings = in.settings;
+  const RWorldSettings::RShortcuts& shortcuts = settings.shortcuts;
   // Bounding spheres about the centres of mass, each grown by how far its surface can
   // move within the step (speed plus the farthest point's rotation, times dt): a pair
   // whose grown spheres are apart cannot touch before the next step. Stored as separate
@@ -239,9 +245,9 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // rounding error. A contact found early is harmless: its row pushes only if needed.
   // With gravity scales, two bodies separate by at most |g| (max s - min s) dt^2 (a static
   // body's s being 0): GravitySpread is 1 when every scale is 1, and the product unchanged.
-  const RScalar gravity = m_settings.gravity_W.norm();
+  const RScalar gravity = settings.gravity_W.norm();
   const RScalar allowance =
-      gravity * (gravity != 0 ? RMotion::GravitySpread(bodies) : 1) * dt * dt + m_settings.penetrationSlop;
+      gravity * (gravity != 0 ? RMotion::GravitySpread(bodies) : 1) * dt * dt + settings.penetrationSlop;
   m_cx.resize(n), m_cy.resize(n), m_cz.resize(n), m_reach.resize(n);
   m_moveV.resize(n), m_moveW.resize(n);
   m_passive.resize(n), m_bodyFlags.resize(n);
@@ -249,8 +255,8 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // the cache: a pass of their own waited for every body again (30000 bodies: 2 ms a
   // step). A world small enough for the all-pairs loop makes them unread, for little.
   const bool sweepBoxes = shortcuts.boundsRejection && shortcuts.broadPhase;
-  if (sweepBoxes) m_broad.ResizeSweepBoxes(n);
-  SweepMotion(bodies, dt, allowance, sweepBoxes);
+  if (sweepBoxes) broad.ResizeSweepBoxes(n);
+  SweepMotion(bodies, dt, allowance, sweepBoxes, in, broad);
   // The bodies that can start a contact (not Passive), in index order. A passive body is only paired with
   // these, so a world that mostly sleeps costs O(n m) for m awake bodies, not O(n^2); and
   // the pairs are still visited in (i, then j) order.
@@ -277,21 +283,21 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // and the result are the same.
   const double activeCount = static_cast<double>(m_active.size());
   const double loopWork = activeCount * (0.5 * activeCount + static_cast<double>(passiveCount));
-  const double listed = m_broad.ListValid() ? static_cast<double>(m_broad.ListedPairs()) : 4.0 * static_cast<double>(m_lastPairCount);
-  const double treeWork = (64.0 * static_cast<double>(n) + 8.0 * listed) * (m_broad.ListValid() ? 0.5 : 1.0);
+  const double listed = broad.ListValid() ? static_cast<double>(broad.ListedPairs()) : 4.0 * static_cast<double>(m_lastPairCount);
+  const double treeWork = (64.0 * static_cast<double>(n) + 8.0 * listed) * (broad.ListValid() ? 0.5 : 1.0);
   const bool tree = bounds && shortcuts.broadPhase && (shortcuts.broadPhaseAlways || loopWork > treeWork);
   m_pairStats.broadPhase = tree;
 
   // Stage 1: the pairs whose grown spheres touch, in (i, then j) order.
-  const std::size_t tasks = m_tasks;
+  const std::size_t tasks = in.tasks;
   if (m_sweepTasks.size() < tasks) m_sweepTasks.resize(tasks);
   if (tree) {
-    const RBroadPhase::RSweep sweep{m_cx, m_cy, m_cz, m_reach, m_passive, m_jobs, m_tasks};
-    m_broad.UpdateBroadPhase(bodies, sweep, m_sweepTasks);
-    m_broad.TreePairs(kGrow, sweep, m_sweepTasks, m_pairs, m_pairStats);
+    const RBroadPhase::RSweep sweep{m_cx, m_cy, m_cz, m_reach, m_passive, in.jobs, in.tasks};
+    broad.UpdateBroadPhase(bodies, sweep, m_sweepTasks);
+    broad.TreePairs(kGrow, sweep, m_sweepTasks, m_pairs, m_pairStats);
   } else {
-    m_broad.Invalidate();  // the list is not kept up to date by the loop
-    AllPairs(bodies, kGrow);
+    broad.Invalidate();  // the list is not kept up to date by the loop
+    AllPairs(bodies, kGrow, in);
   }
 
   m_lastPairCount = m_pairs.size();
@@ -299,18 +305,18 @@ bool RWorldStep::DetectPairs(const RStepBodies& bodies, RScalar dt) {
   // The world forms those pairs read, each computed once: on several threads they are
   // computed here, before the pairs are shared out, since a lazily computed form would be
   // written by whichever threads asked at once.
-  if (m_jobs && RangeCount(m_pairs.size(), tasks, kSweepPairGrain) > 1) {
+  if (in.jobs && RangeCount(m_pairs.size(), tasks, kSweepPairGrain) > 1) {
     m_formNeeded.assign(n, 0);
     for (const auto& [i, j] : m_pairs) m_formNeeded[i] = m_formNeeded[j] = 1;
-    ParallelRanges(m_jobs, n, tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    ParallelRanges(in.jobs, n, tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
       for (std::size_t i = i0; i < i1; ++i) {
-        if (m_formNeeded[i]) Body(bodies[i]).WorldForm(m_cacheStamp);
+        if (m_formNeeded[i]) Body(bodies[i]).WorldForm(in.cacheStamp);
       }
     });
   }
 
-  const std::size_t pairTasks = NarrowPairs(bodies, dt, allowance, kGrow);
-  const bool woke = JoinSweep(pairTasks);
+  const std::size_t pairTasks = NarrowPairs(bodies, dt, allowance, kGrow, in);
+  const bool woke = JoinSweep(pairTasks, in, sleep);
   // Pairs never visited: two passive static bodies (counted with the filter's), or two
   // passive bodies of which one at least sleeps. (Counts are those of the last sweep when
   // waking islands made it run again.)

@@ -22,7 +22,7 @@ void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
     if (slot >= bodies.slotCount) return false;
     const std::uint32_t i = bodies.denseOfSlot[slot];
     if (i >= bodies.count || bodies.handles[i].generation != generation) return false;
-    return bodies[i].m_sleeping || bodies[i].m_isStatic || StillKinematic(bodies[i]);
+    return bodies[i].m_sleeping || bodies[i].m_isStatic || RPairSweep::StillKinematic(bodies[i]);
   };
   for (const RWarmStart& w : m_warm) {
     const std::uint32_t a = static_cast<std::uint32_t>(w.pair >> 32);
@@ -121,7 +121,7 @@ void RSleeping::WakeIslands(const RStepBodies& bodies, const RWorldSettings& set
   auto moves = [&](std::uint32_t i) {
     if (i == world || i >= n) return false;  // the world; a disabled body
     const RBodyCore& b = bodies[i];
-    if (b.Immovable()) return b.m_staticMoved || (b.m_isKinematic && !RWorldStep::StillKinematic(b));
+    if (b.Immovable()) return b.m_staticMoved || (b.m_isKinematic && !RPairSweep::StillKinematic(b));
     return !b.m_sleeping;
   };
   for (std::size_t k = 0; k < bodies.jointCount; ++k) {
@@ -174,8 +174,8 @@ std::uint64_t RSleeping::SleepIslands(const RStepBodies& bodies, const RWorldSet
     if (!c.resolved) continue;
     // A kinematic body holds as static geometry does, and joins no island: the islands on a
     // platform sleep and wake apart (its motion wakes what it touches, SetShapePose the sleepers about where it was and is).
-    const bool staticA = bodyFlags[c.a] & RWorldStep::kFlagImmovable;
-    const bool staticB = bodyFlags[c.b] & RWorldStep::kFlagImmovable;
+    const bool staticA = bodyFlags[c.a] & RPairSweep::kFlagImmovable;
+    const bool staticB = bodyFlags[c.b] & RPairSweep::kFlagImmovable;
     if (staticA || staticB) {
       // Held: the static body pushed this step (a speculative contact, or a body sliding
       // along a floor in space, is not held).

@@ -36,7 +36,7 @@ class RSleeping {
   // the islands (bodies linked by this step's resolved contacts between two dynamic bodies,
   // and by its joints) that have rested for settings.sleepTime and that static geometry held
   // this step or that are exactly still. contacts: this step's, with their normal impulses
-  // (N s); bodyFlags: per body, RWorldStep::kFlagImmovable for a static or kinematic one;
+  // (N s); bodyFlags: per body, RPairSweep::kFlagImmovable for a static or kinematic one;
   // joints: the step's joints (joint, its index in bodies.joints; a and b, its bodies' dense
   // indices, b == bodies.size() for the world). Returns how many bodies sleep after the step.
   std::uint64_t SleepIslands(const RStepBodies& bodies, const RWorldSettings& settings,

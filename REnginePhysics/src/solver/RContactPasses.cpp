@@ -40,8 +40,7 @@ bool RWorldStep::BlockInverse(RBlock& blk) {
   // less than the touching band, and the inverse's error is then 1e-12 of the block's
   // condition, far below what the passes resolve. (The eigen-solve is the costliest
   // part of building a resting pile's rows.)
-  const std::uint32_t memory = m_contactMemory.empty() ? kNoMemory : m_contactMemory[m_rows[first].contact];
-  RManifoldMemory* mem = memory == kNoMemory ? nullptr : &m_manifolds[memory];
+  RManifoldMemory* mem = m_sweep.MemoryOf(m_rows[first].contact);
   if (mem && mem->hasInverse &&
       (K - mem->K).cwiseAbs().maxCoeff() <= RScalar(1e-12) * mem->K.cwiseAbs().maxCoeff()) {
     blk.pinv = mem->pinv;

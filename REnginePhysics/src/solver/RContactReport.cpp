@@ -44,18 +44,18 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     RSolverBody& sb = m_solverBodies[b];
     const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
-    if (!ImmovableAt(a)) {
+    if (!m_sweep.ImmovableAt(a)) {
       sa.endLinear -= J;
       sa.endAngular -= (rA + shift).cross(J);
     }
-    if (!ImmovableAt(b)) {
+    if (!m_sweep.ImmovableAt(b)) {
       sb.endLinear += J;
       sb.endAngular += (rB + shift).cross(J);
     }
   };
   for (std::uint32_t k = first; k < last; ++k) {
     const RBlock& blk = m_blocks[k];
-    const RContact& c = m_contacts[m_blockContact[k]];
+    const RContact& c = m_sweep.Contacts()[m_blockContact[k]];
     tally.reusedInverses += blk.inverse == 2;
     tally.computedInverses += blk.inverse == 1;
     RWarmStart* warm = &m_warmNext[warmBase + m_rowStart[m_blockContact[k]].warm];
@@ -71,7 +71,7 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
       const RContactRow& r = m_rows[blk.first + i];
       accumulate(r.a, r.b, r.rA, r.rB, r.lambdaN * r.n.d);
       if (r.lambdaE != 0) accumulateEnd(r.a, r.b, r.rA, r.rB, r.lambdaE * r.n.d);
-      m_contacts[r.contact].normalImpulse[r.point] = r.lambdaN + r.lambdaE;
+      m_sweep.SolverContact(r.contact).normalImpulse[r.point] = r.lambdaN + r.lambdaE;
       RWarmStart& w = warm[i];
       w.pair = pair;
       w.genA = c.handleA.generation, w.genB = c.handleB.generation;
@@ -92,8 +92,8 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     const RContactRow& r = m_rows[blk.first];
     accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[0] * blk.t[0].d + blk.lambdaT2[0] * blk.t[1].d);
     accumulateEnd(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[1] * blk.t[0].d + blk.lambdaT2[1] * blk.t[1].d);
-    m_contacts[r.contact].frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
-                                              (blk.lambdaT2[0] + blk.lambdaT2[1]) * blk.t[1].d;
+    m_sweep.SolverContact(r.contact).frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
+                                                         (blk.lambdaT2[0] + blk.lambdaT2[1]) * blk.t[1].d;
     // The twist: a pure torque about the normal.
     RSolverBody& sa = m_solverBodies[r.a];
     RSolverBody& sb = m_solverBodies[r.b];
@@ -116,8 +116,8 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     RSolverBody& B = m_solverBodies[r.b];
     if (A.invM != 0) A.impulse -= r.impulse, A.angularImpulse -= r.angularA;
     if (B.invM != 0) B.impulse += r.impulse, B.angularImpulse += r.angularB;
-    m_contacts[r.contact].normalImpulse[r.point] += r.lambdaN;
-    m_contacts[r.contact].frictionImpulse_W += r.frictionImpulse;
+    m_sweep.SolverContact(r.contact).normalImpulse[r.point] += r.lambdaN;
+    m_sweep.SolverContact(r.contact).frictionImpulse_W += r.frictionImpulse;
   }
   // Impacts within the step: the bodies move with their piecewise path's velocity and get
   // the rest at the end (SolveIslandImpacts).

@@ -62,7 +62,7 @@ std::size_t RWorldStep::FindWarmStarts(const std::vector<RWarmStart>& warm, std:
 // another, could return more energy than came in. Built only for an island some row of which
 // approaches (SolveIsland), at its block's index.
 void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block) {
-  const RContact& c = m_contacts[ci];
+  const RContact& c = m_sweep.Contacts()[ci];
   const RBodyCore& A = bodies[c.a];
   const RBodyCore& B = bodies[c.b];
   const RLeadingPoints lead = LeadingPoints(c.manifold);
@@ -87,7 +87,7 @@ void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std
 // Asks for what BuildContactRows reads of contact ci: the contact and its pair's warm starts
 // of last step (a manifold's worth, four entries).
 void RWorldStep::PrefetchContact(std::uint32_t ci) const {
-  PrefetchBytes(&m_contacts[ci], sizeof(RContact));
+  PrefetchBytes(&m_sweep.Contacts()[ci], sizeof(RContact));
   const std::size_t w0 = m_rowStart[ci].warmFound, w1 = std::min(w0 + 4, m_warm.size());
   for (std::size_t w = w0; w < w1; ++w) {
     const char* p = reinterpret_cast<const char*>(&m_warm[w]);
@@ -99,7 +99,7 @@ void RWorldStep::PrefetchContact(std::uint32_t ci) const {
 // warm-started from last step's impulses, and its friction patch. Returns how many rows
 // found a warm start.
 std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
-  const RContact& c = m_contacts[ci];
+  const RContact& c = m_sweep.Contacts()[ci];
   const std::uint32_t firstRow = m_rowStart[ci].row, blockIndex = m_rowStart[ci].block;
   const RBodyCore& A = bodies[c.a];
   const RBodyCore& B = bodies[c.b];

@@ -48,8 +48,8 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   GatherJoints(bodies);
   m_welds.GatherWelds(bodies, m_stepJoints);
   bool anyRow = !m_stepJoints.empty();
-  for (const RContact& c : m_contacts) {
-    anyRow = anyRow || (RespondsAt(c.a) && RespondsAt(c.b) && !(ImmovableAt(c.a) && ImmovableAt(c.b)) &&
+  for (const RContact& c : m_sweep.Contacts()) {
+    anyRow = anyRow || (m_sweep.RespondsAt(c.a) && m_sweep.RespondsAt(c.b) && !(m_sweep.ImmovableAt(c.a) && m_sweep.ImmovableAt(c.b)) &&
                         c.manifold.pointCount > 0);
   }
   m_solved = anyRow;
@@ -74,7 +74,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // moves them on copies).
   for (std::uint32_t i : m_immovableRowBodies) {
     RSolverBody& s = m_solverBodies[i];
-    InitSolverBody(s, bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
+    InitSolverBody(s, bodies[i], m_sweep.MoveV(i), halfDt, m_settings.gravity_W);
     s.moved.setZero(), s.tau = 0, s.deferV.setZero();
     s.vImpacts = s.v, s.contactDeltaV.setZero(), s.vMid = s.v;
   }
@@ -82,7 +82,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // contacts' order (RContactSlots::warm), written by the islands.
   const std::size_t warmBase = m_warmNext.size();
   m_warmNext.resize(warmBase + m_rows.size());
-  m_pairStats.contactPoints = m_rows.size();
+  m_sweep.MutableStats().contactPoints = m_rows.size();
   m_islandImpacts.assign(m_blockIslands.size(), 0);
   if (m_islandTallies.size() < m_tasks) m_islandTallies.resize(m_tasks);
   if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
@@ -102,7 +102,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
       ParallelRanges(m_jobs, b1 - b0, m_tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t) {
         for (std::size_t k = b0 + k0; k < b0 + k1; ++k) {
           const std::uint32_t i = m_islandBodies[k];
-          InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
+          InitSolverBody(m_solverBodies[i], bodies[i], m_sweep.MoveV(i), halfDt, m_settings.gravity_W);
         }
       });
       const std::size_t used = ParallelRanges(m_jobs, last - first, m_tasks, 32, [&](std::size_t k0, std::size_t k1, std::size_t task) {
@@ -115,7 +115,7 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
       for (std::size_t t = 0; t < used; ++t) prebuiltWarm += m_islandTallies[t].warmStarted;
     }
   }
-  m_pairStats.warmStarted += prebuiltWarm;
+  m_sweep.MutableStats().warmStarted += prebuiltWarm;
   const std::size_t tasks = ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RIslandTally& tally = m_islandTallies[task];
     tally = RIslandTally{};
@@ -123,9 +123,9 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   });
   bool dropped = false, warmUnordered = false;
   for (std::size_t t = 0; t < tasks; ++t) {
-    m_pairStats.warmStarted += m_islandTallies[t].warmStarted;
-    m_pairStats.reusedInverses += m_islandTallies[t].reusedInverses;
-    m_pairStats.computedInverses += m_islandTallies[t].computedInverses;
+    m_sweep.MutableStats().warmStarted += m_islandTallies[t].warmStarted;
+    m_sweep.MutableStats().reusedInverses += m_islandTallies[t].reusedInverses;
+    m_sweep.MutableStats().computedInverses += m_islandTallies[t].computedInverses;
     dropped = dropped || m_islandTallies[t].dropped;
     warmUnordered = warmUnordered || m_islandTallies[t].warmUnordered;
   }
@@ -167,7 +167,7 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
     for (std::uint32_t k = b0; k < b1; ++k) {
       if (k + 2 < m_islandBodies.size()) PrefetchBody(bodies[m_islandBodies[k + 2]], 8 * 64);  // to the shape's core
       const std::uint32_t i = m_islandBodies[k];
-      InitSolverBody(m_solverBodies[i], bodies[i], m_moveV[i], halfDt, m_settings.gravity_W);
+      InitSolverBody(m_solverBodies[i], bodies[i], m_sweep.MoveV(i), halfDt, m_settings.gravity_W);
     }
     for (std::uint32_t k = first; k < last; ++k) {
       if (k + 1 < m_blockContact.size()) PrefetchContact(m_blockContact[k + 1]);
@@ -207,20 +207,20 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
 // facing another way (a compound meeting two faces of a static U at once) keeps its own.
 void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
   for (std::uint32_t k0 = first; k0 < last;) {
-    const RContact& c0 = m_contacts[m_blockContact[k0]];
+    const RContact& c0 = m_sweep.Contacts()[m_blockContact[k0]];
     std::uint32_t k1 = k0 + 1;
-    while (k1 < last && m_contacts[m_blockContact[k1]].a == c0.a && m_contacts[m_blockContact[k1]].b == c0.b) ++k1;
+    while (k1 < last && m_sweep.Contacts()[m_blockContact[k1]].a == c0.a && m_sweep.Contacts()[m_blockContact[k1]].b == c0.b) ++k1;
     if (k1 - k0 > 1) {
       std::uint32_t lead = k0;
       for (std::uint32_t k = k0 + 1; k < k1; ++k) {
         if (m_impacts[k].gap < m_impacts[lead].gap) lead = k;
       }
       RImpactRow& r = m_impacts[lead];
-      const RVec3& n = m_contacts[m_blockContact[lead]].manifold.normal;
+      const RVec3& n = m_sweep.Contacts()[m_blockContact[lead]].manifold.normal;
       RVec3 sum = RVec3::Zero();
       int count = 0;
       for (std::uint32_t k = k0; k < k1; ++k) {
-        const RContactManifold& m = m_contacts[m_blockContact[k]].manifold;
+        const RContactManifold& m = m_sweep.Contacts()[m_blockContact[k]].manifold;
         if (m.normal.dot(n) < kFaceContactCos) continue;
         if (k != lead) m_impacts[k].gap = std::numeric_limits<RScalar>::infinity();
         for (int q = 0; q < m.pointCount; ++q) {
@@ -228,7 +228,7 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
         }
       }
       if (count > 0) {
-        const RContact& c = m_contacts[m_blockContact[lead]];
+        const RContact& c = m_sweep.Contacts()[m_blockContact[lead]];
         const RVec3 centre = sum / count;
         r.rA = centre - bodies[c.a].m_x_W, r.rB = centre - bodies[c.b].m_x_W;
         SetDirection(r.normal, n, r.rA, r.rB, m_solverBodies[c.a], m_solverBodies[c.b]);
@@ -253,7 +253,7 @@ void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first,
     return std::uint64_t(m_welds.Root(g)) | (std::uint64_t(1) << 32);
   };
   for (std::uint32_t k0 = first; k0 < last; ++k0) {
-    const RContact& c0 = m_contacts[m_blockContact[k0]];
+    const RContact& c0 = m_sweep.Contacts()[m_blockContact[k0]];
     if (!m_welds.Welded(c0.a) && !m_welds.Welded(c0.b)) continue;
     if (!std::isfinite(m_impacts[k0].gap) || m_impacts[k0].joined) continue;  // (joined already)
     const std::uint64_t ga = group(c0.a), gb = group(c0.b);
@@ -264,7 +264,7 @@ void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first,
     std::uint32_t lead = k0;
     int others = 0;
     for (std::uint32_t k = k0 + 1; k < last; ++k) {
-      const RContact& c = m_contacts[m_blockContact[k]];
+      const RContact& c = m_sweep.Contacts()[m_blockContact[k]];
       if (group(c.a) != ga || group(c.b) != gb || c.manifold.normal.dot(n) < kFaceContactCos) continue;
       if (!std::isfinite(m_impacts[k].gap)) continue;
       ++others;
@@ -275,7 +275,7 @@ void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first,
     RVec3 sum = RVec3::Zero();
     int count = 0;
     for (std::uint32_t k = k0; k < last; ++k) {
-      const RContact& c = m_contacts[m_blockContact[k]];
+      const RContact& c = m_sweep.Contacts()[m_blockContact[k]];
       if (group(c.a) != ga || group(c.b) != gb || c.manifold.normal.dot(n) < kFaceContactCos) continue;
       if (!std::isfinite(m_impacts[k].gap)) continue;
       const RContactManifold& m = c.manifold;
@@ -285,7 +285,7 @@ void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first,
       if (k != lead) m_impacts[k].gap = std::numeric_limits<RScalar>::infinity();
     }
     if (count == 0) continue;
-    const RContact& c = m_contacts[m_blockContact[lead]];
+    const RContact& c = m_sweep.Contacts()[m_blockContact[lead]];
     const RVec3 centre = sum / count;
     r.rA = centre - bodies[c.a].m_x_W, r.rB = centre - bodies[c.b].m_x_W;
     SetDirection(r.normal, c.manifold.normal, r.rA, r.rB, m_solverBodies[c.a], m_solverBodies[c.b]);

@@ -187,7 +187,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
         SetDirection(dir[1], r.tangent[0], rA, rB, sa, sb);
         SetDirection(dir[2], r.tangent[1], rA, rB, sa, sb);
       } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir,
-                                 m_contacts[r.contact].manifold.childA, m_contacts[r.contact].manifold.childB)) {
+                                 m_sweep.Contacts()[r.contact].manifold.childA, m_sweep.Contacts()[r.contact].manifold.childB)) {
         r.miss = true;  // they pass each other, or meet only after the step
         continue;
       }

@@ -79,14 +79,14 @@ void EnvelopeCholeskySolve(const RScalar* L, int m, int ld, const int* first, RS
 void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   m_islandSets.Reset(n);
-  m_rowStart.resize(m_contacts.size());
+  m_rowStart.resize(m_sweep.Contacts().size());
   m_inRows.assign(n, 0);
   std::uint32_t blockCount = 0, warmCount = 0;
   constexpr std::size_t kWarmAhead = 16;  // entries: four contacts' manifolds
   // Each contact alone, as tasks: whether it is resolved, and where last step's warm starts
   // of its pair begin (searched in the contacts' order: the rows are built island by
   // island, where a search from the last contact's entries would cross the list each time).
-  ParallelRanges(m_jobs, m_contacts.size(), m_tasks, 256, [&](std::size_t c0, std::size_t c1, std::size_t) {
+  ParallelRanges(m_jobs, m_sweep.Contacts().size(), m_tasks, 256, [&](std::size_t c0, std::size_t c1, std::size_t) {
     std::size_t warmFrom = 0;
     for (std::size_t ci = c0; ci < c1; ++ci) {
       // The search reads on from the last contact's entries, a manifold's worth (four
@@ -95,11 +95,11 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
       for (std::size_t w = warmFrom + kWarmAhead; w < std::min(warmFrom + kWarmAhead + 4, m_warm.size()); ++w) {
         __builtin_prefetch(&m_warm[w].pair);
       }
-      RContact& c = m_contacts[ci];
+      RContact& c = m_sweep.SolverContact(ci);
       // A manifold without points (the narrow phase hit its iteration cap) gives no rows:
       // its impact point and centroid would be 0/0; nor do separations that are not
       // numbers (see ImpactGeometry), which leave no point within the slop of the deepest.
-      c.resolved = RespondsAt(c.a) && RespondsAt(c.b) && !(ImmovableAt(c.a) && ImmovableAt(c.b)) &&
+      c.resolved = m_sweep.RespondsAt(c.a) && m_sweep.RespondsAt(c.b) && !(m_sweep.ImmovableAt(c.a) && m_sweep.ImmovableAt(c.b)) &&
                    c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
       if (!c.resolved) continue;
       warmFrom = FindWarmStarts(m_warm, PairKey(c.handleA.index, c.handleB.index), warmFrom);
@@ -108,8 +108,8 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   });
   m_warmPairsIncrease = true;
   std::uint64_t lastPair = 0;
-  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
-    const RContact& c = m_contacts[ci];
+  for (std::uint32_t ci = 0; ci < m_sweep.Contacts().size(); ++ci) {
+    const RContact& c = m_sweep.Contacts()[ci];
     if (!c.resolved) continue;
     const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
     if (blockCount > 0 && !(pair > lastPair)) m_warmPairsIncrease = false;
@@ -120,7 +120,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     // contact's rows are solved in.
     m_rowStart[ci].warm = warmCount;
     warmCount += static_cast<std::uint32_t>(c.manifold.pointCount);
-    if (!ImmovableAt(c.a) && !ImmovableAt(c.b)) m_islandSets.Union(c.a, c.b);
+    if (!m_sweep.ImmovableAt(c.a) && !m_sweep.ImmovableAt(c.b)) m_islandSets.Union(c.a, c.b);
   }
   // Joints join islands as contacts do; the world's end (index n) joins nothing.
   for (const RStepJoint& j : m_stepJoints) {
@@ -132,10 +132,10 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   // A counting sort of the resolved contacts by their island's representative (its smallest
   // body index), each island's in the contacts' order.
   m_blockStart.assign(n + 1, 0);
-  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
-    const RContact& c = m_contacts[ci];
+  for (std::uint32_t ci = 0; ci < m_sweep.Contacts().size(); ++ci) {
+    const RContact& c = m_sweep.Contacts()[ci];
     if (!c.resolved) continue;
-    const std::uint32_t root = m_islandSets.Find(ImmovableAt(c.a) ? c.b : c.a);
+    const std::uint32_t root = m_islandSets.Find(m_sweep.ImmovableAt(c.a) ? c.b : c.a);
     m_rowStart[ci].block = root;  // for now
     ++m_blockStart[root + 1];
   }
@@ -176,8 +176,8 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     }
   }
   m_blockContact.resize(blockCount);
-  for (std::uint32_t ci = 0; ci < m_contacts.size(); ++ci) {
-    if (!m_contacts[ci].resolved) continue;
+  for (std::uint32_t ci = 0; ci < m_sweep.Contacts().size(); ++ci) {
+    if (!m_sweep.Contacts()[ci].resolved) continue;
     const std::uint32_t block = m_blockStart[m_rowStart[ci].block]++;
     m_rowStart[ci].block = block;
     m_blockContact[block] = ci;
@@ -186,7 +186,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   for (std::uint32_t block = 0; block < blockCount; ++block) {
     const std::uint32_t ci = m_blockContact[block];
     m_rowStart[ci].row = rowCount;
-    rowCount += static_cast<std::uint32_t>(m_contacts[ci].manifold.pointCount);
+    rowCount += static_cast<std::uint32_t>(m_sweep.Contacts()[ci].manifold.pointCount);
   }
   // Resized, not cleared first: BuildContactRows writes every element whole, and a clear
   // would have resize zero 15 MB a step in a 10000-box pile.
@@ -200,7 +200,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_immovableRowBodies.clear();
   for (std::size_t i = 0; i < n; ++i) {
     if (!m_inRows[i]) continue;
-    if (ImmovableAt(i)) {
+    if (m_sweep.ImmovableAt(i)) {
       m_immovableRowBodies.push_back(static_cast<std::uint32_t>(i));
     } else {
       ++m_islandBodyStart[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))] + 1];
@@ -210,7 +210,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_islandBodies.resize(m_islandBodyStart[islands]);
   m_islandBodyFill.assign(m_islandBodyStart.begin(), m_islandBodyStart.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!m_inRows[i] || ImmovableAt(i)) continue;
+    if (!m_inRows[i] || m_sweep.ImmovableAt(i)) continue;
     m_islandBodies[m_islandBodyFill[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))]]++] =
         static_cast<std::uint32_t>(i);
   }
@@ -224,7 +224,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     }
     const std::size_t rowsFirst = m_rowStart[m_blockContact[first]].row;
     const std::size_t rowsLast = m_rowStart[m_blockContact[last - 1]].row +
-                                 static_cast<std::size_t>(m_contacts[m_blockContact[last - 1]].manifold.pointCount);
+                                 static_cast<std::size_t>(m_sweep.Contacts()[m_blockContact[last - 1]].manifold.pointCount);
     m_islandDirect.push_back(last - first > 1 && rowsLast - rowsFirst <= std::size_t(kDirectRows));
   }
 }

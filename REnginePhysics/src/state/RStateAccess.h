@@ -111,7 +111,7 @@ struct RStateAccess {
     RVec3 sleepGravity_W = RVec3::Zero();
     std::optional<RNonFiniteBody> nonFinite;
     std::vector<RWarmStart> warm;
-    std::vector<RWorldStep::RManifoldMemory> manifolds;
+    std::vector<RManifoldMemory> manifolds;
     std::vector<std::uint8_t> manifoldSerials;  // per manifold: bit 0 A's serial was its body's, bit 1 B's
     std::vector<RContactEventLog::RTouchingPair> touching;
   };

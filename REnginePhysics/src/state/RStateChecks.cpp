@@ -94,7 +94,7 @@ void RStateAccess::CheckReferences(const RSavedStep& step, const RSavedBodies& s
     }
   }
   for (std::size_t k = 0; k < step.manifolds.size(); ++k) {
-    const RWorldStep::RManifoldMemory& m = step.manifolds[k];
+    const RManifoldMemory& m = step.manifolds[k];
     if (!issued(m.handleA)) {
       throw RStateError(Indexed("manifolds", k) + ".handle_a", HandleText(m.handleA) + " names a body the container never held");
     }

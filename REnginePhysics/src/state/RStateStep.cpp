@@ -126,8 +126,8 @@ void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned
     w.F64(ws.lambdaN), w.F64(ws.lambdaE);
     for (int k = 0; k < 2; ++k) w.Vec3(ws.tangentImpulse[k]), w.F64(ws.twistImpulse[k]);
   }
-  w.U64(s.m_manifolds.size());
-  for (const RWorldStep::RManifoldMemory& m : s.m_manifolds) {
+  w.U64(s.m_sweep.Manifolds().size());
+  for (const RManifoldMemory& m : s.m_sweep.Manifolds()) {
     w.U32(m.i), w.U32(m.j);
     w.U32(m.handleA.index), w.U32(m.handleA.generation);
     w.U32(m.handleB.index), w.U32(m.handleB.generation);
@@ -203,11 +203,11 @@ RStateAccess::RSavedStep RStateAccess::ReadStep(RReader& r) {
   s.manifoldSerials.resize(s.manifolds.size());
   for (std::size_t k = 0; k < s.manifolds.size(); ++k) {
     r.SetRecord(Indexed("manifolds", k));
-    RWorldStep::RManifoldMemory& m = s.manifolds[k];
+    RManifoldMemory& m = s.manifolds[k];
     m.i = r.U32("i"), m.j = r.U32("j");
     if (m.i >= m.j) r.Fail("j", "must be above i (a pair i < j)");
     if (k > 0) {
-      const RWorldStep::RManifoldMemory& prev = s.manifolds[k - 1];
+      const RManifoldMemory& prev = s.manifolds[k - 1];
       if (!(prev.i < m.i || (prev.i == m.i && prev.j <= m.j))) {
         r.Fail("i", "is out of order (manifolds are sorted by i, then j)");
       }

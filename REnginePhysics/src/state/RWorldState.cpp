@@ -94,7 +94,7 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   // The manifolds name bodies by their place among the stepped ones; their serials are
   // the rebuilt bodies' where they were the saved bodies'.
   for (std::size_t k = 0; k < step.manifolds.size(); ++k) {
-    RWorldStep::RManifoldMemory& m = step.manifolds[k];
+    RManifoldMemory& m = step.manifolds[k];
     if (m.j >= saved.enabled) {
       throw RStateError(Indexed("manifolds", k) + ".j",
                         "is beyond the " + std::to_string(saved.enabled) + " stepped bodies");
@@ -114,13 +114,12 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_sleep.RestoreForLoad({step.sleepBodyCount, step.wakeAll, step.sleepGravity_W});
   w.m_motion.RestoreForLoad(std::move(step.nonFinite));
   w.m_warm = std::move(step.warm);
-  w.m_manifolds = std::move(step.manifolds);
+  w.m_sweep.RestoreForLoad(std::move(step.manifolds));
   w.m_eventLog.RestoreForLoad(std::move(step.touching));
   w.m_cacheStamp = NextCacheStamp();
-  w.m_contacts.clear(), w.m_contactMemory.clear();
-  w.m_pairStats = RPairStats{}, w.m_profile = RStepProfile{};
+  w.m_profile = RStepProfile{};
   w.m_solved = false;
-  w.m_broad.Invalidate(), w.m_lastPairCount = 0;
+  w.m_broad.Invalidate();
 }
 
 std::uint64_t RStateAccess::SerialAt(const RSavedBodies& saved, RBodyHandle h) {

@@ -60,7 +60,7 @@ RIntegrator::RIntegrator(RIntegrator&&) noexcept = default;
 RIntegrator& RIntegrator::operator=(RIntegrator&&) noexcept = default;
 
 void RIntegrator::ForgetContacts() {
-  m_w->m_warm.clear(), m_w->m_manifolds.clear(), m_w->m_sleep.WakeAllNextStep();
+  m_w->m_warm.clear(), m_w->m_sweep.ForgetManifolds(), m_w->m_sleep.WakeAllNextStep();
 }
 const RWorldSettings& RIntegrator::Settings() const { return m_w->m_settings; }
 RWorldSettings& RIntegrator::Settings() { return m_w->m_settings; }
@@ -73,13 +73,13 @@ const std::optional<RNonFiniteBody>& RIntegrator::NonFinite() const {
 const std::vector<RNonFiniteBody>& RIntegrator::NonFiniteInLastStep() const {
   return m_w->m_motion.NonFiniteInLastStep();
 }
-const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_contacts; }
+const std::vector<RContact>& RIntegrator::Contacts() const { return m_w->m_sweep.Contacts(); }
 const std::vector<RContactEvent>& RIntegrator::Events() const { return m_w->m_eventLog.Events(); }
 RBodyContactEvents RIntegrator::EventsOf(RBodyHandle body) const { return m_w->m_eventLog.EventsOf(body); }
 RContactEventSpan RIntegrator::EventsBetween(RBodyHandle a, RBodyHandle b) const {
   return m_w->m_eventLog.EventsBetween(a, b);
 }
-const RPairStats& RIntegrator::PairStats() const { return m_w->m_pairStats; }
+const RPairStats& RIntegrator::PairStats() const { return m_w->m_sweep.Stats(); }
 void RIntegrator::SetJobSystem(RJobSystem* jobs) { m_gameJobs = jobs; }
 
 void RIntegrator::PrepareJobs() {
@@ -120,7 +120,7 @@ void RIntegrator::PrepareJobs() {
 }
 
 void RIntegrator::SetPairFilter(RPairFilter filter, void* user) {
-  m_w->m_filter = filter, m_w->m_filterUser = user, m_w->m_sleep.WakeAllNextStep();
+  m_w->m_sweep.SetPairFilter(filter, user), m_w->m_sleep.WakeAllNextStep();
 }
 
 namespace {
@@ -191,8 +191,8 @@ void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   UpdateObjects(bodies, dt);
   const auto t2 = Clock::now();
   // Contact events: begin, persist, end, from the contacts and the motion (RContactEvents.h).
-  const RContactEventLog::RStepInputs events{w.m_settings.contactEvents, w.m_contacts,
-                                             w.m_islandImpacts, w.m_blockIslands, w.m_passive,
+  const RContactEventLog::RStepInputs events{w.m_settings.contactEvents, w.m_sweep.Contacts(),
+                                             w.m_islandImpacts, w.m_blockIslands, w.m_sweep.PassiveFlags(),
                                              w.m_jobs, w.m_tasks};
   w.m_eventLog.FindContactEvents(bodies, events, w.m_impacts);
   // The bodies moved: a new stamp, so world forms that detection cached at the old poses
@@ -211,11 +211,12 @@ void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {
   // A sweep that touched a sleeping island wakes it and runs again: the woken bodies' pairs
   // with each other, skipped while they slept, must be found too. Each rerun wakes at least
   // one island, so this ends.
-  while (w.DetectPairs(bodies, dt)) {
+  const RPairSweep::RStepInputs sweep{w.m_settings, w.m_jobs, w.m_tasks, w.m_cacheStamp};
+  while (w.m_sweep.DetectPairs(bodies, dt, sweep, w.m_broad, w.m_sleep)) {
     w.m_sleep.WakeMarked(bodies);
     ++wakeRuns;
   }
-  w.m_pairStats.wakeRuns = wakeRuns;
+  w.m_sweep.MutableStats().wakeRuns = wakeRuns;
   const auto t0 = Clock::now();
   w.FindImpulses(bodies, dt);
   w.m_profile.findImpulses = Ms(Clock::now() - t0);
@@ -226,8 +227,8 @@ void RIntegrator::UpdateObjects(const RStepBodies& bodies, RScalar dt) {
   const RMotion::RStepInputs motion{w.m_settings, w.m_welds, w.m_solved, w.m_inRows,
                                     w.m_stepCount, w.m_jobs, w.m_tasks};
   w.m_motion.Integrate(bodies, dt, motion, w.m_solverBodies, w.m_warm);
-  w.m_pairStats.sleepingBodies =
-      w.m_sleep.SleepIslands(bodies, w.m_settings, w.m_contacts, w.m_bodyFlags, w.m_stepJoints);
+  w.m_sweep.MutableStats().sleepingBodies =
+      w.m_sleep.SleepIslands(bodies, w.m_settings, w.m_sweep.Contacts(), w.m_sweep.BodyFlags(), w.m_stepJoints);
 }
 
 }  // namespace REngine

@@ -1,8 +1,8 @@
 // Private to REnginePhysics: the integrator's working state, the subsystems' scratch and
 // the step's outputs, behind RIntegrator (which holds one through a pointer, so none of this
 // is in an installed header). Each subsystem's functions are defined in its own file:
-//   RPairSweep.cpp      DetectPairs, SweepMotion, AllPairs, JoinSweep
-//   RPairNarrow.cpp     NarrowPairs, TimeOfImpact
+//   RPairSweep.cpp      RPairSweep (pairs/RPairSweep.h), the pair sweep (m_sweep; stage 2:
+//                       RPairNarrow.cpp)
 //   RBroadPhase.cpp     RBroadPhase, the broad phase (m_broad; trees: RBoundsTree.cpp)
 //   RContactSolver.cpp  FindImpulses, SolveIsland, MayImpact, ShiftArmsAfterImpacts,
 //                       SolveNormalBlock
@@ -33,6 +33,7 @@
 #include "events/RContactEventLog.h"
 #include "pairs/RBoundsTree.h"
 #include "pairs/RBroadPhase.h"
+#include "pairs/RPairSweep.h"
 #include "body/RBodyAccess.h"
 #include "joints/RJointSparse.h"
 #include "joints/RJointTypes.h"
@@ -116,85 +117,9 @@ class RWorldStep {
   static void InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
                              const RVec3& gravity_W);
 
-  // One sweep over the pairs, filling m_contacts. Returns true when it found a sleeping
-  // island touched (marked in m_sleep): the islands are woken and the sweep runs again.
-  bool DetectPairs(const RStepBodies& bodies, RScalar dt);
-  // Its parts: the set-up pass over the bodies (centres, step motion, reach, flags, sweep
-  // boxes); stage 2 (RPairNarrow.cpp), returning its task count; the tasks' results joined
-  // (returns whether a sleeping island was touched).
-  void SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allowance, bool sweepBoxes);
-  std::size_t NarrowPairs(const RStepBodies& bodies, RScalar dt, RScalar allowance, RScalar grow);
-  bool JoinSweep(std::size_t pairTasks);
-  static constexpr std::size_t kSweepPairGrain = 32;  // pairs per stage-2 task, at least
+  // The pair sweep (pairs/RPairSweep.h): the step's contacts, found with the broad phase.
+  RPairSweep m_sweep;
   RBroadPhase m_broad;  // the broad phase (pairs/RBroadPhase.h): stage 1 with a tree
-  std::vector<char> m_passive;  // per body, this sweep: Passive (below)
-  // Per body, this step (DetectPairs' set-up pass): whether it is static or kinematic and
-  // whether it responds, a byte each beside the others, for the contact phase's passes
-  // over contacts and bodies, which would otherwise wait for each body's first line.
-  static constexpr std::uint8_t kFlagImmovable = 1, kFlagResponds = 2;
-  std::vector<std::uint8_t> m_bodyFlags;
-  bool ImmovableAt(std::size_t i) const { return m_bodyFlags[i] & kFlagImmovable; }
-  bool RespondsAt(std::size_t i) const { return m_bodyFlags[i] & kFlagResponds; }
-  // Manifold memory (RShortcuts::contactReuse): each contact's manifold in its A frame with
-  // the relative pose it was computed at, in the sweep's (i, then j) order, kept for the
-  // next step's sweep. The margins between keptMax and droppedMin keep the same points.
-  struct RManifoldMemory {
-    std::uint32_t i = 0, j = 0;      // dense indices, the sweep's order
-    RBodyHandle handleA, handleB;    // identity (A: the lower slot)
-    std::uint64_t serialA = 0, serialB = 0;  // and which bodies (RRigidBody::Serial)
-    RRelativePose X;                 // B's pose in A's frame when it was computed
-    RContactManifold manifold_A;     // in A's frame
-    RScalar keptMax = 0, droppedMin = 0;  // m
-    // The contact solver's block matrix and its minimum-norm inverse, when computed for
-    // this manifold (BlockInverse): kept while the matrix stays within 1e-12 of it.
-    bool hasInverse = false;
-    Eigen::Matrix<RScalar, 4, 4> K = Eigen::Matrix<RScalar, 4, 4>::Zero(), pinv = Eigen::Matrix<RScalar, 4, 4>::Zero();
-  };
-  std::vector<RManifoldMemory> m_manifolds;
-  std::vector<RManifoldMemory> m_manifoldsGather;  // DetectPairs' join when it cannot keep them in place
-  std::vector<std::size_t> m_memoryFrom;  // DetectPairs: each pair range's first entry of m_manifolds
-  std::vector<std::uint32_t> m_contactMemory;  // per contact: its m_manifolds entry, or kNoMemory
-  static constexpr std::uint32_t kNoMemory = 0xffffffffu;
-  // The pair sweep's work, cut into tasks (see DetectPairs): each task's scratch and
-  // outputs, kept between steps so that no step allocates.
-  struct RSweepTask {
-    std::vector<RScalar> near;               // one body's candidates, lim^2 - d^2 (m^2)
-    std::vector<std::uint32_t> candidates;   // those with lim^2 - d^2 >= 0
-    std::vector<RBoundsTree::RNodePair> nodeStack;  // the tree's pair search
-    std::vector<std::uint32_t> query, queryStack;   // the tree's queries
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch (i < j)
-    std::vector<RContact> contacts;          // stage 2: contacts, in pair order
-    std::size_t contactsAt = 0;              // where they go in m_contacts (and m_contactMemory)
-    std::size_t manifoldsAt = 0;             // where its manifolds go in m_manifolds
-    // Its entries written over last step's in place: inPlace of them from manifoldsFrom on
-    // (the rest in manifolds).
-    std::size_t manifoldsFrom = 0, inPlace = 0;
-    std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
-    std::vector<RManifoldMemory> manifolds;  // stage 2: this step's manifold memory
-    std::vector<std::uint32_t> contactMemory;  // stage 2: per contact, its entry in manifolds
-    std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0, reused = 0;
-  };
-  std::vector<RSweepTask> m_sweepTasks;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
-  std::size_t m_lastPairCount = 0;  // pairs the last sweep found (the trees' cost estimate)
-  void AllPairs(const RStepBodies& bodies, RScalar grow);
-  // Bodies that cannot start a contact: asleep, static, or kinematic and still, and
-  // responding (a sensor keeps reporting what sleeps on it). A pair of two of them is
-  // skipped; a sleeping body touched by any other (in the speculative margin) wakes with its
-  // island: a kinematic body that moves wakes what it touches and nothing else.
-  static bool StillKinematic(const RBodyCore& b) {
-    return b.m_isKinematic && b.m_v_W.isZero(0) && b.m_w_W.isZero(0);
-  }
-  static bool Passive(const RBodyCore& b) {
-    return (b.m_sleeping || b.m_isStatic || StillKinematic(b)) && b.m_responds;
-  }
-  // A body's hull (its polyhedron's vertex array, up to 4 lines), read by its world form
-  // and the narrow phase: asked for once the body's own lines have arrived (PrefetchBody a
-  // few pairs earlier), since the pointer to it is in them.
-  static void PrefetchHull(const RBodyCore& b) {
-    if (b.m_polyhedron_B) PrefetchBytes(b.m_polyhedron_B->Vertices().data(), 4 * 64);
-  }
-  std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
   // The step's job system (null: one thread) and how many tasks a parallel stage is cut
   // into (1 on one thread). Set by RIntegrator before each step.
   RJobSystem* m_jobs = nullptr;
@@ -211,11 +136,6 @@ class RWorldStep {
   RStepProfile m_profile;
   std::uint64_t m_stepCount = 0;
   std::uint64_t m_cacheStamp = 0;
-  std::vector<RContact> m_contacts;  // capacity kept between steps: no per-step allocation
-  std::vector<RScalar> m_cx, m_cy, m_cz, m_reach;  // pair sweep: centres and grown radii
-  std::vector<std::uint32_t> m_active;  // pair sweep: bodies neither asleep nor static
-  std::vector<RVec3> m_moveV;    // velocity each body moves with this step, world, m/s
-  std::vector<RScalar> m_moveW;  // its angular speed this step, rad/s
   // The contact solver's rows, impact rows, bodies and blocks this step (solver/RSolverTypes.h).
   std::vector<RContactRow> m_rows;
   std::vector<RImpactRow> m_impacts;
@@ -384,9 +304,6 @@ class RWorldStep {
   // static): they are not solved while asleep, and start warm when woken.
   void KeepSleepingWarmStarts(const RStepBodies& bodies);
   RSleeping m_sleep;  // sleeping islands (sleep/RSleeping.h)
-  RPairStats m_pairStats;
-  RPairFilter m_filter = nullptr;
-  void* m_filterUser = nullptr;
   // Contact events (RWorldSettings::contactEvents): poses before the motion, events after.
   RContactEventLog m_eventLog;
   // Identity handles for the plain-vector path (RStepBodies::byIndex).
