@@ -10,7 +10,18 @@
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RRigidBody.h>
 
+#include <type_traits>
+
 namespace REngine {
+
+// The casts below are conversions to and from a base only while each class derives from its
+// core, without virtual functions or other data (a cast between unrelated types would
+// compile too, as a reinterpretation).
+static_assert(std::is_base_of_v<RBodyCore, RRigidBody> && sizeof(RRigidBody) == sizeof(RBodyCore));
+static_assert(std::is_base_of_v<RBodiesCore, RBodies> && !std::is_polymorphic_v<RBodies>);
+static_assert(std::is_base_of_v<RIntegratorCore, RIntegrator> && !std::is_polymorphic_v<RIntegrator>);
+static_assert(std::is_base_of_v<RFreeRotationCore, RFreeRotation> &&
+              sizeof(RFreeRotation) == sizeof(RFreeRotationCore));
 
 inline RBodyCore& Core(RRigidBody& b) { return (RBodyCore&)b; }
 inline const RBodyCore& Core(const RRigidBody& b) { return (const RBodyCore&)b; }

@@ -66,7 +66,7 @@ class RContactEventLog {
   const std::vector<RTouchingPair>& Touching() const { return m_touching; }
   void RestoreForLoad(std::vector<RTouchingPair> touching) {
     m_touching = std::move(touching);
-    m_events.clear();
+    m_events.clear(), m_eventsBySlot.clear(), m_eventsByBody.clear();
   }
 
  private:

@@ -51,7 +51,7 @@ RVec3 RMotion::MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3&
   return kick.isZero(0) ? w : RVec3(w + invI_W * kick);
 }
 
-// The contact solver's body state (RWorldStep's type), from the motion's definitions.
+// The contact solver's body state (solver/RSolverTypes.h), from the motion's definitions.
 void RWorldStep::InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
                                 const RVec3& gravity_W) {
   s.invM = b.m_invMass;

@@ -39,7 +39,7 @@ void RSleeping::WakeIslands(const RStepBodies& bodies, const RWorldSettings& set
   // mean nothing, and a removed body may have held a sleeping stack up. An RBodies reports
   // its departures instead (RBodies::Remove, Disable): only their islands wake.
   // A sleeping body ignores gravity, so a change of gravity wakes everything.
-  // Any body not where this integrator left it (see RRigidBody::m_slot) wakes everything:
+  // Any body not where this integrator left it (see RBodyCore::m_slot) wakes everything:
   // in a plain vector a removal and an addition in one frame keep the count and may still
   // remove a support; a body that was stepped by another integrator brings island ids
   // that mean nothing here (a copy of this integrator's, before its first step, is this

@@ -28,8 +28,10 @@ class RSleeping {
   // wakeAll, wakeBoxes).
   void WakeIslands(const RStepBodies& bodies, const RWorldSettings& settings);
   // Marks a sleeping island (its id: a slot) that this step's pair sweep touched, to be woken
-  // by WakeMarked. The id must be below the slot count the step started with.
-  void Mark(std::uint32_t island) { m_wakeMark[island] = 1; }
+  // by WakeMarked (an id beyond the slot count the step started with names no island).
+  void Mark(std::uint32_t island) {
+    if (island < m_wakeMark.size()) m_wakeMark[island] = 1;
+  }
   // Wakes the bodies of the marked islands and clears the marks.
   void WakeMarked(const RStepBodies& bodies);
   // After the motion: stamps every body with its slot and this world's id, and puts to sleep
@@ -46,7 +48,7 @@ class RSleeping {
   // The next step wakes everything (RIntegrator::ForgetContacts, SetPairFilter).
   void WakeAllNextStep() { m_wakeAll = true; }
 
-  // This integrator's id as the bodies it steps carry it (RRigidBody::m_slotWorld): the
+  // This integrator's id as the bodies it steps carry it (RBodyCore::m_slotWorld): the
   // state's loader gives the bodies it restores this id.
   std::uint64_t WorldId() const { return m_worldId.value; }
   // Whether a body that carries slotWorld was last stepped by this world (or, before this

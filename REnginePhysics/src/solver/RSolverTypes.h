@@ -30,7 +30,7 @@ struct RDirection {
 // acts per manifold (RBlock).
 struct RContactRow {
   std::uint32_t a, b;        // body indices
-  std::uint32_t contact;     // index into m_contacts
+  std::uint32_t contact;     // index into the step's contacts (RPairSweep::Contacts)
   std::uint32_t block;       // index into m_blocks
   int point;                 // index into its manifold
   RDirection n;              // the normal, A to B (arms shifted after impacts: FindImpulses)
@@ -59,7 +59,7 @@ inline RScalar Target(const RContactRow& r, RPhase phase) {
 // restitution acts (solver scratch, built once per step for every resolved contact).
 struct RImpactRow {
   std::uint32_t a, b;        // body indices
-  std::uint32_t contact;     // index into m_contacts
+  std::uint32_t contact;     // index into the step's contacts (RPairSweep::Contacts)
   int point;                 // the manifold's deepest point, where the impulse is reported
   RDirection normal;         // A to B, with the arms of the leading points' centre
   RVec3 tangent[2];          // the tangents' directions (arms worked out at the impact)

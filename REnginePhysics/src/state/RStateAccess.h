@@ -1,7 +1,7 @@
-// Private to REnginePhysics: the state's records (RStateAccess, a friend of the classes whose
-// state it writes). RStateRecords.cpp writes and reads each record; RWorldState.cpp saves
-// and loads a whole world with them (RWorldState.h), checking everything before it
-// replaces anything.
+// Private to REnginePhysics: the state's records (RStateAccess, which reaches the state of
+// bodies, containers and integrators through body/RBodyAccess.h). RStateRecords.cpp writes
+// and reads each record; RWorldState.cpp saves and loads a whole world with them
+// (RWorldState.h), checking everything before it replaces anything.
 #pragma once
 
 #include <REnginePhysics/RWorldState.h>

@@ -103,7 +103,7 @@ void RStateAccess::ReadRotation(RReader& r, RFreeRotation& rotation) {
   if (f.m_periodPanels < 0 || f.m_periodPanels > 4096) r.Fail("rotation.period_panels", "must be 0 to 4096");
 }
 
-// Where a body was last stepped (RRigidBody::m_slotWorld), as the state writes it: not yet
+// Where a body was last stepped (RBodyCore::m_slotWorld), as the state writes it: not yet
 // (0), by this integrator (1), by another (2). Ids are process-wide, so never stored.
 std::uint8_t RStateAccess::WorldOf(const RRigidBody& body, const RWorldStep& s) {
   const RBodyCore& b = Core(body);

@@ -1,26 +1,10 @@
-// Private to REnginePhysics: the integrator's working state, the subsystems' scratch and
-// the step's outputs, behind RIntegrator (which holds one through a pointer, so none of this
-// is in an installed header). Each subsystem's functions are defined in its own file:
-//   RPairSweep.cpp      RPairSweep (pairs/RPairSweep.h), the pair sweep (m_sweep; stage 2:
-//                       RPairNarrow.cpp)
-//   RBroadPhase.cpp     RBroadPhase, the broad phase (m_broad; trees: RBoundsTree.cpp)
-//   RContactSolver.cpp  FindImpulses, SolveIsland, MayImpact, ShiftArmsAfterImpacts,
-//                       SolveNormalBlock
-//   RContactPasses.cpp  SolveIslandContacts, BlockInverse, SolveIslandBlocks,
-//                       WarmStartIsland, SolvePatch, CloseAtEnd
-//   RContactReport.cpp  ReportIsland
-//   RContactRows.cpp    BuildContactRows, BuildImpactRow, FindWarmStarts, LeadingPoints
-//   RImpactPhase.cpp    SolveIslandImpacts, ImpactGeometry
-//   RJointImpacts.cpp   BeginImpactJoints, ImpactJointsPass, EndImpactJoints
-//   RIslandSolver.cpp   LayOutIslands, SolveIslandDirect
-//   RSleeping.cpp       KeepSleepingWarmStarts (sleeping itself: RSleeping, sleep/RSleeping.h)
-//   RIntegration.cpp    RMotion (motion/RMotion.h): Integrate, the motion (m_motion)
-//   RBodyMotion.cpp     RMotion's kinematic bodies, angular locks, drag, gravity scales;
-//                       InitSolverBody
-//   RContactEvents.cpp  RContactEventLog (events/RContactEventLog.h): the contact events
-//   RJoints.cpp         GatherJoints, BuildIslandJoints, JointTargets, SolveJointsPass,
-//                       ReportJoints, SolveJointsAtEnd (rows: RJointRows.cpp)
-//   RWeldGroups.cpp     RWeldGroups (fixed joints' bodies as one rigid body; m_welds)
+// Private to REnginePhysics: the integrator's working state, behind RIntegrator (which holds
+// one through a pointer, so none of this is in an installed header). It holds one of each
+// subsystem (docs/ARCHITECTURE.md, "Subsystems and folders": the pair sweep, the broad
+// phase, sleeping, the motion, the weld groups, the contact events) and runs them in the
+// step's order (RIntegrator.cpp). The contact solver's and the joints' solver's functions
+// are its own, over the members below: solver/*.cpp (FindImpulses and the island's
+// phases) and joints/*.cpp (the joints' rows, rounds, projections and impacts).
 // Stages that run as tasks (RJobSystem, m_jobs and m_tasks) write only their own outputs:
 // per-task scratch, or slots counted beforehand; the results do not depend on the threads.
 #pragma once
