@@ -1,6 +1,5 @@
 // Sleeping islands (RWorldSettings::RShortcuts::sleeping): waking before the step, putting to
-// sleep after it (RSleeping, sleep/RSleeping.h); see RIntegrator.h. And the contact solver's
-// warm starts of the pairs that sleep, kept while they sleep (KeepSleepingWarmStarts).
+// sleep after it (RSleeping, sleep/RSleeping.h); see RIntegrator.h.
 #include "sleep/RSleeping.h"
 
 #include "world/RWorldStep.h"
@@ -13,23 +12,6 @@
 namespace REngine {
 
 using namespace solver;
-
-void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
-  // Without sleeping nothing sleeps here (WakeIslands woke everything), and no pair is kept.
-  if (!m_settings.shortcuts.sleeping) return;
-  // The body in a slot, if it is the one the memory is of and it is stepped.
-  auto passive = [&bodies](std::uint32_t slot, std::uint32_t generation) {
-    if (slot >= bodies.slotCount) return false;
-    const std::uint32_t i = bodies.denseOfSlot[slot];
-    if (i >= bodies.count || bodies.handles[i].generation != generation) return false;
-    return bodies[i].m_sleeping || bodies[i].m_isStatic || RPairSweep::StillKinematic(bodies[i]);
-  };
-  for (const RWarmStart& w : m_warm) {
-    const std::uint32_t a = static_cast<std::uint32_t>(w.pair >> 32);
-    const std::uint32_t b = static_cast<std::uint32_t>(w.pair & 0xffffffffu);
-    if (passive(a, w.genA) && passive(b, w.genB)) m_warmNext.push_back(w);
-  }
-}
 
 void RSleeping::WakeIslands(const RStepBodies& bodies, const RWorldSettings& settings) {
   const std::size_t n = bodies.size();

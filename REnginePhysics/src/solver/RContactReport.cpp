@@ -1,6 +1,7 @@
 // The contact phase's outputs (RWorldStep::ReportIsland): an island's impulses accumulated
 // on its bodies (applied by UpdateObjects), reported on its contacts, and kept as next
-// step's warm starts.
+// step's warm starts; and the warm starts of the pairs that sleep, kept while they sleep
+// (KeepSleepingWarmStarts).
 #include "world/RWorldStep.h"
 
 #include "solver/RSolverRows.h"
@@ -10,6 +11,23 @@
 namespace REngine {
 
 using namespace solver;
+
+void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
+  // Without sleeping nothing sleeps here (WakeIslands woke everything), and no pair is kept.
+  if (!m_settings.shortcuts.sleeping) return;
+  // The body in a slot, if it is the one the memory is of and it is stepped.
+  auto passive = [&bodies](std::uint32_t slot, std::uint32_t generation) {
+    if (slot >= bodies.slotCount) return false;
+    const std::uint32_t i = bodies.denseOfSlot[slot];
+    if (i >= bodies.count || bodies.handles[i].generation != generation) return false;
+    return bodies[i].m_sleeping || bodies[i].m_isStatic || RPairSweep::StillKinematic(bodies[i]);
+  };
+  for (const RWarmStart& w : m_warm) {
+    const std::uint32_t a = static_cast<std::uint32_t>(w.pair >> 32);
+    const std::uint32_t b = static_cast<std::uint32_t>(w.pair & 0xffffffffu);
+    if (passive(a, w.genA) && passive(b, w.genB)) m_warmNext.push_back(w);
+  }
+}
 
 // Summed on the solver bodies (which start from the bodies' own impulses, and whose inverse
 // mass is 0 exactly when the body is static or kinematic), then written to the bodies: the
