@@ -1,5 +1,5 @@
-// Kinematic bodies, drag, gravity scales and axis locks, checked
-// against closed forms and conservation laws: exponential decay, free fall, a platform and a
+// Kinematic bodies, gravity scales and axis locks (drag: drag_test.cpp), checked
+// against closed forms and conservation laws: free fall, a platform and a
 // turntable carrying what stands on them, a kinematic body's exact motion whatever it hits,
 // what it wakes, and collisions of locked bodies (momentum on the free axes, energy).
 #include <REngineMath/RQuaternion.h>
@@ -27,51 +27,6 @@ RWorldSettings ZeroGravity() { return RWorldSettings{}; }
 RScalar TotalEnergy(const std::vector<RRigidBody>& bodies) { return KineticEnergy(bodies); }
 
 }  // namespace
-
-// ---- drag ---------------------------------------------------------------------------------
-
-// With no other force a damped body's velocity is v0 e^(-c t), and with the torque -c L of
-// angular drag its world angular momentum is L0 e^(-c t) (the free flow keeps L; the drag
-// scales it without turning it), for any body, here a box of three distinct moments spun
-// near its intermediate axis. Each step multiplies by e^(-c dt/2) twice, a few roundings a
-// step: after 600 steps the relative error is a few hundred ulp, asked below 1e-12.
-TEST(Drag, SpeedAndAngularMomentumDecayExactlyAsExponentials) {
-  const RScalar cv = 0.7, cw = 0.3;
-  std::vector<RRigidBody> bodies = MakeBodies(std::vector<BodyDef>{
-      BoxDef(RVec3(0.5, 0.3, 0.1)).Mass(2).Moving(RVec3(3, -1, 2)).Spinning(RVec3(0.05, 4, 0.1))
-          .Damping(cv, cw).Named("box")});
-  RIntegrator integrator(ZeroGravity());
-  const RVec3 v0 = bodies[0].Velocity_W(), L0 = bodies[0].AngularMomentum_W();
-  const RScalar E0 = bodies[0].RotationalKineticEnergy();
-  RScalar worstV = 0, worstL = 0;
-  for (int n = 1; n <= 600; ++n) {
-    integrator.Update(bodies, kDt);
-    const RScalar t = n * kDt;
-    worstV = std::max(worstV, (bodies[0].Velocity_W() - v0 * std::exp(-cv * t)).norm() /
-                                  (v0.norm() * std::exp(-cv * t)));
-    worstL = std::max(worstL, (bodies[0].AngularMomentum_W() - L0 * std::exp(-cw * t)).norm() /
-                                  (L0.norm() * std::exp(-cw * t)));
-  }
-  std::printf("drag, 600 steps: worst relative error of v %.2g, of L %.2g\n", worstV, worstL);
-  EXPECT_LT(worstV, 1e-12);
-  EXPECT_LT(worstL, 1e-12);
-  // The rotational energy of the free flow at angular momentum L e^(-ct): E0 e^(-2ct).
-  EXPECT_NEAR(bodies[0].RotationalKineticEnergy() / (E0 * std::exp(-2 * cw * 10.0)), 1, 1e-12);
-}
-
-// Without drag the velocity passes through untouched: no factor 1 multiplied in.
-TEST(Drag, ZeroDragLeavesTheMotionBitForBit) {
-  const BodyDef d = BoxDef(RVec3(0.5, 0.3, 0.1)).Mass(2).Moving(RVec3(3, -1, 2))
-                        .Spinning(RVec3(0.05, 4, 0.1)).Named("box");
-  std::vector<RRigidBody> plain = MakeBodies(std::vector<BodyDef>{d});
-  BodyDef scaled = d;
-  scaled.GravityScale(1).Damping(0, 0);
-  std::vector<RRigidBody> explicitDefaults = MakeBodies(std::vector<BodyDef>{scaled});
-  RIntegrator a(EarthGravity()), b(EarthGravity());
-  Step(a, plain, 100), Step(b, explicitDefaults, 100);
-  EXPECT_EQ(plain[0].Position_W(), explicitDefaults[0].Position_W());
-  EXPECT_EQ(plain[0].AngularVelocity_B(), explicitDefaults[0].AngularVelocity_B());
-}
 
 // ---- gravity scale --------------------------------------------------------------------------
 

@@ -241,14 +241,29 @@ void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar
   const RMat3 R0 = q.toRotationMatrix();
   RVec3 w_C = invI.cwiseProduct(R0.transpose() * L);
 
-  // Linear: kick-drift-kick, drag's factors around it.
+  // Linear: kick-drift-kick; with drag the exact flow's mean and end velocities, the
+  // impulses' change decaying from mid-step (RMotion::DragFlow, as Integrate).
   RVec3 v = P * invM;
-  if (root.m_linearDamping != 0) v *= RMotion::Decay(root.m_linearDamping, halfDt);
-  const RVec3 vHalf = v + J * invM + accel * halfDt;
-  c += vHalf * dt;
-  v = vHalf + accel * halfDt;
-  // Angular: drag, the start kick, the exact free flow of the composite, the end kick.
-  if (root.m_angularDamping != 0) w_C *= RMotion::Decay(root.m_angularDamping, halfDt);
+  RVec3 vDragEnd = RVec3::Zero();
+  if (root.m_linearDamping != 0) {
+    const RMotion::RDragFlow d = RMotion::DragFlow(root.m_linearDamping, dt);
+    const RVec3 vHalf = v * d.M + J * invM + accel * (d.G * dt);
+    c += vHalf * dt;
+    vDragEnd = v * d.E + accel * (d.M * dt);
+    v = J * invM;
+  } else {
+    const RVec3 vHalf = v + J * invM + accel * halfDt;
+    c += vHalf * dt;
+    v = vHalf + accel * halfDt;
+  }
+  // Angular: drag (the spin scaled by the flow's mean factor through the turn, by E/M after
+  // it), the start kick, the exact free flow of the composite, the end kick.
+  RScalar spinEnd = 1;
+  if (root.m_angularDamping != 0) {
+    const RMotion::RDragFlow d = RMotion::DragFlow(root.m_angularDamping, dt);
+    w_C *= d.M;
+    spinEnd = d.E / d.M;
+  }
   const RVec3 kick0 = H + moment(q) * halfDt;
   if (!kick0.isZero(0)) w_C += invI.cwiseProduct(q.conjugate() * kick0);
   RFreeRotation flow;
@@ -272,8 +287,8 @@ void RWeldGroups::MoveWeld(const RStepBodies& bodies, std::size_t group, RScalar
     v += endJ * invM;
     w_C += invI.cwiseProduct(q.conjugate() * RVec3(endH - (c - c0).cross(endJ)));
   }
-  if (root.m_linearDamping != 0) v *= RMotion::Decay(root.m_linearDamping, halfDt);
-  if (root.m_angularDamping != 0) w_C *= RMotion::Decay(root.m_angularDamping, halfDt);
+  if (root.m_linearDamping != 0) v = v * RMotion::Decay(root.m_linearDamping, halfDt) + vDragEnd;
+  if (root.m_angularDamping != 0) w_C *= spinEnd;
 
   // The members on the composite; a composite whose new state is not finite, or whose centre
   // left kMaxPosition, stays where it was, at rest, its members reported as Integrate reports

@@ -62,12 +62,20 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
       const RVec3 x0 = b.m_x_W;
       const RQuat q0 = b.m_q_WB;
 
-      // Linear: impulse, then kick-drift-kick with constant acceleration (drag's first half
-      // factor is in the mid-step velocity).
+      // Linear: impulse, then kick-drift-kick with constant acceleration. With drag the
+      // mid-step velocity is the exact flow's mean over the step (DragFlow); the flow's end
+      // velocity is set apart, and what the impulses add decays from mid-step to the end.
       const RVec3 accel = Acceleration(b, in.settings.gravity_W);
       const RVec3 vHalf = MidStepVelocity(b, in.settings.gravity_W, halfDt);
       b.m_x_W += vHalf * dt;
-      b.m_v_W = vHalf + accel * halfDt;
+      RVec3 vDragEnd = RVec3::Zero();
+      if (b.m_linearDamping != 0) {
+        const RDragFlow d = DragFlow(b.m_linearDamping, dt);
+        vDragEnd = b.m_v_W * d.E + accel * (d.M * dt);
+        b.m_v_W = LinearKick(b, b.m_linearImpulse_W);
+      } else {
+        b.m_v_W = vHalf + accel * halfDt;
+      }
 
       // Angular: impulse and half the torque's impulse, exact free flow, other half. A kick
       // is applied only when non-zero so that a free body's omega passes through bit for bit
@@ -75,10 +83,18 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
       // omega by e^(-c dt/2) before and after: a scalar, so the flow between is the free
       // flow's (at a lower speed), in the world frame as in the body frame. A body with
       // angular locks turns about the world axis of its spin (TurnLocked).
+      // With drag the spin is scaled by the flow's mean factor M through the turn, and by
+      // E/M after it: the damped free flow is the free flow at e^(-ct) the spin, along the
+      // free flow's time (1 - e^(-ct))/c = M t (L in the body frame obeys Euler's equations
+      // with a scalar factor on both sides).
+      const RScalar spinEnd = b.m_angularDamping != 0 ? [&] {
+        const RDragFlow d = DragFlow(b.m_angularDamping, dt);
+        return d.E / d.M;
+      }() : RScalar(1);
       if (b.m_angularLocked) {
         TurnLocked(b, dt);
       } else {
-        if (b.m_angularDamping != 0) b.m_w_B *= Decay(b.m_angularDamping, halfDt);
+        if (b.m_angularDamping != 0) b.m_w_B *= DragFlow(b.m_angularDamping, dt).M;
         const bool torque = !b.m_torque_W.isZero(0);
         const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
         if (!kick0_W.isZero(0)) {
@@ -116,13 +132,14 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
           b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * h_W);
         }
       }
-      // Drag's second half factor, on the velocities the step ends with.
-      if (b.m_linearDamping != 0) b.m_v_W *= Decay(b.m_linearDamping, halfDt);
+      // Drag at the end: the impulses' velocity change decays through the step's second
+      // half onto the flow's end velocity; the spin takes E/M.
+      if (b.m_linearDamping != 0) b.m_v_W = b.m_v_W * Decay(b.m_linearDamping, halfDt) + vDragEnd;
       if (b.m_angularLocked) {
-        if (b.m_angularDamping != 0) b.m_w_W *= Decay(b.m_angularDamping, halfDt);
+        if (b.m_angularDamping != 0) b.m_w_W *= spinEnd;
         b.m_w_B = b.m_q_WB.conjugate() * b.m_w_W;
       } else if (b.m_angularDamping != 0) {
-        b.m_w_B *= Decay(b.m_angularDamping, halfDt);
+        b.m_w_B *= spinEnd;
       }
 
       b.m_force_W.setZero(), b.m_torque_W.setZero();

@@ -37,9 +37,10 @@ class RMotion {
   // kick at the start is the angular impulse plus half the torque's impulse, and at the end
   // the other half (world, N m s). The contact solver solves for the mid-step velocities,
   // the pair sweep grows the bounds by them, Integrate moves the bodies with them.
-  // Drag (RBodyMotion.cpp) multiplies v by e^(-c dt/2) before the first kick and after the
-  // last, e^(-c dt) a step exactly; locks zero what a kick gives along a locked axis; a
-  // kinematic body moves with its own v, nothing else.
+  // Drag (DragFlow) follows the exact flow of dv/dt = a - c v through the step, in velocity
+  // and position, and scales the spin as the exact damped free flow does; an impulse's
+  // velocity change decays from mid-step on. Locks zero what a kick gives along a locked
+  // axis; a kinematic body moves with its own v, nothing else.
   // The body's gravity, s g (world, m/s^2).
   static RVec3 Gravity(const RBodyCore& b, const RVec3& gravity_W) {
     // Scale 1 is not multiplied: the arithmetic of a scene without scales is unchanged.
@@ -58,11 +59,25 @@ class RMotion {
   }
   // e^(-c t): a drag rate's factor over time t (1/s, s).
   static RScalar Decay(RScalar c, RScalar t) { return std::exp(-c * t); }
-  // The velocity the body moves with through the step (world, m/s).
+  // Drag at rate c over a step dt: the exact flow of dv/dt = a - c v from u (a constant) is
+  // v(dt) = E u + M dt a and x(dt) = x(0) + dt (M u + G dt a), with E = e^(-c dt), M the
+  // mean of e^(-c t) over the step, (1 - E)/(c dt), and G = (c dt - 1 + E)/(c dt)^2 (1/2
+  // without drag). A step with the mean velocity M u + G dt a then lands where the flow
+  // does, and a body's spin scaled by M turns through the flow's angle (RIntegration.cpp).
+  struct RDragFlow {
+    RScalar E, M, G;
+  };
+  static RDragFlow DragFlow(RScalar c, RScalar dt);
+  // The velocity the body moves with through the step (world, m/s): with drag, its mean
+  // velocity over the step, the impulse's velocity change undamped.
   static RVec3 MidStepVelocity(const RBodyCore& b, const RVec3& gravity_W, RScalar halfDt) {
     if (b.m_isKinematic) return b.m_v_W;
-    const RVec3 v = b.m_linearDamping != 0 ? RVec3(b.m_v_W * Decay(b.m_linearDamping, halfDt)) : b.m_v_W;
-    return v + LinearKick(b, b.m_linearImpulse_W) + Acceleration(b, gravity_W) * halfDt;
+    if (b.m_linearDamping != 0) {
+      const RScalar dt = 2 * halfDt;
+      const RDragFlow d = DragFlow(b.m_linearDamping, dt);
+      return b.m_v_W * d.M + LinearKick(b, b.m_linearImpulse_W) + Acceleration(b, gravity_W) * (d.G * dt);
+    }
+    return b.m_v_W + LinearKick(b, b.m_linearImpulse_W) + Acceleration(b, gravity_W) * halfDt;
   }
   static RVec3 StartAngularKick_W(const RBodyCore& b, RScalar halfDt) {
     return b.m_angularImpulse_W + b.m_torque_W * halfDt;
