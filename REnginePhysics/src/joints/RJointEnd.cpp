@@ -1,11 +1,17 @@
-// The joints at the end of the step (RWorldStep's joints, RJoints.cpp): the projection of
-// the position error the Newton rounds leave, and the end's velocity projection (the
-// second half of RATTLE), both on rows built at the predicted end poses.
-#include "world/RWorldStep.h"
+// The joints at the end of the step (the joint solver's, RJointSolver.h and RJoints.cpp): the
+// projection of the position error the Newton rounds leave, and the end's velocity
+// projection (the second half of RATTLE), both on rows built at the predicted end poses.
+#include "joints/RJointSolver.h"
+
+#include <REnginePhysics/RIntegrator.h>
 
 #include "joints/RJointRows.h"
 #include "joints/RJointSystem.h"
+#include "joints/RWeldGroups.h"
+#include "motion/RMotion.h"
+#include "pairs/RPairSweep.h"
 #include "solver/RSolverRows.h"
+#include "world/RStepBodies.h"
 
 #include <REngineMath/RQuaternion.h>
 
@@ -17,27 +23,27 @@ namespace REngine {
 
 using namespace joints;
 
-void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc,
-                              bool atEnd) {
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+void RJointSolver::BuildEndRows(const RJointIslandView& v, RIslandScratch& sc, bool atEnd) {
+  const RStepBodies& bodies = v.bodies;
+  const RScalar dt = v.dt;
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   const int nj = static_cast<int>(j1 - j0);
   const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
   const RScalar halfDt = RScalar(0.5) * dt;
   sc.endRows.resize(std::size_t(nj) * kRows);
   sc.jointC.resize(std::size_t(nj) * kRows);
   sc.endBodies.clear();
-  using REndBody = RIslandScratch::REndBody;
   auto endBody = [&](std::uint32_t i) -> std::uint32_t {
-    if (i != world && m_solverBodies[i].invM != 0) {
+    if (i != world && v.solverBodies[i].invM != 0) {
       if (sc.mark[i] != kNone) return sc.mark[i];
       const RBodyCore& b = bodies[i];
-      const RSolverBody& s = m_solverBodies[i];
+      const RSolverBody& s = v.solverBodies[i];
       const RJointPose& p = m_jointPoses[i];
-      REndBody e;
+      RJointEndBody e;
       const RMat3 R = p.q.toRotationMatrix();
       e.invI = b.m_angularLocked ? RMotion::InvInertia_W(b, R) : RMat3(R * b.m_invI_B.asDiagonal() * R.transpose());
       // (Stiffened: as the rounds solved it, RJointStiffness.cpp.)
-      if (sc.stiffened && sc.stiffness[i] > 0) e.invI = RMat3(e.invI.inverse() + sc.stiffness[i] * RMat3::Identity()).inverse();
+      if (sc.stiffened && sc.stiffness[i] > 0) e.invI = Stiffened(e.invI, sc.stiffness[i]);
       e.invM = s.invM, e.linMask = s.linMask, e.linLocked = s.linLocked;
       e.v.setZero(), e.w.setZero();
       if (atEnd) {
@@ -46,7 +52,7 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
         // end of the free flow.
         // (An impact's deferred change is in vMid: the body moves with vMid - deferV and
         // gets deferV back at the end.)
-        e.v = p.vMid + RMotion::Acceleration(b, m_settings.gravity_W) * halfDt + RMotion::LinearKick(b, s.endLinear);
+        e.v = p.vMid + RMotion::Acceleration(b, v.settings.gravity_W) * halfDt + RMotion::LinearKick(b, s.endLinear);
         const RVec3 h = s.endAngular - (p.x - b.m_x_W).cross(s.endLinear);
         e.w = p.wEnd_W + e.invI * (RMotion::EndAngularKick_W(b, halfDt) + h);
       }
@@ -54,7 +60,7 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
       sc.endBodies.push_back(e);
       return sc.mark[i];
     }
-    REndBody e;
+    RJointEndBody e;
     e.invI.setZero(), e.invM = 0, e.linMask = RVec3::Ones(), e.linLocked = false;
     e.v.setZero(), e.w.setZero();
     if (atEnd && i != world && bodies[i].m_isKinematic) e.v = bodies[i].m_v_W, e.w = bodies[i].m_w_W;
@@ -64,14 +70,14 @@ void RWorldStep::BuildEndRows(const RStepBodies& bodies, std::size_t island, RSc
   for (int t = 0; t < nj; ++t) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[j0 + t]];
     const std::uint32_t a = endBody(sj.a), b = endBody(sj.b);
-    BuildJointRows(bodies.joints[sj.joint], JointPose(bodies, sj.a, dt, true), JointPose(bodies, sj.b, dt, true),
-                   sc.endBodies[a], sc.endBodies[b], a, b, dt, sc.endRows.data() + std::size_t(t) * kRows,
+    BuildJointRows(bodies.joints[sj.joint], JointPose(v, sj.a, true), JointPose(v, sj.b, true), sc.endBodies[a],
+                   sc.endBodies[b], a, b, dt, sc.endRows.data() + std::size_t(t) * kRows,
                    sc.jointC.data() + std::size_t(t) * kRows);
   }
   if (sc.endMark.size() < sc.endBodies.size()) sc.endMark.resize(sc.endBodies.size(), kNone);
 }
 
-void RWorldStep::ClearJointMarks(RIslandScratch& sc) {
+void RJointSolver::ClearJointMarks(RIslandScratch& sc) {
   for (std::uint32_t i : sc.jointBodies) sc.mark[i] = kNone;
 }
 
@@ -79,18 +85,20 @@ void RWorldStep::ClearJointMarks(RIslandScratch& sc) {
 // displacement without velocity, as the contacts' position correction: the motion applies
 // it as the bodies' pseudo-velocities): the rows built at the corrected poses each time,
 // so that a joint whose arm the step turned far still converges.
-void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+void RJointSolver::ProjectJoints(const RJointIslandView& v, RIslandScratch& sc) {
+  const RStepBodies& bodies = v.bodies;
+  const RScalar dt = v.dt;
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   const int nj = static_cast<int>(j1 - j0);
-  const int iterations = std::max(1, m_settings.solverIterations);
+  const int iterations = std::max(1, v.settings.solverIterations);
   constexpr int kProjections = 8;
   bool moved = false;
   for (int projection = 0; projection < kProjections; ++projection) {
-    BuildEndRows(bodies, island, dt, sc, false);
+    BuildEndRows(v, sc, false);
     bool any = false;
     for (int t = 0; t < nj; ++t) {
       const RStepJoint& sj = m_stepJoints[m_islandJoints[j0 + t]];
-      const RScalar tolerance = JointTolerance(JointPose(bodies, sj.a, dt, true).x);
+      const RScalar tolerance = JointTolerance(JointPose(v, sj.a, true).x);
       for (int k = 0; k < kRows; ++k) {
         RJointRow& r = sc.endRows[std::size_t(t) * kRows + k];
         const RScalar C = sc.jointC[std::size_t(t) * kRows + k];
@@ -112,7 +120,7 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
       }
     }
     for (std::uint32_t i : sc.jointBodies) {
-      const RIslandScratch::REndBody& e = sc.endBodies[sc.mark[i]];
+      const RJointEndBody& e = sc.endBodies[sc.mark[i]];
       RJointPose& p = m_jointPoses[i];
       p.x += e.v * dt;
       if (!e.w.isZero(0)) {
@@ -127,9 +135,9 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
   if (!moved) return;
   // The displacement to the motion, as pseudo-velocities on top of the flow.
   for (std::uint32_t i : sc.jointBodies) {
-    RSolverBody& s = m_solverBodies[i];
+    RSolverBody& s = v.solverBodies[i];
     const RJointPose& p = m_jointPoses[i];
-    if (m_welds.Welded(i)) {
+    if (v.welds.Welded(i)) {
       // A weld's member does not move with its own velocity (its group turns it about the
       // group's centre): the correction alone, on top of the pseudo-velocities predicted.
       s.vp += (p.x - p.xPredicted) / dt;
@@ -146,12 +154,15 @@ void RWorldStep::ProjectJoints(const RStepBodies& bodies, std::size_t island, RS
 // no relative velocity and limits that are reached to none into them; the impulses go to
 // the motion as end-of-step impulses. Then each joint remembers its impulses (next step's
 // warm start) and reports what it did.
-void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+void RJointSolver::SolveJointsAtEnd(const RJointIslandView& v, RIslandScratch& sc) {
+  const RStepBodies& bodies = v.bodies;
+  const RScalar dt = v.dt;
+  std::vector<RSolverBody>& solverBodies = v.solverBodies;
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   const int nj = static_cast<int>(j1 - j0);
   const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
   const RJointRow* midRows = m_jointRows.data() + std::size_t(j0) * kRows;
-  BuildEndRows(bodies, island, dt, sc, true);
+  BuildEndRows(v, sc, true);
   // (Stiffened: each joint body's spin before the projection, in keptW, which the rounds are
   // done with.)
   if (sc.stiffened) {
@@ -162,11 +173,11 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
   // centre's shift across its momentum, each body's own spin turned with it. EndStiffness
   // takes it back.
   RVec3 projected = RVec3::Zero();
-  if (FreeJointIsland(bodies, island, sc)) {
+  if (FreeJointIsland(v, sc)) {
     for (std::uint32_t i : sc.jointBodies) {
       const RJointPose& p = m_jointPoses[i];
       if (p.x == p.xPredicted && p.q.coeffs() == p.qPredicted.coeffs()) continue;
-      const RIslandScratch::REndBody& e = sc.endBodies[sc.mark[i]];
+      const RJointEndBody& e = sc.endBodies[sc.mark[i]];
       const RMat3 R = p.q.toRotationMatrix();
       const RVec3 spin = R * bodies[i].m_invI_B.cwiseInverse().cwiseProduct(R.transpose() * e.w);
       projected += (p.x - p.xPredicted).cross(RVec3(e.v / e.invM)) + spin - (p.qPredicted * p.q.conjugate()) * spin;
@@ -175,7 +186,7 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
   for (int t = 0; t < nj; ++t) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[j0 + t]];
     const RJoint& J = bodies.joints[sj.joint];
-    const RScalar tolerance = JointTolerance(JointPose(bodies, sj.a, dt, true).x);
+    const RScalar tolerance = JointTolerance(JointPose(v, sj.a, true).x);
     for (int k = 0; k < kRows; ++k) {
       RJointRow& r = sc.endRows[std::size_t(t) * kRows + k];
       // A limit holds at the end only where it is reached; a motor drives at both ends.
@@ -190,28 +201,27 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
   // or kinematic ones (a chain lying on the ground), solved with the joints: projected alone,
   // the joints' end velocities pushed the links into the ground (6 cm/s a step, and the chain
   // never slept). Each may give back its own end impulse, never pull: lo = -lambdaE.
-  const auto [rowsFirst, rowsLast] = IslandRows(island);
   sc.endContacts.clear();
-  for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) {
-    const RContactRow& c = m_rows[i];
+  for (std::uint32_t i = v.rowsFirst; i < v.rowsLast; ++i) {
+    const RContactRow& c = v.rows[i];
     if (c.endTarget != 0 || !(c.n.k > 0)) continue;
     auto endIndex = [&](std::uint32_t body) -> std::uint32_t {
-      if (m_solverBodies[body].invM != 0) return sc.mark[body];  // kNone: not a joint body
-      RIslandScratch::REndBody e;
+      if (solverBodies[body].invM != 0) return sc.mark[body];  // kNone: not a joint body
+      RJointEndBody e;
       e.invI.setZero(), e.invM = 0, e.linMask = RVec3::Ones(), e.linLocked = false;
       e.v = bodies[body].m_isKinematic ? bodies[body].m_v_W : RVec3::Zero();
       e.w = bodies[body].m_isKinematic ? bodies[body].m_w_W : RVec3::Zero();
       sc.endBodies.push_back(e);
       return static_cast<std::uint32_t>(sc.endBodies.size() - 1);
     };
-    if ((m_solverBodies[c.a].invM != 0 && sc.mark[c.a] == kNone) || (m_solverBodies[c.b].invM != 0 && sc.mark[c.b] == kNone)) {
+    if ((solverBodies[c.a].invM != 0 && sc.mark[c.a] == kNone) || (solverBodies[c.b].invM != 0 && sc.mark[c.b] == kNone)) {
       continue;
     }
     RJointRow r;
     r.a = endIndex(c.a), r.b = endIndex(c.b);
     r.dir = c.n;
-    const RIslandScratch::REndBody& ea = sc.endBodies[r.a];
-    const RIslandScratch::REndBody& eb = sc.endBodies[r.b];
+    const RJointEndBody& ea = sc.endBodies[r.a];
+    const RJointEndBody& eb = sc.endBodies[r.b];
     r.dir.iA = ea.invI * r.dir.rAxd, r.dir.iB = eb.invI * r.dir.rBxd;
     r.dir.k = solver::LinearCoupling(ea, r.dir.d, r.dir.d, 1) + solver::LinearCoupling(eb, r.dir.d, r.dir.d, 1) +
               r.dir.rAxd.dot(r.dir.iA) + r.dir.rBxd.dot(r.dir.iB);
@@ -227,12 +237,12 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
   const std::size_t normalRows = sc.endRows.size();
   sc.endPatches.clear();
   for (std::size_t e = 0; e < sc.endContacts.size(); ++e) {
-    const RContactRow& c = m_rows[sc.endContacts[e]];
+    const RContactRow& c = v.rows[sc.endContacts[e]];
     if (!sc.endPatches.empty() && sc.endPatches.back() == c.block) continue;
-    const RBlock& blk = m_blocks[c.block];
+    const RBlock& blk = v.blocks[c.block];
     if (!(blk.friction > 0)) continue;
     RScalar normal = 0;
-    for (int k = 0; k < blk.count; ++k) normal += m_rows[blk.first + k].lambdaN + m_rows[blk.first + k].lambdaE;
+    for (int k = 0; k < blk.count; ++k) normal += v.rows[blk.first + k].lambdaN + v.rows[blk.first + k].lambdaE;
     const RScalar used = std::hypot(blk.lambdaT1[0] + blk.lambdaT1[1], blk.lambdaT2[0] + blk.lambdaT2[1]);
     const RScalar left = blk.friction * normal - used;
     if (!(left > 0)) continue;
@@ -242,8 +252,8 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
       RJointRow r;
       r.a = endA, r.b = endB;
       r.dir = blk.t[t];
-      const RIslandScratch::REndBody& ea = sc.endBodies[r.a];
-      const RIslandScratch::REndBody& eb = sc.endBodies[r.b];
+      const RJointEndBody& ea = sc.endBodies[r.a];
+      const RJointEndBody& eb = sc.endBodies[r.b];
       r.dir.iA = ea.invI * r.dir.rAxd, r.dir.iB = eb.invI * r.dir.rBxd;
       r.dir.k = solver::LinearCoupling(ea, r.dir.d, r.dir.d, 1) + solver::LinearCoupling(eb, r.dir.d, r.dir.d, 1) +
                 r.dir.rAxd.dot(r.dir.iA) + r.dir.rBxd.dot(r.dir.iB);
@@ -255,45 +265,45 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
   }
   if (sc.endMark.size() < sc.endBodies.size()) sc.endMark.resize(sc.endBodies.size(), kNone);
   BeginJointBlocks(sc.endRows.data(), sc.endRows.size(), sc);
-  const int iterations = std::max(1, m_settings.solverIterations);
+  const int iterations = std::max(1, v.settings.solverIterations);
   for (int it = 0; it < iterations; ++it) {
     if (!(JointPass(sc.endRows.data(), sc.endRows.size(), sc.endBodies.data(), sc, sc.endMark, kJointBlockRows) >
           kAtTarget)) {
       break;
     }
   }
-  if (sc.stiffened || !projected.isZero(0)) EndStiffness(bodies, island, sc, sc.keptW.data(), projected);
+  if (sc.stiffened || !projected.isZero(0)) EndStiffness(v, sc, sc.keptW.data(), projected);
   ClearJointMarks(sc);
   // The patches' friction, as the manifolds' end friction (at the centroid, moved with the
   // lighter body as ReportIsland moves a contact's end impulse), and in their report.
   for (std::size_t p = 0; p < sc.endPatches.size(); ++p) {
-    const RBlock& blk = m_blocks[sc.endPatches[p]];
-    const RContactRow& c = m_rows[blk.first];
+    const RBlock& blk = v.blocks[sc.endPatches[p]];
+    const RContactRow& c = v.rows[blk.first];
     RVec3 J = RVec3::Zero();
     for (int t = 0; t < 2; ++t) J += sc.endRows[normalRows + 2 * p + t].lambda * blk.t[t].d;
     if (J.isZero(0)) continue;
-    RSolverBody& sa = m_solverBodies[c.a];
-    RSolverBody& sb = m_solverBodies[c.b];
+    RSolverBody& sa = solverBodies[c.a];
+    RSolverBody& sb = solverBodies[c.b];
     const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
     if (!bodies[c.a].Immovable()) sa.endLinear -= J, sa.endAngular -= (blk.rA + shift).cross(J);
     if (!bodies[c.b].Immovable()) sb.endLinear += J, sb.endAngular += (blk.rB + shift).cross(J);
-    m_sweep.SolverContact(c.contact).frictionImpulse_W += J;
+    v.sweep.SolverContact(c.contact).frictionImpulse_W += J;
   }
   // What the contacts gave back or added, as their end impulses (at the point ReportIsland
   // puts a contact's end impulse: moved with the lighter body), and in their report.
   for (std::size_t k = 0; k < sc.endContacts.size(); ++k) {
     const RJointRow& r = sc.endRows[std::size_t(nj) * kRows + k];
     if (r.lambda == 0) continue;
-    const RContactRow& c = m_rows[sc.endContacts[k]];
-    RSolverBody& sa = m_solverBodies[c.a];
-    RSolverBody& sb = m_solverBodies[c.b];
+    const RContactRow& c = v.rows[sc.endContacts[k]];
+    RSolverBody& sa = solverBodies[c.a];
+    RSolverBody& sb = solverBodies[c.b];
     const RVec3 J = r.lambda * c.n.d;
     const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
     if (!bodies[c.a].Immovable()) sa.endLinear -= J, sa.endAngular -= (c.rA + shift).cross(J);
     if (!bodies[c.b].Immovable()) sb.endLinear += J, sb.endAngular += (c.rB + shift).cross(J);
-    m_sweep.SolverContact(c.contact).normalImpulse[c.point] += r.lambda;
+    v.sweep.SolverContact(c.contact).normalImpulse[c.point] += r.lambda;
   }
   // The end impulses to the motion, about the centres where the step starts (Integrate
   // moves their moments to where the centres end); what each joint did.
@@ -316,8 +326,8 @@ void RWorldStep::SolveJointsAtEnd(const RStepBodies& bodies, std::size_t island,
       const RVec3 Jl = end.lambda * end.dir.d;
       for (const bool isB : {false, true}) {
         const std::uint32_t i = isB ? sj.b : sj.a;
-        if (i == world || m_solverBodies[i].invM == 0) continue;
-        RSolverBody& s = m_solverBodies[i];
+        if (i == world || solverBodies[i].invM == 0) continue;
+        RSolverBody& s = solverBodies[i];
         const RVec3 shift = m_jointPoses[i].x - bodies[i].m_x_W;
         const RScalar sign = isB ? 1 : -1;
         s.endLinear += sign * Jl;

@@ -20,7 +20,7 @@
 //
 // Limits and motors do not act in the impact (a door hit while at its limit is stopped by
 // the limit in the contact phase, inelastically).
-#include "world/RWorldStep.h"
+#include "joints/RJointSolver.h"
 
 #include "joints/RJointRows.h"
 #include "joints/RJointSystem.h"
@@ -30,8 +30,8 @@ namespace REngine {
 
 using namespace joints;
 
-void RWorldStep::BeginImpactJoints(std::size_t island, RIslandScratch& sc) {
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+void RJointSolver::BeginImpactJoints(const RJointIslandView& v, RIslandScratch& sc) {
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   const RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   const std::size_t count = std::size_t(j1 - j0) * kRows;
   sc.impactRows.assign(rows, rows + count);
@@ -41,7 +41,7 @@ void RWorldStep::BeginImpactJoints(std::size_t island, RIslandScratch& sc) {
       continue;
     }
     r.lambda = 0;
-    r.target = RowSpeed(r, m_solverBodies.data());
+    r.target = RowSpeed(r, v.solverBodies.data());
   }
   BeginJointBlocks(sc.impactRows.data(), count, sc);
 }
@@ -49,12 +49,12 @@ void RWorldStep::BeginImpactJoints(std::size_t island, RIslandScratch& sc) {
 // The joints' answer to an impact at time t of the step: the island's joint bodies moved
 // along their paths up to t first (the joints' impulses act at the impact's instant), as the
 // impact phase moves a body it hits.
-void RWorldStep::ImpactJointsPass(RScalar t, RIslandScratch& sc) {
+void RJointSolver::ImpactJointsPass(const RJointIslandView& v, RScalar t, RIslandScratch& sc) {
   for (std::uint32_t i : sc.jointBodies) {
-    RSolverBody& s = m_solverBodies[i];
+    RSolverBody& s = v.solverBodies[i];
     if (t > s.tau) s.moved += s.v * (t - s.tau), s.tau = t;
   }
-  JointPass(sc.impactRows.data(), sc.impactRows.size(), m_solverBodies.data(), sc, sc.mark, kJointBlockRows);
+  JointPass(sc.impactRows.data(), sc.impactRows.size(), v.solverBodies.data(), sc, sc.mark, kJointBlockRows);
 }
 
 // The contact phase's impulses on a body an impact hit act with the arms r + dt deferV (see
@@ -63,12 +63,12 @@ void RWorldStep::ImpactJointsPass(RScalar t, RIslandScratch& sc) {
 // the joints' rows too, or the spin the motion gives the body is not the one their solve
 // and the prediction of the end poses weighed (a chain landing opened its joints by 2 mm).
 // Angular rows have no arm.
-void RWorldStep::ShiftJointArms(RJointRow* rows, std::size_t count, RScalar dt) {
+void RJointSolver::ShiftJointArms(RJointRow* rows, std::size_t count, const RSolverBody* solverBodies, RScalar dt) {
   for (std::size_t i = 0; i < count; ++i) {
     RJointRow& r = rows[i];
     if (r.kind == Kind::kOff || r.dir.d.isZero(0)) continue;
-    const RSolverBody& a = m_solverBodies[r.a];
-    const RSolverBody& b = m_solverBodies[r.b];
+    const RSolverBody& a = solverBodies[r.a];
+    const RSolverBody& b = solverBodies[r.b];
     if (a.deferV.isZero(0) && b.deferV.isZero(0)) continue;
     r.dir.rAxd += JointArmShift(a, r.dir.d, dt), r.dir.rBxd += JointArmShift(b, r.dir.d, dt);
     r.dir.iA = a.invI * r.dir.rAxd, r.dir.iB = b.invI * r.dir.rBxd;
@@ -77,25 +77,24 @@ void RWorldStep::ShiftJointArms(RJointRow* rows, std::size_t count, RScalar dt) 
   }
 }
 
-void RWorldStep::EndImpactJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc,
-                                 bool impacts) {
+void RJointSolver::EndImpactJoints(const RJointIslandView& v, RIslandScratch& sc, bool impacts) {
   for (const RJointRow& r : sc.impactRows) {
     if (r.kind == Kind::kOff || r.lambda == 0) continue;
-    RSolverBody& a = m_solverBodies[r.a];
-    RSolverBody& b = m_solverBodies[r.b];
+    RSolverBody& a = v.solverBodies[r.a];
+    RSolverBody& b = v.solverBodies[r.b];
     if (a.invM != 0) a.impulse -= r.lambda * r.dir.d, a.angularImpulse -= r.lambda * r.dir.rAxd;
     if (b.invM != 0) b.impulse += r.lambda * r.dir.d, b.angularImpulse += r.lambda * r.dir.rBxd;
   }
   // The step's own rows again: their block (the scratch held the impact rows'), and their
   // targets from where the bodies now go.
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   const std::size_t count = std::size_t(j1 - j0) * kRows;
-  if (impacts) ShiftJointArms(rows, count, dt);
+  if (impacts) ShiftJointArms(rows, count, v.solverBodies.data(), v.dt);
   BeginJointBlocks(rows, count, sc);
   if (!impacts) return;
-  PredictJoints(bodies, island, dt, sc);
-  SetJointTargets(island, dt, sc);
+  PredictJoints(v, sc);
+  SetJointTargets(v, sc);
 }
 
 }  // namespace REngine

@@ -1,8 +1,10 @@
-// A joint's rows (RWorldStep's joints): its geometry at given poses of its two bodies, the
-// rows of its Jacobian with their effective masses, its position errors, and the poses the
-// motion will give a body from the solver's velocities.
+// A joint's rows (the joint solver's, RJointSolver.h): its geometry at given poses of its
+// two bodies, the rows of its Jacobian with their effective masses, its position errors, and
+// the poses the motion will give a body from the solver's velocities.
 #include "joints/RJointRows.h"
 
+#include "body/RBodyAccess.h"
+#include "joints/RJointSolver.h"
 #include "solver/RSolverRows.h"
 
 #include <REngineMath/RQuaternion.h>
@@ -47,15 +49,6 @@ RScalar HingeAngle(const RJointGeometry& g) {
   const RScalar sign = g.error.w() < 0 ? RScalar(-1) : RScalar(1);
   const RVec3 v(g.error.x(), g.error.y(), g.error.z());
   return 2 * std::atan2(sign * v.dot(g.axisA), sign * g.error.w());
-}
-
-template <class Body>
-void SetJointMass(RDirection& dir, const Body& a, const Body& b) {
-  dir.iA = a.invI * dir.rAxd;
-  dir.iB = b.invI * dir.rBxd;
-  const RScalar dd = dir.d.dot(dir.d);
-  dir.k = LinearCoupling(a, dir.d, dir.d, dd) + LinearCoupling(b, dir.d, dir.d, dd) + dir.rAxd.dot(dir.iA) +
-          dir.rBxd.dot(dir.iB);
 }
 
 void Linear(RDirection& dir, const RVec3& d, const RVec3& armA, const RVec3& armB) {
@@ -208,17 +201,15 @@ RScalar JointHingeAngle(const RJoint& J, const RJointPoseIn& pa, const RJointPos
 template void BuildJointRows<RSolverBody>(const RJoint&, const RJointPoseIn&, const RJointPoseIn&, const RSolverBody&,
                                           const RSolverBody&, std::uint32_t, std::uint32_t, RScalar, RJointRow*,
                                           RScalar*);
-template void BuildJointRows<RWorldStep::RIslandScratch::REndBody>(
-    const RJoint&, const RJointPoseIn&, const RJointPoseIn&, const RWorldStep::RIslandScratch::REndBody&,
-    const RWorldStep::RIslandScratch::REndBody&, std::uint32_t, std::uint32_t, RScalar, RJointRow*,
-    RScalar*);
+template void BuildJointRows<RJointEndBody>(const RJoint&, const RJointPoseIn&, const RJointPoseIn&,
+                                            const RJointEndBody&, const RJointEndBody&, std::uint32_t,
+                                            std::uint32_t, RScalar, RJointRow*, RScalar*);
 
 // The pose the motion (Integrate) will give a movable body from its solver state: its
 // centre moved with the mid-step velocity and position correction's pseudo-velocity, its
 // orientation by the same exact free flow (a copy of the body's, whose cache the motion
 // keeps) and then position correction's turn; its spin at the end of the flow.
-RJointPose RWorldStep::PredictPose(const RBodyCore& b, std::uint32_t i, RScalar dt) const {
-  const RSolverBody& s = m_solverBodies[i];
+RJointPose RJointSolver::PredictPose(const RBodyCore& b, const RSolverBody& s, RScalar dt) {
   RJointPose p;
   p.vMid = s.v;
   // A body an impact hit this step moves with its piecewise path's velocity, deferV less than

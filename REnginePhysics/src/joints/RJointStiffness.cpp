@@ -1,4 +1,4 @@
-// The joints' geometric stiffness (RWorldStep's joints, RJoints.cpp).
+// The joints' geometric stiffness (the joint solver's, RJointSolver.h and RJoints.cpp).
 //
 // A joint's impulse turns with its arm: a body pulled by a force F at an arm r turns back
 // towards the force's line with a stiffness |F| |r| (N m/rad), and the mode of a rotational
@@ -19,10 +19,13 @@
 // and what those torques sum to, which the joints did not exert, is taken back by a turn of
 // the whole island about its centre of mass (which moves no joint) when the island is free:
 // no joint to the world or an immovable body, no contact. Its angular momentum is kept so.
-#include "world/RWorldStep.h"
+#include "joints/RJointSolver.h"
 
+#include "joints/RJointRows.h"
 #include "joints/RJointSystem.h"
+#include "joints/RWeldGroups.h"
 #include "solver/RSolverRows.h"
+#include "world/RStepBodies.h"
 
 #include <cmath>
 
@@ -37,16 +40,9 @@ void Remass(RJointRow* rows, std::size_t count, const RSolverBody* bodies) {
   for (std::size_t q = 0; q < count; ++q) {
     RJointRow& r = rows[q];
     if (r.kind == Kind::kOff) continue;
-    const auto& a = bodies[r.a];
-    const auto& b = bodies[r.b];
-    r.dir.iA = a.invI * r.dir.rAxd, r.dir.iB = b.invI * r.dir.rBxd;
-    const RScalar dd = r.dir.d.dot(r.dir.d);
-    r.dir.k = solver::LinearCoupling(a, r.dir.d, r.dir.d, dd) + solver::LinearCoupling(b, r.dir.d, r.dir.d, dd) +
-              r.dir.rAxd.dot(r.dir.iA) + r.dir.rBxd.dot(r.dir.iB);
+    SetJointMass(r.dir, bodies[r.a], bodies[r.b]);
   }
 }
-
-RMat3 Stiffened(const RMat3& invI, RScalar added) { return RMat3(invI.inverse() + added * RMat3::Identity()).inverse(); }
 
 // The rigid turn (rad/s) that changes the island's angular momentum by -net about its centre
 // of mass: its bodies' centres at x(i), their world inertias I(i); a turn moves no joint.
@@ -67,8 +63,15 @@ RVec3 IslandTurn(const std::vector<std::uint32_t>& island, const RSolverBody* so
 
 }  // namespace
 
-RScalar RWorldStep::JointStiffness(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
-  if (sc.stiffness.size() < m_solverBodies.size()) sc.stiffness.resize(m_solverBodies.size(), 0);
+RMat3 RJointSolver::Stiffened(const RMat3& invI, RScalar added) {
+  return RMat3(invI.inverse() + added * RMat3::Identity()).inverse();
+}
+
+RScalar RJointSolver::JointStiffness(const RJointIslandView& v, RIslandScratch& sc) {
+  const RStepBodies& bodies = v.bodies;
+  const std::size_t island = v.island;
+  const RScalar dt = v.dt;
+  if (sc.stiffness.size() < v.solverBodies.size()) sc.stiffness.resize(v.solverBodies.size(), 0);
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   const RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   // Each joint's pull (its impulses of the last step, times dt) at each arm: the stiffness it
@@ -84,17 +87,16 @@ RScalar RWorldStep::JointStiffness(const RStepBodies& bodies, std::size_t island
         impulse += (J.lambda[k] + J.lambdaEnd[k]) * jr[k].dir.d;
       }
       const RScalar pull = impulse.norm() * dt;
-      if (m_solverBodies[sj.a].invM != 0) each(sj.a, pull, J.anchorA_B.norm());
-      if (m_solverBodies[sj.b].invM != 0) each(sj.b, pull, J.anchorB_B.norm());
+      if (v.solverBodies[sj.a].invM != 0) each(sj.a, pull, J.anchorA_B.norm());
+      if (v.solverBodies[sj.b].invM != 0) each(sj.b, pull, J.anchorB_B.norm());
     }
   };
   pulls([&](std::uint32_t i, RScalar pull, RScalar arm) { sc.stiffness[i] += pull * arm; });
   // A body in a contact keeps its inertia: the contacts' rows are built with it.
-  const auto [rowsFirst, rowsLast] = IslandRows(island);
-  for (std::uint32_t q = rowsFirst; q < rowsLast; ++q) sc.stiffness[m_rows[q].a] = 0, sc.stiffness[m_rows[q].b] = 0;
+  for (std::uint32_t q = v.rowsFirst; q < v.rowsLast; ++q) sc.stiffness[v.rows[q].a] = 0, sc.stiffness[v.rows[q].b] = 0;
   // (A body with angular locks turns about its free axes alone; a weld's member with its group.)
   for (std::uint32_t i : sc.jointBodies) {
-    if (bodies[i].m_angularLocked || m_welds.Welded(i)) sc.stiffness[i] = 0;
+    if (bodies[i].m_angularLocked || v.welds.Welded(i)) sc.stiffness[i] = 0;
   }
   // The step follows a body's turn under one joint's pull while (omega dt)^2 is small: the
   // added inertia over the body's own about the anchor, I + m r^2 (its turn about its centre
@@ -104,46 +106,47 @@ RScalar RWorldStep::JointStiffness(const RStepBodies& bodies, std::size_t island
   pulls([&](std::uint32_t i, RScalar pull, RScalar arm) {
     if (!(sc.stiffness[i] > 0)) return;
     const RBodyCore& b = bodies[i];
-    worst = std::max(worst, pull * arm / (1 / b.m_invI_B.maxCoeff() + arm * arm / m_solverBodies[i].invM));
+    worst = std::max(worst, pull * arm / (1 / b.m_invI_B.maxCoeff() + arm * arm / v.solverBodies[i].invM));
   });
   return worst;
 }
 
-void RWorldStep::Stiffen(std::size_t island, RIslandScratch& sc) {
+void RJointSolver::Stiffen(const RJointIslandView& v, RIslandScratch& sc) {
   sc.stiffened = true;
   const std::size_t n = sc.jointBodies.size();
   sc.keptInvI.resize(n), sc.keptW.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    RSolverBody& s = m_solverBodies[sc.jointBodies[k]];
+    RSolverBody& s = v.solverBodies[sc.jointBodies[k]];
     sc.keptInvI[k] = s.invI, sc.keptW[k] = s.w;
     const RScalar added = sc.stiffness[sc.jointBodies[k]];
     if (added > 0) s.invI = Stiffened(s.invI, added);
   }
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
-  Remass(rows, std::size_t(j1 - j0) * kRows, m_solverBodies.data());
+  Remass(rows, std::size_t(j1 - j0) * kRows, v.solverBodies.data());
   BeginJointBlocks(rows, std::size_t(j1 - j0) * kRows, sc);
 }
 
 // Whether the island is free: no joint to the world or an immovable body, no contact, no
 // body with locks or in a weld (whose inertia is not a plain tensor).
-bool RWorldStep::FreeJointIsland(const RStepBodies& bodies, std::size_t island, const RIslandScratch& sc) const {
-  const auto [rowsFirst, rowsLast] = IslandRows(island);
-  if (rowsFirst != rowsLast) return false;
-  for (std::uint32_t p = m_islandJointStart[island]; p < m_islandJointStart[island + 1]; ++p) {
+bool RJointSolver::FreeJointIsland(const RJointIslandView& v, const RIslandScratch& sc) const {
+  if (v.rowsFirst != v.rowsLast) return false;
+  for (std::uint32_t p = m_islandJointStart[v.island]; p < m_islandJointStart[v.island + 1]; ++p) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
-    if (m_solverBodies[sj.a].invM == 0 || m_solverBodies[sj.b].invM == 0) return false;
+    if (v.solverBodies[sj.a].invM == 0 || v.solverBodies[sj.b].invM == 0) return false;
   }
   for (std::uint32_t i : sc.jointBodies) {
-    if (bodies[i].m_angularLocked || m_solverBodies[i].linLocked || m_welds.Welded(i)) return false;
+    if (v.bodies[i].m_angularLocked || v.solverBodies[i].linLocked || v.welds.Welded(i)) return false;
   }
   return true;
 }
 
-void RWorldStep::Unstiffen(const RStepBodies& bodies, std::size_t island, RIslandScratch& sc) {
+void RJointSolver::Unstiffen(const RJointIslandView& v, RIslandScratch& sc) {
+  const RStepBodies& bodies = v.bodies;
+  std::vector<RSolverBody>& solverBodies = v.solverBodies;
   RVec3 net = RVec3::Zero();
   for (std::size_t k = 0; k < sc.jointBodies.size(); ++k) {
-    RSolverBody& s = m_solverBodies[sc.jointBodies[k]];
+    RSolverBody& s = solverBodies[sc.jointBodies[k]];
     const RScalar added = sc.stiffness[sc.jointBodies[k]];
     s.invI = sc.keptInvI[k];
     if (!(added > 0)) continue;
@@ -151,17 +154,17 @@ void RWorldStep::Unstiffen(const RStepBodies& bodies, std::size_t island, RIslan
     s.angularImpulse += torque;
     net += torque;
   }
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
-  Remass(rows, std::size_t(j1 - j0) * kRows, m_solverBodies.data());
+  Remass(rows, std::size_t(j1 - j0) * kRows, solverBodies.data());
   BeginJointBlocks(rows, std::size_t(j1 - j0) * kRows, sc);
-  if (net.isZero(0) || !FreeJointIsland(bodies, island, sc)) return;
+  if (net.isZero(0) || !FreeJointIsland(v, sc)) return;
   // The island turned by -net about its centre of mass (at the start of the step).
   RVec3 centre;
-  const RVec3 turn = IslandTurn(sc.jointBodies, m_solverBodies.data(), net, [&](std::uint32_t i) { return bodies[i].m_x_W; },
-                                [&](std::uint32_t i) { return RMat3(m_solverBodies[i].invI.inverse()); }, centre);
+  const RVec3 turn = IslandTurn(sc.jointBodies, solverBodies.data(), net, [&](std::uint32_t i) { return bodies[i].m_x_W; },
+                                [&](std::uint32_t i) { return RMat3(solverBodies[i].invI.inverse()); }, centre);
   for (std::uint32_t i : sc.jointBodies) {
-    RSolverBody& s = m_solverBodies[i];
+    RSolverBody& s = solverBodies[i];
     const RVec3 dv = turn.cross(RVec3(bodies[i].m_x_W - centre));
     s.v += dv, s.w += turn;
     s.impulse += dv / s.invM, s.angularImpulse += s.invI.inverse() * turn;
@@ -171,8 +174,10 @@ void RWorldStep::Unstiffen(const RStepBodies& bodies, std::size_t island, RIslan
 // At the end of the step (SolveJointsAtEnd, its marks set): wBefore, per joint body, its end
 // body's spin before the end's projection (when stiffened); projected, the angular momentum
 // the position projection added to a free island.
-void RWorldStep::EndStiffness(const RStepBodies& bodies, std::size_t island, RIslandScratch& sc, const RVec3* wBefore,
-                              const RVec3& projected) {
+void RJointSolver::EndStiffness(const RJointIslandView& v, RIslandScratch& sc, const RVec3* wBefore,
+                                const RVec3& projected) {
+  const RStepBodies& bodies = v.bodies;
+  std::vector<RSolverBody>& solverBodies = v.solverBodies;
   RVec3 net = projected;
   if (sc.stiffened) {
     for (std::size_t k = 0; k < sc.jointBodies.size(); ++k) {
@@ -180,13 +185,13 @@ void RWorldStep::EndStiffness(const RStepBodies& bodies, std::size_t island, RIs
       const RScalar added = sc.stiffness[i];
       if (!(added > 0)) continue;
       const RVec3 torque = -added * (sc.endBodies[sc.mark[i]].w - wBefore[k]);
-      m_solverBodies[i].endAngular += torque;
+      solverBodies[i].endAngular += torque;
       net += torque;
     }
     for (std::uint32_t i : sc.jointBodies) sc.stiffness[i] = 0;
     sc.stiffened = false;
   }
-  if (net.isZero(0) || !FreeJointIsland(bodies, island, sc)) return;
+  if (net.isZero(0) || !FreeJointIsland(v, sc)) return;
   // The island turned by -net about its centre of mass where the step ends; the end impulses
   // are about the centres where it starts (SolveJointsAtEnd).
   auto inertiaOf = [&](std::uint32_t i) {
@@ -194,10 +199,10 @@ void RWorldStep::EndStiffness(const RStepBodies& bodies, std::size_t island, RIs
     return RMat3(R * bodies[i].m_invI_B.cwiseInverse().asDiagonal() * R.transpose());
   };
   RVec3 centre;
-  const RVec3 turn = IslandTurn(sc.jointBodies, m_solverBodies.data(), net, [&](std::uint32_t i) { return m_jointPoses[i].x; },
+  const RVec3 turn = IslandTurn(sc.jointBodies, solverBodies.data(), net, [&](std::uint32_t i) { return m_jointPoses[i].x; },
                                 inertiaOf, centre);
   for (std::uint32_t i : sc.jointBodies) {
-    RSolverBody& s = m_solverBodies[i];
+    RSolverBody& s = solverBodies[i];
     const RVec3 linear = turn.cross(RVec3(m_jointPoses[i].x - centre)) / s.invM;
     s.endLinear += linear;
     s.endAngular += inertiaOf(i) * turn + (m_jointPoses[i].x - bodies[i].m_x_W).cross(linear);

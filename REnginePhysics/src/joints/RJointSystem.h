@@ -4,8 +4,12 @@
 // solver bodies at the start of the step, the end bodies of its end.
 #pragma once
 
-#include "world/RWorldStep.h"
+#include <REngineMath/RMath.h>
+#include <REnginePhysics/RJoint.h>
 
+#include "joints/RJointSparse.h"
+#include "joints/RJointTypes.h"
+#include "solver/RIslandScratch.h"
 #include "solver/RSkyline.h"
 #include "solver/RSolverRows.h"
 
@@ -22,7 +26,6 @@ using solver::LinearCoupling;
 using solver::SkylineCholesky;
 using solver::SkylineSolve;
 using Kind = RJointRowKind;
-using RIslandScratch = RWorldStep::RIslandScratch;
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 inline constexpr int kRows = RJoint::kMaxRows;
 // A row this close to its target is at it (m/s, rad/s): the contacts' kAtTarget.

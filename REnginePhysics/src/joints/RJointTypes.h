@@ -1,8 +1,9 @@
 // Private to REnginePhysics: the joint solver's types (RJoints.cpp, RJointRows.cpp and the
 // rest of joints/): the step's joints, a joint's rows (scalar constraints along the contact
-// solver's directions, solver/RSolverTypes.h), and a joint body's poses, at the start of
-// the step and at its end as the motion will make it. The step holds them
-// (world/RWorldStep.h); the welds and sleeping read the step's joints and poses.
+// solver's directions, solver/RSolverTypes.h), a joint body's poses, at the start of the
+// step and at its end as the motion will make it, and a joint body as the end of the step's
+// rows see it. The joint solver holds them (joints/RJointSolver.h); the welds and sleeping
+// read the step's joints and poses.
 #pragma once
 
 #include <REngineMath/RMath.h>
@@ -48,6 +49,18 @@ struct RJointPose {
   RVec3 wEnd_W;   // its spin at the end of the free flow, world, rad/s (before the end kick)
   RVec3 xPredicted;  // x and q as predicted, before ProjectJoints corrects them
   RQuat qPredicted;
+};
+// A joint body at the predicted end of the step (RJointEnd.cpp: the position projection and
+// the end's velocity projection solve on these, as the rounds solve on the solver bodies):
+// its velocities (world, m/s and rad/s; pseudo-velocities in the position projection), its
+// inverse inertia at the end pose (world, 1/(kg m^2)), its inverse mass (1/kg, 0 for a
+// static or kinematic body and the world) and linear locks (as RSolverBody's).
+struct RJointEndBody {
+  RVec3 v, w;
+  RMat3 invI;
+  RScalar invM;
+  RVec3 linMask;
+  bool linLocked;
 };
 
 }  // namespace REngine

@@ -1,4 +1,5 @@
-// The joints' part of the contact solver (RWorldStep::FindImpulses), island by island.
+// The joint solver (RJointSolver.h), the joints' part of the contact solver's island solve
+// (RContactSolver::FindImpulses), island by island.
 //
 // Method: RATTLE (Andersen 1983), the constrained form of the kick-drift-kick the bodies
 // move with, in impulses. At the start of the step each joint's rows (RJointRows.cpp) get
@@ -6,8 +7,10 @@
 // motion will then give the bodies: the position error the motion would leave is
 // predicted from the solver's velocities (the exact free flow included, as the motion runs
 // it), and the rows' targets are the velocities that remove it; a few Newton rounds, each
-// a prediction and the passes again. At the end of the step the rows are built again at
-// the end poses and the end velocities projected onto them (the second half of RATTLE).
+// a prediction and the passes again (RContactSolver::JointRounds, solver/RContactPasses.cpp:
+// the rounds drive the contact solver's passes, which solve the joints with the contacts).
+// At the end of the step the rows are built again at the end poses and the end velocities
+// projected onto them (the second half of RATTLE).
 // No position correction is needed beyond that (no drift to correct: each step ends on
 // the constraint to the Newton tolerance), and both impulses are real ones acting at the
 // anchors, so momentum and angular momentum are conserved as in a collision.
@@ -29,10 +32,13 @@
 // kJointBlockRows rows, as one sparse system with the bodies as unknowns (RJointSparse.h).
 // Limits and motors join the block while they push or hold within their force (an active
 // set, RJointSystem.h).
-#include "world/RWorldStep.h"
+#include "joints/RJointSolver.h"
 
 #include "joints/RJointRows.h"
 #include "joints/RJointSystem.h"
+#include "joints/RWeldGroups.h"
+#include "world/RStepBodies.h"
+#include "world/RUnionFind.h"
 
 #include <algorithm>
 #include <cmath>
@@ -50,7 +56,7 @@ bool RStepBodies::JointedNoCollide(std::size_t i, std::size_t j) const {
 
 // The step's joints: both bodies stepped (a joint of a disabled body waits), one at least
 // movable and awake (an island sleeps as one: a sleeping joint's bodies both sleep).
-void RWorldStep::GatherJoints(const RStepBodies& bodies) {
+void RJointSolver::GatherJoints(const RStepBodies& bodies) {
   m_stepJoints.clear();
   const std::uint32_t world = static_cast<std::uint32_t>(bodies.size());
   for (std::size_t k = 0; k < bodies.jointCount; ++k) {
@@ -71,16 +77,50 @@ void RWorldStep::GatherJoints(const RStepBodies& bodies) {
   }
 }
 
-RJointPoseIn RWorldStep::JointPose(const RStepBodies& bodies, std::uint32_t i, RScalar dt, bool end) const {
+// Each joint counted at the root of its island (the representative of its movable body).
+void RJointSolver::CountIslandJoints(const RStepBodies& bodies, RUnionFind& sets) {
+  if (m_stepJoints.empty()) return;
+  m_jointRootCount.assign(bodies.size(), 0);
+  for (const RStepJoint& j : m_stepJoints) {
+    ++m_jointRootCount[sets.Find(bodies[j.a].Immovable() ? j.b : j.a)];
+  }
+}
+
+// Each island's joints in the step's order: its count (at its root) to starts, then the
+// joints placed. A root with joints is an island (JointsAtRoot); islands of contacts alone
+// have none.
+void RJointSolver::LayOutIslandJoints(const RStepBodies& bodies, RUnionFind& sets,
+                                      const std::vector<std::uint32_t>& islandOfRoot, std::size_t islands) {
+  m_islandJointStart.clear();
+  if (m_stepJoints.empty()) return;
+  m_islandJointStart.assign(islands + 1, 0);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (m_jointRootCount[i] > 0) m_islandJointStart[islandOfRoot[i] + 1] = m_jointRootCount[i];
+  }
+  for (std::size_t k = 0; k < islands; ++k) m_islandJointStart[k + 1] += m_islandJointStart[k];
+  m_islandJoints.resize(m_islandJointStart[islands]);
+  m_islandJointFill.assign(m_islandJointStart.begin(), m_islandJointStart.end() - 1);
+  for (std::uint32_t k = 0; k < m_stepJoints.size(); ++k) {
+    const RStepJoint& j = m_stepJoints[k];
+    const std::uint32_t root = sets.Find(bodies[j.a].Immovable() ? j.b : j.a);
+    m_islandJoints[m_islandJointFill[islandOfRoot[root]]++] = k;
+  }
+}
+
+RJointPoseIn RJointSolver::JointPose(const RJointIslandView& v, std::uint32_t i, bool end) const {
+  const RStepBodies& bodies = v.bodies;
   if (i == bodies.size()) return RJointPoseIn{RVec3::Zero(), RQuat::Identity()};
   if (!end) return RJointPoseIn{bodies[i].m_x_W, bodies[i].m_q_WB};
-  if (m_solverBodies[i].invM != 0) return RJointPoseIn{m_jointPoses[i].x, m_jointPoses[i].q};
-  return ImmovablePose(bodies[i], dt, true);
+  if (v.solverBodies[i].invM != 0) return RJointPoseIn{m_jointPoses[i].x, m_jointPoses[i].q};
+  return ImmovablePose(bodies[i], v.dt, true);
 }
 
 // The island's joints at the start of the step: their rows at the start poses, last step's
 // impulses applied (warm start), the equality blocks factored and the first targets.
-void RWorldStep::BuildIslandJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
+void RJointSolver::BuildIslandJoints(const RJointIslandView& v, RIslandScratch& sc) {
+  const RStepBodies& bodies = v.bodies;
+  const std::size_t island = v.island;
+  const RScalar dt = v.dt;
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   RScalar C[kRows];
@@ -89,23 +129,23 @@ void RWorldStep::BuildIslandJoints(const RStepBodies& bodies, std::size_t island
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
     const RJoint& J = bodies.joints[sj.joint];
     RJointRow* jr = rows + std::size_t(p - j0) * kRows;
-    BuildJointRows(J, JointPose(bodies, sj.a, dt, false), JointPose(bodies, sj.b, dt, false), m_solverBodies[sj.a],
-                   m_solverBodies[sj.b], sj.a, sj.b, dt, jr, C);
+    BuildJointRows(J, JointPose(v, sj.a, false), JointPose(v, sj.b, false), v.solverBodies[sj.a],
+                   v.solverBodies[sj.b], sj.a, sj.b, dt, jr, C);
     std::copy(C, C + kRows, sc.startC.begin() + std::size_t(p - j0) * kRows);
     for (int k = 0; k < kRows; ++k) {
       RJointRow& r = jr[k];
       if (r.kind == Kind::kOff || !std::isfinite(J.lambda[k])) continue;
       r.lambda = std::clamp(J.lambda[k], r.lo, r.hi);
-      if (r.lambda != 0) RowPush(r, r.lambda, m_solverBodies.data());
+      if (r.lambda != 0) RowPush(r, r.lambda, v.solverBodies.data());
     }
   }
   // The island's movable joint bodies, each once (their end poses are predicted per round).
   sc.jointBodies.clear();
-  if (sc.mark.size() < m_solverBodies.size()) sc.mark.resize(m_solverBodies.size(), kNone);
+  if (sc.mark.size() < v.solverBodies.size()) sc.mark.resize(v.solverBodies.size(), kNone);
   for (std::uint32_t p = j0; p < j1; ++p) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
     for (std::uint32_t i : {sj.a, sj.b}) {
-      if (m_solverBodies[i].invM == 0 || sc.mark[i] != kNone) continue;
+      if (v.solverBodies[i].invM == 0 || sc.mark[i] != kNone) continue;
       sc.mark[i] = 0;
       sc.jointBodies.push_back(i);
     }
@@ -113,29 +153,32 @@ void RWorldStep::BuildIslandJoints(const RStepBodies& bodies, std::size_t island
   for (std::uint32_t i : sc.jointBodies) sc.mark[i] = kNone;
   BeginJointBlocks(rows, std::size_t(j1 - j0) * kRows, sc);
   sc.jointC.resize(std::size_t(j1 - j0) * kRows);
-  PredictJoints(bodies, island, dt, sc);
-  SetJointTargets(island, dt, sc);
+  PredictJoints(v, sc);
+  SetJointTargets(v, sc);
 }
 
 // The poses the motion will give the island's joint bodies from the solver's velocities
 // now (m_jointPoses), and each row's position error there (sc.jointC). Returns how far the
 // worst row is off (m or rad: an equality row's error, a limit's overshoot or, pushing, its
 // gap) beyond the tolerance, 0 when none is.
-RScalar RWorldStep::PredictJoints(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
+RScalar RJointSolver::PredictJoints(const RJointIslandView& v, RIslandScratch& sc) {
+  const RStepBodies& bodies = v.bodies;
+  const std::size_t island = v.island;
+  const RScalar dt = v.dt;
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   const RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   for (std::uint32_t i : sc.jointBodies) {
     // A weld's members move as one body: predicted together, when its first is met.
-    if (const std::uint32_t g = m_welds.WeldOf(i); g != RWeldGroups::kNoWeld) {
-      if (m_welds.Root(g) == i) m_welds.PredictWeld(bodies, g, dt, m_solverBodies, m_jointPoses);
+    if (const std::uint32_t g = v.welds.WeldOf(i); g != RWeldGroups::kNoWeld) {
+      if (v.welds.Root(g) == i) v.welds.PredictWeld(bodies, g, dt, v.solverBodies, m_jointPoses);
       continue;
     }
-    m_jointPoses[i] = PredictPose(bodies[i], i, dt);
+    m_jointPoses[i] = PredictPose(bodies[i], v.solverBodies[i], dt);
   }
   RScalar worst = 0;
   for (std::uint32_t p = j0; p < j1; ++p) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
-    const RJointPoseIn pa = JointPose(bodies, sj.a, dt, true), pb = JointPose(bodies, sj.b, dt, true);
+    const RJointPoseIn pa = JointPose(v, sj.a, true), pb = JointPose(v, sj.b, true);
     RScalar* C = sc.jointC.data() + std::size_t(p - j0) * kRows;
     const RJointRow* jr = rows + std::size_t(p - j0) * kRows;
     JointErrors(bodies.joints[sj.joint], pa, pb, jr, C);
@@ -153,23 +196,25 @@ RScalar RWorldStep::PredictJoints(const RStepBodies& bodies, std::size_t island,
 
 // Each row's target: the relative velocity that takes its predicted error out, to first
 // order (the Newton step).
-void RWorldStep::SetJointTargets(std::size_t island, RScalar dt, RIslandScratch& sc) {
+void RJointSolver::SetJointTargets(const RJointIslandView& v, RIslandScratch& sc) {
+  const std::size_t island = v.island;
+  const RScalar dt = v.dt;
   const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
   RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
   for (std::size_t i = 0; i < std::size_t(j1 - j0) * kRows; ++i) {
     RJointRow& r = rows[i];
     if (r.kind != Kind::kEquality && r.kind != Kind::kLimit) continue;
-    r.target = RowSpeed(r, m_solverBodies.data()) - sc.jointC[i] / dt;
+    r.target = RowSpeed(r, v.solverBodies.data()) - sc.jointC[i] / dt;
   }
   // A joint inside a weld: the group moves as one body whatever its members' relative
   // velocities, so its error is 0 at any prediction and the Newton step above says nothing.
   // What its rows must do is make the members answer contacts and other joints as that one
   // body: no relative velocity.
-  if (m_welds.GroupCount() == 0) return;
+  if (v.welds.GroupCount() == 0) return;
   for (std::uint32_t p = j0; p < j1; ++p) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
-    const std::uint32_t g = m_welds.WeldOf(sj.a);
-    if (g == RWeldGroups::kNoWeld || g != m_welds.WeldOf(sj.b)) continue;
+    const std::uint32_t g = v.welds.WeldOf(sj.a);
+    if (g == RWeldGroups::kNoWeld || g != v.welds.WeldOf(sj.b)) continue;
     for (int k = 0; k < kRows; ++k) {
       RJointRow& r = rows[std::size_t(p - j0) * kRows + k];
       if (r.kind == Kind::kEquality || r.kind == Kind::kLimit) r.target = 0;
@@ -177,99 +222,47 @@ void RWorldStep::SetJointTargets(std::size_t island, RScalar dt, RIslandScratch&
   }
 }
 
-// The rounds (see the top of the file): after the island's passes, the end poses predicted
-// again, and while some joint would end the step off its constraint, new targets and the
-// passes (and the island's direct solves: passes) again, as long as each round at least
-// halves the worst error. An island whose arms' modes the step cannot follow is solved
-// stiffened (RJointStiffness.cpp): its equality impulses solved again from nothing, the
-// rounds again.
-void RWorldStep::JointRounds(const RStepBodies& bodies, std::size_t island, RScalar dt, RIslandScratch& sc) {
-  // (Not a structured binding: the lambda below captures them, which C++17 forbids.)
-  const std::uint32_t first = m_blockIslands[island].first, last = m_blockIslands[island].second;
-  const int iterations = std::max(1, m_settings.solverIterations);
-  auto passes = [&] {
-    const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last, island, &sc);
-    if (m_islandDirect[island]) IslandDirectSolves(island, sc, settled);
-  };
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
-  RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
-  const std::size_t count = std::size_t(j1 - j0) * kRows;
-  enum class RRounds { kMet, kLeft, kDiverged };
-  auto rounds = [&] {
-    RScalar previous = std::numeric_limits<RScalar>::infinity();
-    for (int round = 0;; ++round) {
-      const RScalar worst = PredictJoints(bodies, island, dt, sc);
-      if (worst == 0) return RRounds::kMet;
-      if (!(worst < RScalar(0.5) * previous)) return RRounds::kDiverged;
-      if (round == kJointRounds) return RRounds::kLeft;
-      previous = worst;
-      SetJointTargets(island, dt, sc);
-      passes();
-    }
-  };
-  // The equality rows' impulses taken out (with the rows' masses they were given with).
-  auto clearEquality = [&] {
-    for (std::size_t i = 0; i < count; ++i) {
-      RJointRow& r = rows[i];
-      if (r.kind == Kind::kEquality && r.lambda != 0) RowPush(r, -r.lambda, m_solverBodies.data()), r.lambda = 0;
-    }
-  };
-  // Rounds as they are while the step follows the arms' modes; else, or when they diverge,
-  // stiffened from nothing.
-  RRounds outcome = RRounds::kDiverged;
-  if (!(JointStiffness(bodies, island, dt, sc) > kUnresolved)) {
-    outcome = rounds();
-    if (outcome != RRounds::kDiverged) {
-      for (std::uint32_t i : sc.jointBodies) sc.stiffness[i] = 0;
-      if (outcome == RRounds::kMet) return;
-    }
-  }
-  if (outcome == RRounds::kDiverged) {
-    clearEquality();
-    Stiffen(island, sc);
-    outcome = rounds();
-    if (outcome == RRounds::kDiverged) clearEquality();
-  }
-  if (outcome == RRounds::kDiverged) {
-    // Not converging: the velocities of a diverging round are not physics. The plain
-    // velocity constraint instead (no relative velocity along an equality row, a limit
-    // closing no faster than its gap allows), which is always well posed; ProjectJoints
-    // takes the error it leaves out of the positions. Its equality rows solved from
-    // nothing: the rounds' impulses hold what they asked of the near-singular directions
-    // (a nearly flat mesh of joints, whose tension grows without bound as it flattens),
-    // which the plain constraint would leave in place, moving nothing now and flinging
-    // the bodies as the next step's warm start (a 6 x 6 mesh tumbling at 1 rad/s was
-    // asked 1e3 m of correction there, the step after a round 1e-5 m off). Stiffened,
-    // as the rounds that could not follow the arms' modes are.
-    for (std::size_t i = 0; i < count; ++i) {
-      RJointRow& r = rows[i];
-      if (r.kind == Kind::kEquality) r.target = 0;
-      if (r.kind == Kind::kLimit) r.target = -sc.startC[i] / dt;
-    }
-    passes();
-  }
-  if (sc.stiffened) Unstiffen(bodies, island, sc);
-  PredictJoints(bodies, island, dt, sc);
-  ProjectJoints(bodies, island, dt, sc);
+RScalar RJointSolver::SolveJointsPass(const RJointIslandView& v, RIslandScratch& sc) {
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
+  return JointPass(m_jointRows.data() + std::size_t(j0) * kRows, std::size_t(j1 - j0) * kRows, v.solverBodies.data(),
+                   sc, sc.mark, kJointBlockRows);
 }
 
-RScalar RWorldStep::SolveJointsPass(std::size_t island, RIslandScratch& sc) {
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
-  return JointPass(m_jointRows.data() + std::size_t(j0) * kRows, std::size_t(j1 - j0) * kRows, m_solverBodies.data(),
-                   sc, sc.mark, kJointBlockRows);
+// The equality rows' impulses taken out (with the rows' masses they were given with).
+void RJointSolver::ClearEquality(const RJointIslandView& v) {
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
+  RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
+  const std::size_t count = std::size_t(j1 - j0) * kRows;
+  for (std::size_t i = 0; i < count; ++i) {
+    RJointRow& r = rows[i];
+    if (r.kind == Kind::kEquality && r.lambda != 0) RowPush(r, -r.lambda, v.solverBodies.data()), r.lambda = 0;
+  }
+}
+
+// The plain velocity constraint's targets (RContactSolver::JointRounds says when and why).
+void RJointSolver::SetPlainTargets(const RJointIslandView& v, const RIslandScratch& sc) {
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
+  RJointRow* rows = m_jointRows.data() + std::size_t(j0) * kRows;
+  const std::size_t count = std::size_t(j1 - j0) * kRows;
+  for (std::size_t i = 0; i < count; ++i) {
+    RJointRow& r = rows[i];
+    if (r.kind == Kind::kEquality) r.target = 0;
+    if (r.kind == Kind::kLimit) r.target = -sc.startC[i] / v.dt;
+  }
 }
 
 // The joints' impulses at the start of the step, added to the solver bodies' (which the
 // report writes to the bodies, and the motion applies).
 // (About the body's centre at the start: an arm shifted after an impact (ShiftJointArms) is
 // reported without its shift, whose moment ReportIsland adds for all the contact phase did.)
-void RWorldStep::ReportJoints(std::size_t island, RScalar dt) {
-  const std::uint32_t j0 = m_islandJointStart[island], j1 = m_islandJointStart[island + 1];
+void RJointSolver::ReportJoints(const RJointIslandView& v) {
+  const RScalar dt = v.dt;
+  const std::uint32_t j0 = m_islandJointStart[v.island], j1 = m_islandJointStart[v.island + 1];
   for (std::size_t i = std::size_t(j0) * kRows; i < std::size_t(j1) * kRows; ++i) {
     const RJointRow& r = m_jointRows[i];
     if (r.kind == Kind::kOff || r.lambda == 0) continue;
-    RSolverBody& a = m_solverBodies[r.a];
-    RSolverBody& b = m_solverBodies[r.b];
+    RSolverBody& a = v.solverBodies[r.a];
+    RSolverBody& b = v.solverBodies[r.b];
     if (a.invM != 0) {
       a.impulse -= r.lambda * r.dir.d;
       a.angularImpulse -= r.lambda * RVec3(r.dir.rAxd - JointArmShift(a, r.dir.d, dt));

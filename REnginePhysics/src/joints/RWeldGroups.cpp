@@ -24,9 +24,9 @@
 // stay RATTLE's.
 #include "joints/RWeldGroups.h"
 
-#include "world/RWorldStep.h"
-
+#include "motion/RMotion.h"
 #include "world/RLimits.h"
+#include "world/RStepBodies.h"
 
 #include <REngineMath/RQuaternion.h>
 

@@ -72,8 +72,8 @@ RVec3 RMotion::MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3&
 }
 
 // The contact solver's body state (solver/RSolverTypes.h), from the motion's definitions.
-void RWorldStep::InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
-                                const RVec3& gravity_W) {
+void RMotion::InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
+                             const RVec3& gravity_W) {
   s.invM = b.m_invMass;
   s.accel = b.m_isStatic ? RVec3::Zero() : RMotion::Acceleration(b, gravity_W);
   s.radius = b.m_boundingRadius;

@@ -91,6 +91,10 @@ class RMotion {
   // The angular velocity the body turns with this step after its start kick (world, rad/s),
   // drag included; the solver's and the pair sweep's.
   static RVec3 MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3& invI_W, RScalar halfDt);
+  // A body's contact solver state at the start of its solve (RContactSolver::FindImpulses),
+  // from these definitions: vMove its mid-step velocity (world, m/s).
+  static void InitSolverBody(RSolverBody& s, const RBodyCore& b, const RVec3& vMove, RScalar halfDt,
+                             const RVec3& gravity_W);
   // What sticking to a spinning kinematic body means for a point at arm r_W from its centre
   // (world, m/s), beyond its surface velocity v + w x r there: at the start of the step
   // (end = false) the chord's velocity, (exp(w dt) r - r) / dt - w x r, which a body moving

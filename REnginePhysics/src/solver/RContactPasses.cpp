@@ -1,14 +1,19 @@
-// An island's contact phase after its impacts (RWorldStep::SolveIslandContacts): block
+// An island's contact phase after its impacts (RContactSolver::SolveIslandContacts): block
 // inverses, sequential-impulse passes over the manifolds, their friction patches, warm
-// starts, which rows close at the end of the step, island by island.
-#include "world/RWorldStep.h"
+// starts, the joints' Newton rounds that drive the passes again, which rows close at the end
+// of the step, island by island.
+#include "solver/RContactSolver.h"
 
+#include "motion/RMotion.h"
+#include "pairs/RPairSweep.h"
 #include "solver/RSolverRows.h"
+#include "world/RStepBodies.h"
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace REngine {
 
@@ -16,7 +21,7 @@ using namespace solver;
 
 // A manifold's block inverse (see FindImpulses): returns whether it was kept from the
 // manifold's memory.
-bool RWorldStep::BlockInverse(RBlock& blk) {
+bool RContactSolver::BlockInverse(RBlock& blk) {
   if (!blk.useBlock) return false;
   const std::uint32_t first = blk.first;
   const RSolverBody& sa = m_solverBodies[m_rows[first].a];
@@ -40,7 +45,7 @@ bool RWorldStep::BlockInverse(RBlock& blk) {
   // less than the touching band, and the inverse's error is then 1e-12 of the block's
   // condition, far below what the passes resolve. (The eigen-solve is the costliest
   // part of building a resting pile's rows.)
-  RManifoldMemory* mem = m_sweep.MemoryOf(m_rows[first].contact);
+  RManifoldMemory* mem = m_in->sweep.MemoryOf(m_rows[first].contact);
   if (mem && mem->hasInverse &&
       (K - mem->K).cwiseAbs().maxCoeff() <= RScalar(1e-12) * mem->K.cwiseAbs().maxCoeff()) {
     blk.pinv = mem->pinv;
@@ -72,10 +77,10 @@ bool RWorldStep::BlockInverse(RBlock& blk) {
 // by a sweep per stage (a 10000-box pile's rows and blocks are 15 MB). Islands share no
 // body an impulse moves: solved side by side on any number of threads, each gives the same
 // answer bit for bit.
-void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
-                                     RIslandScratch& sc) {
+void RContactSolver::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
+                                         const RJointIslandView& joints, RIslandScratch& sc) {
   const RScalar halfDt = RScalar(0.5) * dt;
-  const int iterations = std::max(1, m_settings.solverIterations);
+  const int iterations = std::max(1, m_in->settings.solverIterations);
   const auto [first, last] = m_blockIslands[island];
   const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
   const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
@@ -86,13 +91,13 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
   // out only what the direct solve leaves out too (rows never in contact), but for
   // position correction, which they skip in a manifold with none of its own: the island
   // must have none at all (its bodies then have no pseudo-velocity).
-  const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last, island, &sc);
+  const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last, &joints, &sc);
   const auto [rowsFirst, rowsLast] = IslandRows(island);
   const bool direct = m_islandDirect[island];
   if (direct) IslandDirectSolves(island, sc, settled);
-  // The joints' Newton rounds and their projection (RJoints.cpp): passes again while some
-  // joint would end the step off its constraint.
-  if (IslandHasJoints(island)) JointRounds(bodies, island, dt, sc);
+  // The joints' Newton rounds and their projection (JointRounds, below): passes again while
+  // some joint would end the step off its constraint.
+  if (m_joints.IslandHasJoints(island)) JointRounds(joints, sc);
   bool closes = false;
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) closes = CloseAtEnd(m_rows[i], dt) || closes;
   // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland).
@@ -114,7 +119,7 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
     const RBodyCore& b = bodies[i];
     RSolverBody& s = m_solverBodies[i];
     s.vMid = s.v - s.deferV;
-    s.v += RMotion::Acceleration(b, m_settings.gravity_W) * halfDt;
+    s.v += RMotion::Acceleration(b, m_in->settings.gravity_W) * halfDt;
     s.w += s.invI * RMotion::EndAngularKick_W(b, halfDt);
   }
   WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
@@ -135,7 +140,7 @@ void RWorldStep::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std:
 // passes' at-target band, 1e-12 m/s, times dt over the correction's 0.5: closer than that,
 // halving the excess no longer moves them), and in the 10000-box pile 99% of the directly
 // solved islands' steps had such a row.
-void RWorldStep::IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool settled) {
+void RContactSolver::IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool settled) {
   const auto [rowsFirst, rowsLast] = IslandRows(island);
   bool positions = false;
   for (std::uint32_t i = rowsFirst; i < rowsLast && !positions; ++i) {
@@ -146,6 +151,70 @@ void RWorldStep::IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool
     if (!settled) SolveIslandDirect(RPhase::kVelocity, sc);
     if (positions) SolveIslandDirect(RPhase::kPosition, sc);  // the same matrix
   }
+}
+
+// The joints' Newton rounds (see the top of joints/RJoints.cpp): after the island's passes,
+// the end poses predicted again, and while some joint would end the step off its
+// constraint, new targets and the passes (and the island's direct solves: passes) again, as
+// long as each round at least halves the worst error. An island whose arms' modes the step
+// cannot follow is solved stiffened (RJointStiffness.cpp): its equality impulses solved
+// again from nothing, the rounds again. The joint solver predicts, sets the targets,
+// stiffens and projects; the passes are the contact solver's, joints and contacts together.
+void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch& sc) {
+  const std::size_t island = joints.island;
+  // (Not a structured binding: the lambda below captures them, which C++17 forbids.)
+  const std::uint32_t first = m_blockIslands[island].first, last = m_blockIslands[island].second;
+  const int iterations = std::max(1, m_in->settings.solverIterations);
+  auto passes = [&] {
+    const bool settled = SolveIslandBlocks(RPhase::kVelocity, iterations, first, last, &joints, &sc);
+    if (m_islandDirect[island]) IslandDirectSolves(island, sc, settled);
+  };
+  enum class RRounds { kMet, kLeft, kDiverged };
+  auto rounds = [&] {
+    RScalar previous = std::numeric_limits<RScalar>::infinity();
+    for (int round = 0;; ++round) {
+      const RScalar worst = m_joints.PredictJoints(joints, sc);
+      if (worst == 0) return RRounds::kMet;
+      if (!(worst < RScalar(0.5) * previous)) return RRounds::kDiverged;
+      if (round == RJointSolver::kJointRounds) return RRounds::kLeft;
+      previous = worst;
+      m_joints.SetJointTargets(joints, sc);
+      passes();
+    }
+  };
+  // Rounds as they are while the step follows the arms' modes; else, or when they diverge,
+  // stiffened from nothing.
+  RRounds outcome = RRounds::kDiverged;
+  if (!(m_joints.JointStiffness(joints, sc) > RJointSolver::kUnresolved)) {
+    outcome = rounds();
+    if (outcome != RRounds::kDiverged) {
+      for (std::uint32_t i : sc.jointBodies) sc.stiffness[i] = 0;
+      if (outcome == RRounds::kMet) return;
+    }
+  }
+  if (outcome == RRounds::kDiverged) {
+    m_joints.ClearEquality(joints);
+    m_joints.Stiffen(joints, sc);
+    outcome = rounds();
+    if (outcome == RRounds::kDiverged) m_joints.ClearEquality(joints);
+  }
+  if (outcome == RRounds::kDiverged) {
+    // Not converging: the velocities of a diverging round are not physics. The plain
+    // velocity constraint instead (no relative velocity along an equality row, a limit
+    // closing no faster than its gap allows), which is always well posed; ProjectJoints
+    // takes the error it leaves out of the positions. Its equality rows solved from
+    // nothing: the rounds' impulses hold what they asked of the near-singular directions
+    // (a nearly flat mesh of joints, whose tension grows without bound as it flattens),
+    // which the plain constraint would leave in place, moving nothing now and flinging
+    // the bodies as the next step's warm start (a 6 x 6 mesh tumbling at 1 rad/s was
+    // asked 1e3 m of correction there, the step after a round 1e-5 m off). Stiffened,
+    // as the rounds that could not follow the arms' modes are.
+    m_joints.SetPlainTargets(joints, sc);
+    passes();
+  }
+  if (sc.stiffened) m_joints.Unstiffen(joints, sc);
+  m_joints.PredictJoints(joints, sc);
+  m_joints.ProjectJoints(joints, sc);
 }
 
 // The sequential-impulse passes over the manifolds, alternating the sweep's direction (for
@@ -168,13 +237,13 @@ void RWorldStep::IslandDirectSolves(std::size_t island, RIslandScratch& sc, bool
 // at all is followed by passes that change nothing (each manifold's solve depends only on
 // its bodies' velocities and its impulses), so a stop at rounding changes the answer by no
 // more than rounding's worth per pass it skips.
-bool RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last,
-                                   std::size_t island, RIslandScratch* sc) {
+bool RContactSolver::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last,
+                                       const RJointIslandView* joints, RIslandScratch* sc) {
   constexpr RScalar kConverged = 1e-12;  // m/s
-  const bool joints = sc && phase == RPhase::kVelocity && IslandHasJoints(island);
+  const bool withJoints = joints && sc && phase == RPhase::kVelocity && m_joints.IslandHasJoints(joints->island);
   RScalar change = 0;
   for (int it = 0; it < iterations; ++it) {
-    change = joints ? SolveJointsPass(island, *sc) : 0;
+    change = withJoints ? m_joints.SolveJointsPass(*joints, *sc) : 0;
     for (std::uint32_t k = first; k < last; ++k) {
       RBlock& blk = m_blocks[(it % 2 == 0) ? k : last - 1 - (k - first)];
       RContactRow* rows = &m_rows[blk.first];
@@ -196,7 +265,7 @@ bool RWorldStep::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t f
 // the rows were built) to the solver bodies' velocities.
 // Island by island, as the passes (SolveIslandBlocks): each island's rows in order, then its
 // patches, which is the whole world's order restricted to the island.
-void RWorldStep::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last) {
+void RContactSolver::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   for (std::uint32_t k = first; k < last; ++k) {
     const RBlock& blk = m_blocks[k];
@@ -217,7 +286,7 @@ void RWorldStep::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_
 
 // Applies patch impulses (tangential at the centroid, twist about the normal) to the solver
 // bodies' velocities.
-void RWorldStep::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist) {
+void RContactSolver::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar dTwist) {
   const RContactRow& r = m_rows[blk.first];
   RSolverBody& sa = m_solverBodies[r.a];
   RSolverBody& sb = m_solverBodies[r.b];
@@ -237,7 +306,7 @@ void RWorldStep::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScalar d
 // point's impulse slightly off the sliding direction, which loses about 1% of the friction
 // of a box sliding down an incline. clampOnly: only bring the impulses back inside limits
 // that the normal impulses changed.
-RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
+RScalar RContactSolver::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   RContactRow* rows = &m_rows[blk.first];
   RScalar normal = 0, twistArm = 0, reach = 0;
@@ -291,7 +360,7 @@ RScalar RWorldStep::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
 // impulses are inelastic (targets of zero, never pulling): they cannot add energy.
 // Whether row r is closed at the end of the step (endTarget 0), or not (kNever, and no end
 // impulse).
-bool RWorldStep::CloseAtEnd(RContactRow& r, RScalar dt) const {
+bool RContactSolver::CloseAtEnd(RContactRow& r, RScalar dt) const {
   const RScalar halfDt = RScalar(0.5) * dt;
   const RSolverBody& sa = m_solverBodies[r.a];
   const RSolverBody& sb = m_solverBodies[r.b];
@@ -317,8 +386,8 @@ bool RWorldStep::CloseAtEnd(RContactRow& r, RScalar dt) const {
     return s.armTurns ? s.w.norm() * arm.norm() * dt : RScalar(0);
   };
   // (Its square roots only for a row that is otherwise closed.)
-  auto spinning = [&] { return arc(sa, r.rA) + arc(sb, r.rB) > m_settings.penetrationSlop; };
-  r.endTarget = gapEnd <= band && vnEnd >= -m_settings.restitutionThreshold && !impacted && r.n.k > 0 &&
+  auto spinning = [&] { return arc(sa, r.rA) + arc(sb, r.rB) > m_in->settings.penetrationSlop; };
+  r.endTarget = gapEnd <= band && vnEnd >= -m_in->settings.restitutionThreshold && !impacted && r.n.k > 0 &&
                         !spinning()
                     ? RScalar(0) : kNever;
   if (r.endTarget == kNever) r.lambdaE = 0;

@@ -1,10 +1,12 @@
-// The contact phase's outputs (RWorldStep::ReportIsland): an island's impulses accumulated
+// The contact phase's outputs (RContactSolver::ReportIsland): an island's impulses accumulated
 // on its bodies (applied by UpdateObjects), reported on its contacts, and kept as next
 // step's warm starts; and the warm starts of the pairs that sleep, kept while they sleep
 // (KeepSleepingWarmStarts).
-#include "world/RWorldStep.h"
+#include "solver/RContactSolver.h"
 
+#include "pairs/RPairSweep.h"
 #include "solver/RSolverRows.h"
+#include "world/RStepBodies.h"
 
 #include <cmath>
 
@@ -12,9 +14,9 @@ namespace REngine {
 
 using namespace solver;
 
-void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
+void RContactSolver::KeepSleepingWarmStarts(const RStepBodies& bodies) {
   // Without sleeping nothing sleeps here (WakeIslands woke everything), and no pair is kept.
-  if (!m_settings.shortcuts.sleeping) return;
+  if (!m_in->settings.shortcuts.sleeping) return;
   // The body in a slot, if it is the one the memory is of and it is stepped.
   auto passive = [&bodies](std::uint32_t slot, std::uint32_t generation) {
     if (slot >= bodies.slotCount) return false;
@@ -34,8 +36,8 @@ void RWorldStep::KeepSleepingWarmStarts(const RStepBodies& bodies) {
 // same sums in the same order, without a visit per row to bodies a kilobyte each. Contact
 // by contact, in their order within the island (each movable body's contacts are all in its
 // island): each body's impulses add up in the order they always did.
-void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
-                              RIslandTally& tally) {
+void RContactSolver::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
+                                  RIslandTally& tally) {
   const auto [first, last] = m_blockIslands[island];
   auto accumulate = [this](std::uint32_t a, std::uint32_t b, const RVec3& rA,
                            const RVec3& rB, const RVec3& J) {
@@ -62,18 +64,18 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     RSolverBody& sb = m_solverBodies[b];
     const RVec3 moveA = (sa.vMid + sa.vp) * dt, moveB = (sb.vMid + sb.vp) * dt;
     const RVec3 shift = (sa.invM * moveA + sb.invM * moveB) / (sa.invM + sb.invM);
-    if (!m_sweep.ImmovableAt(a)) {
+    if (!m_in->sweep.ImmovableAt(a)) {
       sa.endLinear -= J;
       sa.endAngular -= (rA + shift).cross(J);
     }
-    if (!m_sweep.ImmovableAt(b)) {
+    if (!m_in->sweep.ImmovableAt(b)) {
       sb.endLinear += J;
       sb.endAngular += (rB + shift).cross(J);
     }
   };
   for (std::uint32_t k = first; k < last; ++k) {
     const RBlock& blk = m_blocks[k];
-    const RContact& c = m_sweep.Contacts()[m_blockContact[k]];
+    const RContact& c = m_in->sweep.Contacts()[m_blockContact[k]];
     tally.reusedInverses += blk.inverse == 2;
     tally.computedInverses += blk.inverse == 1;
     RWarmStart* warm = &m_warmNext[warmBase + m_rowStart[m_blockContact[k]].warm];
@@ -89,7 +91,7 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
       const RContactRow& r = m_rows[blk.first + i];
       accumulate(r.a, r.b, r.rA, r.rB, r.lambdaN * r.n.d);
       if (r.lambdaE != 0) accumulateEnd(r.a, r.b, r.rA, r.rB, r.lambdaE * r.n.d);
-      m_sweep.SolverContact(r.contact).normalImpulse[r.point] = r.lambdaN + r.lambdaE;
+      m_in->sweep.SolverContact(r.contact).normalImpulse[r.point] = r.lambdaN + r.lambdaE;
       RWarmStart& w = warm[i];
       w.pair = pair;
       w.genA = c.handleA.generation, w.genB = c.handleB.generation;
@@ -110,7 +112,7 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     const RContactRow& r = m_rows[blk.first];
     accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[0] * blk.t[0].d + blk.lambdaT2[0] * blk.t[1].d);
     accumulateEnd(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[1] * blk.t[0].d + blk.lambdaT2[1] * blk.t[1].d);
-    m_sweep.SolverContact(r.contact).frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
+    m_in->sweep.SolverContact(r.contact).frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
                                                          (blk.lambdaT2[0] + blk.lambdaT2[1]) * blk.t[1].d;
     // The twist: a pure torque about the normal.
     RSolverBody& sa = m_solverBodies[r.a];
@@ -134,8 +136,8 @@ void RWorldStep::ReportIsland(const RStepBodies& bodies, RScalar dt, std::size_t
     RSolverBody& B = m_solverBodies[r.b];
     if (A.invM != 0) A.impulse -= r.impulse, A.angularImpulse -= r.angularA;
     if (B.invM != 0) B.impulse += r.impulse, B.angularImpulse += r.angularB;
-    m_sweep.SolverContact(r.contact).normalImpulse[r.point] += r.lambdaN;
-    m_sweep.SolverContact(r.contact).frictionImpulse_W += r.frictionImpulse;
+    m_in->sweep.SolverContact(r.contact).normalImpulse[r.point] += r.lambdaN;
+    m_in->sweep.SolverContact(r.contact).frictionImpulse_W += r.frictionImpulse;
   }
   // Impacts within the step: the bodies move with their piecewise path's velocity and get
   // the rest at the end (SolveIslandImpacts).

@@ -1,10 +1,13 @@
-// The contact solver's rows (RWorldStep::BuildContactRows): for each resolved contact, a
+// The contact solver's rows (RContactSolver::BuildContactRows): for each resolved contact, a
 // normal row per manifold point warm-started from last step's impulses, and its friction
 // patch; its impact row where its island may impact (BuildImpactRow); see FindImpulses in
 // RContactSolver.cpp.
-#include "world/RWorldStep.h"
+#include "solver/RContactSolver.h"
 
+#include "motion/RMotion.h"
+#include "pairs/RPairSweep.h"
 #include "solver/RSolverRows.h"
+#include "world/RStepBodies.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +18,7 @@ using namespace solver;
 
 // The leading points of a manifold: its deepest, and the centre of those within the slop of
 // it, where an impact acts. count is 0 when the separations are not numbers.
-RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) const {
+RLeadingPoints RContactSolver::LeadingPoints(const RContactManifold& m) const {
   RLeadingPoints lead;
   for (int k = 1; k < m.pointCount; ++k) {
     if (m.points[k].separation < m.points[lead.deepest].separation) lead.deepest = k;
@@ -23,7 +26,7 @@ RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) const {
   const RScalar leadSeparation = m.points[lead.deepest].separation;
   lead.centre = RVec3::Zero();
   for (int k = 0; k < m.pointCount; ++k) {
-    if (m.points[k].separation <= leadSeparation + m_settings.penetrationSlop) {
+    if (m.points[k].separation <= leadSeparation + m_in->settings.penetrationSlop) {
       lead.centre += m.points[k].position;
       ++lead.count;
     }
@@ -40,7 +43,7 @@ RLeadingPoints RWorldStep::LeadingPoints(const RContactManifold& m) const {
 // 5 MB. Otherwise (a pair below the start's) the whole list is searched. LayOutIslands
 // searches in the contacts' order: the rows are built island by island, where a gallop
 // from the last contact's entries would cross the list at every contact.
-std::size_t RWorldStep::FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from) {
+std::size_t RContactSolver::FindWarmStarts(const std::vector<RWarmStart>& warm, std::uint64_t pair, std::size_t from) {
   auto less = [](const RWarmStart& w, std::uint64_t key) { return w.pair < key; };
   if (from > warm.size() || (from > 0 && !(warm[from - 1].pair < pair))) from = 0;
   std::size_t lo = from, hi = from, stride = 1;
@@ -61,8 +64,8 @@ std::size_t RWorldStep::FindWarmStarts(const std::vector<RWarmStart>& warm, std:
 // energy at e = 1. Restitution targets at several points of one manifold, solved one after
 // another, could return more energy than came in. Built only for an island some row of which
 // approaches (SolveIsland), at its block's index.
-void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block) {
-  const RContact& c = m_sweep.Contacts()[ci];
+void RContactSolver::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std::uint32_t block) {
+  const RContact& c = m_in->sweep.Contacts()[ci];
   const RBodyCore& A = bodies[c.a];
   const RBodyCore& B = bodies[c.b];
   const RLeadingPoints lead = LeadingPoints(c.manifold);
@@ -76,8 +79,8 @@ void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std
   OrthonormalBasis(normal, r.tangent[0], r.tangent[1]);
   r.rA = rA, r.rB = rB;
   r.gap = c.manifold.points[lead.deepest].separation;
-  r.restitution = Combine(m_settings.restitutionCombine, A.m_restitution, B.m_restitution);
-  r.friction = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
+  r.restitution = Combine(m_in->settings.restitutionCombine, A.m_restitution, B.m_restitution);
+  r.friction = Combine(m_in->settings.frictionCombine, A.m_friction, B.m_friction);
   r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
   r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
   r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
@@ -86,8 +89,8 @@ void RWorldStep::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci, std
 
 // Asks for what BuildContactRows reads of contact ci: the contact and its pair's warm starts
 // of last step (a manifold's worth, four entries).
-void RWorldStep::PrefetchContact(std::uint32_t ci) const {
-  PrefetchBytes(&m_sweep.Contacts()[ci], sizeof(RContact));
+void RContactSolver::PrefetchContact(std::uint32_t ci) const {
+  PrefetchBytes(&m_in->sweep.Contacts()[ci], sizeof(RContact));
   const std::size_t w0 = m_rowStart[ci].warmFound, w1 = std::min(w0 + 4, m_warm.size());
   for (std::size_t w = w0; w < w1; ++w) {
     const char* p = reinterpret_cast<const char*>(&m_warm[w]);
@@ -98,15 +101,15 @@ void RWorldStep::PrefetchContact(std::uint32_t ci) const {
 // One resolved contact's rows (at m_rowStart): a contact row per manifold point
 // warm-started from last step's impulses, and its friction patch. Returns how many rows
 // found a warm start.
-std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
-  const RContact& c = m_sweep.Contacts()[ci];
+std::uint32_t RContactSolver::BuildContactRows(const RStepBodies& bodies, std::uint32_t ci, RScalar dt) {
+  const RContact& c = m_in->sweep.Contacts()[ci];
   const std::uint32_t firstRow = m_rowStart[ci].row, blockIndex = m_rowStart[ci].block;
   const RBodyCore& A = bodies[c.a];
   const RBodyCore& B = bodies[c.b];
   std::uint32_t warmStarted = 0;
   const RSolverBody& sa = m_solverBodies[c.a];
   const RSolverBody& sb = m_solverBodies[c.b];
-  const RScalar mu = Combine(m_settings.frictionCombine, A.m_friction, B.m_friction);
+  const RScalar mu = Combine(m_in->settings.frictionCombine, A.m_friction, B.m_friction);
   const RVec3& normal = c.manifold.normal;
   RVec3 t1, t2;
   OrthonormalBasis(normal, t1, t2);
@@ -128,9 +131,9 @@ std::uint32_t RWorldStep::BuildContactRows(const RStepBodies& bodies, std::uint3
     SetDirection(r.n, normal, r.rA, r.rB, sa, sb);
     r.block = blockIndex;
     r.target = -std::max(gap, RScalar(0)) / dt;
-    r.pseudoTarget = gap < -m_settings.penetrationSlop
-                         ? std::min(m_settings.positionCorrection * (-gap - m_settings.penetrationSlop),
-                                    m_settings.maxPositionCorrection) / dt
+    r.pseudoTarget = gap < -m_in->settings.penetrationSlop
+                         ? std::min(m_in->settings.positionCorrection * (-gap - m_in->settings.penetrationSlop),
+                                    m_in->settings.maxPositionCorrection) / dt
                          : 0;
     r.gap = gap;
     r.deferN = 0;

@@ -1,8 +1,14 @@
-// The contact solver (RWorldStep::FindImpulses): rows, warm starts, manifold blocks,
+// The contact solver (RContactSolver::FindImpulses): rows, warm starts, manifold blocks,
 // friction patches and the end of the step; see RIntegrator.h.
-#include "world/RWorldStep.h"
+#include "solver/RContactSolver.h"
+
+#include <REnginePhysics/RJobSystem.h>
 
 #include "collision/RGjkEpa.h"
+#include "joints/RWeldGroups.h"
+#include "motion/RMotion.h"
+#include "pairs/RPairSweep.h"
+#include "world/RStepBodies.h"
 
 #include "solver/RSolverRows.h"
 
@@ -33,7 +39,13 @@ using namespace solver;
 // (SolveIsland): an island's rows, blocks and bodies are built, solved and reported while
 // they are in the cache. Islands share no body an impulse moves, so they are tasks, and the
 // answer is the same on any number of threads.
-void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
+void RContactSolver::FindImpulses(const RStepBodies& bodies, RScalar dt, const RSolverInputs& in) {
+  // The inputs, for the island functions, while the call runs (reset on every way out).
+  m_in = &in;
+  struct RReset {
+    const RSolverInputs*& inputs;
+    ~RReset() { inputs = nullptr; }
+  } reset{m_in};
   const std::size_t n = bodies.size();
   // Warm-start memory is keyed by slot (and generation). A plain vector's slots are its
   // indices: when the game adds or removes bodies they shift, and another pair would
@@ -45,11 +57,11 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // One more solver body: the world's, what a joint to the world holds on to (never moved).
   m_solverBodies.resize(n + 1);
   const RScalar halfDt = RScalar(0.5) * dt;
-  GatherJoints(bodies);
-  m_welds.GatherWelds(bodies, m_stepJoints);
-  bool anyRow = !m_stepJoints.empty();
-  for (const RContact& c : m_sweep.Contacts()) {
-    anyRow = anyRow || (m_sweep.RespondsAt(c.a) && m_sweep.RespondsAt(c.b) && !(m_sweep.ImmovableAt(c.a) && m_sweep.ImmovableAt(c.b)) &&
+  m_joints.GatherJoints(bodies);
+  m_in->welds.GatherWelds(bodies, m_joints.StepJoints());
+  bool anyRow = !m_joints.StepJoints().empty();
+  for (const RContact& c : m_in->sweep.Contacts()) {
+    anyRow = anyRow || (m_in->sweep.RespondsAt(c.a) && m_in->sweep.RespondsAt(c.b) && !(m_in->sweep.ImmovableAt(c.a) && m_in->sweep.ImmovableAt(c.b)) &&
                         c.manifold.pointCount > 0);
   }
   m_solved = anyRow;
@@ -62,19 +74,18 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // The rows, impact rows and friction patches of every contact, at places counted
   // beforehand island by island, and the islands' bodies (LayOutIslands).
   LayOutIslands(bodies);
-  if (!m_stepJoints.empty()) {
+  if (!m_joints.StepJoints().empty()) {
     RSolverBody& world = m_solverBodies[n];
     world.v.setZero(), world.w.setZero(), world.vp.setZero(), world.wp.setZero();
     world.invI.setZero(), world.invM = 0, world.linMask = RVec3::Ones(), world.linLocked = false;
-    m_jointRows.resize(m_stepJoints.size() * RJoint::kMaxRows);
-    m_jointPoses.resize(n);
+    m_joints.SizeForStep(n);
   }
   // The static and kinematic bodies' solver state, which every island that touches them
   // reads (their velocities are their own: impulses do not move them, and the impact phase
   // moves them on copies).
   for (std::uint32_t i : m_immovableRowBodies) {
     RSolverBody& s = m_solverBodies[i];
-    InitSolverBody(s, bodies[i], m_sweep.MoveV(i), halfDt, m_settings.gravity_W);
+    RMotion::InitSolverBody(s, bodies[i], m_in->sweep.MoveV(i), halfDt, m_in->settings.gravity_W);
     s.moved.setZero(), s.tau = 0, s.deferV.setZero();
     s.vImpacts = s.v, s.contactDeltaV.setZero(), s.vMid = s.v;
   }
@@ -82,30 +93,30 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
   // contacts' order (RContactSlots::warm), written by the islands.
   const std::size_t warmBase = m_warmNext.size();
   m_warmNext.resize(warmBase + m_rows.size());
-  m_sweep.MutableStats().contactPoints = m_rows.size();
+  m_in->sweep.MutableStats().contactPoints = m_rows.size();
   m_islandImpacts.assign(m_blockIslands.size(), 0);
-  if (m_islandTallies.size() < m_tasks) m_islandTallies.resize(m_tasks);
-  if (m_islandScratch.size() < m_tasks) m_islandScratch.resize(m_tasks);
+  if (m_islandTallies.size() < m_in->tasks) m_islandTallies.resize(m_in->tasks);
+  if (m_islandScratch.size() < m_in->tasks) m_islandScratch.resize(m_in->tasks);
   // An island too large to share the work with others (one pile of everything) has its
   // bodies' solver state and its rows built first, as tasks over its bodies and contacts
   // (each alone: the same rows), so that a world of one island still builds them on every
   // thread; its passes stay in order.
   m_islandRowsBuilt.assign(m_blockIslands.size(), 0);
   std::uint64_t prebuiltWarm = 0;
-  if (m_jobs && m_tasks > 1) {
+  if (m_in->jobs && m_in->tasks > 1) {
     for (std::size_t isl = 0; isl < m_blockIslands.size(); ++isl) {
       // (Not a structured binding: the lambdas below capture them, which C++17 forbids.)
       const std::uint32_t first = m_blockIslands[isl].first, last = m_blockIslands[isl].second;
-      if (last - first < 256 || 2 * m_tasks * (last - first) < m_blocks.size()) continue;
+      if (last - first < 256 || 2 * m_in->tasks * (last - first) < m_blocks.size()) continue;
       m_islandRowsBuilt[isl] = 1;
       const std::uint32_t b0 = m_islandBodyStart[isl], b1 = m_islandBodyStart[isl + 1];
-      ParallelRanges(m_jobs, b1 - b0, m_tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t) {
+      ParallelRanges(m_in->jobs, b1 - b0, m_in->tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t) {
         for (std::size_t k = b0 + k0; k < b0 + k1; ++k) {
           const std::uint32_t i = m_islandBodies[k];
-          InitSolverBody(m_solverBodies[i], bodies[i], m_sweep.MoveV(i), halfDt, m_settings.gravity_W);
+          RMotion::InitSolverBody(m_solverBodies[i], bodies[i], m_in->sweep.MoveV(i), halfDt, m_in->settings.gravity_W);
         }
       });
-      const std::size_t used = ParallelRanges(m_jobs, last - first, m_tasks, 32, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+      const std::size_t used = ParallelRanges(m_in->jobs, last - first, m_in->tasks, 32, [&](std::size_t k0, std::size_t k1, std::size_t task) {
         RIslandTally& tally = m_islandTallies[task];
         tally = RIslandTally{};
         for (std::size_t k = first + k0; k < first + k1; ++k) {
@@ -115,17 +126,17 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
       for (std::size_t t = 0; t < used; ++t) prebuiltWarm += m_islandTallies[t].warmStarted;
     }
   }
-  m_sweep.MutableStats().warmStarted += prebuiltWarm;
-  const std::size_t tasks = ParallelRanges(m_jobs, m_blockIslands.size(), m_tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+  m_in->sweep.MutableStats().warmStarted += prebuiltWarm;
+  const std::size_t tasks = ParallelRanges(m_in->jobs, m_blockIslands.size(), m_in->tasks, 4, [&](std::size_t i0, std::size_t i1, std::size_t task) {
     RIslandTally& tally = m_islandTallies[task];
     tally = RIslandTally{};
     for (std::size_t isl = i0; isl < i1; ++isl) SolveIsland(bodies, dt, isl, warmBase, m_islandScratch[task], tally);
   });
   bool dropped = false, warmUnordered = false;
   for (std::size_t t = 0; t < tasks; ++t) {
-    m_sweep.MutableStats().warmStarted += m_islandTallies[t].warmStarted;
-    m_sweep.MutableStats().reusedInverses += m_islandTallies[t].reusedInverses;
-    m_sweep.MutableStats().computedInverses += m_islandTallies[t].computedInverses;
+    m_in->sweep.MutableStats().warmStarted += m_islandTallies[t].warmStarted;
+    m_in->sweep.MutableStats().reusedInverses += m_islandTallies[t].reusedInverses;
+    m_in->sweep.MutableStats().computedInverses += m_islandTallies[t].computedInverses;
     dropped = dropped || m_islandTallies[t].dropped;
     warmUnordered = warmUnordered || m_islandTallies[t].warmUnordered;
   }
@@ -154,8 +165,8 @@ void RWorldStep::FindImpulses(const RStepBodies& bodies, RScalar dt) {
 // step, from CollisionDetection's pre-pass, their world inverse inertias and masks:
 // RBodyMotion.cpp), its contacts' rows, last step's impulses applied (warm start), its
 // impacts, its contact phase and end of the step, and the report.
-void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
-                             RIslandScratch& sc, RIslandTally& tally) {
+void RContactSolver::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t island, std::size_t warmBase,
+                                 RIslandScratch& sc, RIslandTally& tally) {
   const RScalar halfDt = RScalar(0.5) * dt;
   const auto [first, last] = m_blockIslands[island];
   if (!m_islandRowsBuilt[island]) {  // (else built as tasks: FindImpulses)
@@ -167,7 +178,7 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
     for (std::uint32_t k = b0; k < b1; ++k) {
       if (k + 2 < m_islandBodies.size()) PrefetchBody(bodies[m_islandBodies[k + 2]], 8 * 64);  // to the shape's core
       const std::uint32_t i = m_islandBodies[k];
-      InitSolverBody(m_solverBodies[i], bodies[i], m_sweep.MoveV(i), halfDt, m_settings.gravity_W);
+      RMotion::InitSolverBody(m_solverBodies[i], bodies[i], m_in->sweep.MoveV(i), halfDt, m_in->settings.gravity_W);
     }
     for (std::uint32_t k = first; k < last; ++k) {
       if (k + 1 < m_blockContact.size()) PrefetchContact(m_blockContact[k + 1]);
@@ -175,15 +186,16 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
     }
   }
   WarmStartIsland(RPhase::kVelocity, first, last);
-  const bool joints = IslandHasJoints(island);
-  if (joints) BuildIslandJoints(bodies, island, dt, sc);
+  const bool joints = m_joints.IslandHasJoints(island);
+  const RJointIslandView jointView = JointView(bodies, dt, island);
+  if (joints) m_joints.BuildIslandJoints(jointView, sc);
   // Most islands (a resting pile: every one) have no impact: their impact rows are not built.
   m_islandImpacts[island] = MayImpact(island);
   if (m_islandImpacts[island]) {
     for (std::uint32_t k = first; k < last; ++k) BuildImpactRow(bodies, m_blockContact[k], k);
     JoinPairImpacts(bodies, first, last);
   }
-  SolveIslandImpacts(bodies, dt, island, sc);
+  SolveIslandImpacts(bodies, dt, island, jointView, sc);
   if (m_islandImpacts[island]) ShiftArmsAfterImpacts(dt, island);
   // Rows come grouped by contact. A manifold's normal rows are solved together: its points
   // share two bodies, and solving them one after another favours the first, leaving a
@@ -192,10 +204,16 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
   // minimum-norm least-squares inverse is worked out (or kept from the manifold's memory)
   // once a step, the first time the block has something to solve; when its answer would
   // pull at a point, that manifold falls back to one point at a time.
-  SolveIslandContacts(bodies, dt, island, sc);
-  if (joints) ReportJoints(island, dt);
+  SolveIslandContacts(bodies, dt, island, jointView, sc);
+  if (joints) m_joints.ReportJoints(jointView);
   ReportIsland(bodies, dt, island, warmBase, tally);
-  if (joints) SolveJointsAtEnd(bodies, island, dt, sc);
+  if (joints) m_joints.SolveJointsAtEnd(jointView, sc);
+}
+
+RJointIslandView RContactSolver::JointView(const RStepBodies& bodies, RScalar dt, std::size_t island) {
+  const auto [rowsFirst, rowsLast] = IslandRows(island);
+  return RJointIslandView{bodies,    dt,       island,         m_solverBodies, m_rows.data(), m_blocks.data(),
+                          rowsFirst, rowsLast, m_in->settings, m_in->welds,    m_in->sweep};
 }
 
 // Several contacts of one pair of bodies (a compound's child pairs, one after another in
@@ -205,30 +223,30 @@ void RWorldStep::SolveIsland(const RStepBodies& bodies, RScalar dt, std::size_t 
 // The deepest contact's row takes the centre of the leading points of every contact of the
 // pair facing its way, whose rows then never impact (their gap is infinite); a contact
 // facing another way (a compound meeting two faces of a static U at once) keeps its own.
-void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
+void RContactSolver::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
   for (std::uint32_t k0 = first; k0 < last;) {
-    const RContact& c0 = m_sweep.Contacts()[m_blockContact[k0]];
+    const RContact& c0 = m_in->sweep.Contacts()[m_blockContact[k0]];
     std::uint32_t k1 = k0 + 1;
-    while (k1 < last && m_sweep.Contacts()[m_blockContact[k1]].a == c0.a && m_sweep.Contacts()[m_blockContact[k1]].b == c0.b) ++k1;
+    while (k1 < last && m_in->sweep.Contacts()[m_blockContact[k1]].a == c0.a && m_in->sweep.Contacts()[m_blockContact[k1]].b == c0.b) ++k1;
     if (k1 - k0 > 1) {
       std::uint32_t lead = k0;
       for (std::uint32_t k = k0 + 1; k < k1; ++k) {
         if (m_impacts[k].gap < m_impacts[lead].gap) lead = k;
       }
       RImpactRow& r = m_impacts[lead];
-      const RVec3& n = m_sweep.Contacts()[m_blockContact[lead]].manifold.normal;
+      const RVec3& n = m_in->sweep.Contacts()[m_blockContact[lead]].manifold.normal;
       RVec3 sum = RVec3::Zero();
       int count = 0;
       for (std::uint32_t k = k0; k < k1; ++k) {
-        const RContactManifold& m = m_sweep.Contacts()[m_blockContact[k]].manifold;
+        const RContactManifold& m = m_in->sweep.Contacts()[m_blockContact[k]].manifold;
         if (m.normal.dot(n) < kFaceContactCos) continue;
         if (k != lead) m_impacts[k].gap = std::numeric_limits<RScalar>::infinity();
         for (int q = 0; q < m.pointCount; ++q) {
-          if (m.points[q].separation <= r.gap + m_settings.penetrationSlop) sum += m.points[q].position, ++count;
+          if (m.points[q].separation <= r.gap + m_in->settings.penetrationSlop) sum += m.points[q].position, ++count;
         }
       }
       if (count > 0) {
-        const RContact& c = m_sweep.Contacts()[m_blockContact[lead]];
+        const RContact& c = m_in->sweep.Contacts()[m_blockContact[lead]];
         const RVec3 centre = sum / count;
         r.rA = centre - bodies[c.a].m_x_W, r.rB = centre - bodies[c.b].m_x_W;
         SetDirection(r.normal, n, r.rA, r.rB, m_solverBodies[c.a], m_solverBodies[c.b]);
@@ -236,7 +254,7 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
     }
     k0 = k1;
   }
-  if (m_welds.GroupCount() != 0) JoinWeldImpacts(bodies, first, last);
+  if (m_in->welds.GroupCount() != 0) JoinWeldImpacts(bodies, first, last);
 }
 
 // The same for a weld (RWeldGroups.cpp), one rigid body made of several: its members'
@@ -246,15 +264,15 @@ void RWorldStep::JoinPairImpacts(const RStepBodies& bodies, std::uint32_t first,
 // flat left turning at 2.3 rad/s. The joined row keeps that point and normal whenever
 // within the step it meets (ImpactGeometry, which looks at one manifold, would find its own
 // contact's alone).
-void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
+void RContactSolver::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last) {
   auto group = [this](std::uint32_t i) -> std::uint64_t {
-    const std::uint32_t g = m_welds.WeldOf(i);
+    const std::uint32_t g = m_in->welds.WeldOf(i);
     if (g == RWeldGroups::kNoWeld) return i;
-    return std::uint64_t(m_welds.Root(g)) | (std::uint64_t(1) << 32);
+    return std::uint64_t(m_in->welds.Root(g)) | (std::uint64_t(1) << 32);
   };
   for (std::uint32_t k0 = first; k0 < last; ++k0) {
-    const RContact& c0 = m_sweep.Contacts()[m_blockContact[k0]];
-    if (!m_welds.Welded(c0.a) && !m_welds.Welded(c0.b)) continue;
+    const RContact& c0 = m_in->sweep.Contacts()[m_blockContact[k0]];
+    if (!m_in->welds.Welded(c0.a) && !m_in->welds.Welded(c0.b)) continue;
     if (!std::isfinite(m_impacts[k0].gap) || m_impacts[k0].joined) continue;  // (joined already)
     const std::uint64_t ga = group(c0.a), gb = group(c0.b);
     if (ga == gb) continue;
@@ -264,7 +282,7 @@ void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first,
     std::uint32_t lead = k0;
     int others = 0;
     for (std::uint32_t k = k0 + 1; k < last; ++k) {
-      const RContact& c = m_sweep.Contacts()[m_blockContact[k]];
+      const RContact& c = m_in->sweep.Contacts()[m_blockContact[k]];
       if (group(c.a) != ga || group(c.b) != gb || c.manifold.normal.dot(n) < kFaceContactCos) continue;
       if (!std::isfinite(m_impacts[k].gap)) continue;
       ++others;
@@ -275,17 +293,17 @@ void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first,
     RVec3 sum = RVec3::Zero();
     int count = 0;
     for (std::uint32_t k = k0; k < last; ++k) {
-      const RContact& c = m_sweep.Contacts()[m_blockContact[k]];
+      const RContact& c = m_in->sweep.Contacts()[m_blockContact[k]];
       if (group(c.a) != ga || group(c.b) != gb || c.manifold.normal.dot(n) < kFaceContactCos) continue;
       if (!std::isfinite(m_impacts[k].gap)) continue;
       const RContactManifold& m = c.manifold;
       for (int q = 0; q < m.pointCount; ++q) {
-        if (m.points[q].separation <= r.gap + m_settings.penetrationSlop) sum += m.points[q].position, ++count;
+        if (m.points[q].separation <= r.gap + m_in->settings.penetrationSlop) sum += m.points[q].position, ++count;
       }
       if (k != lead) m_impacts[k].gap = std::numeric_limits<RScalar>::infinity();
     }
     if (count == 0) continue;
-    const RContact& c = m_sweep.Contacts()[m_blockContact[lead]];
+    const RContact& c = m_in->sweep.Contacts()[m_blockContact[lead]];
     const RVec3 centre = sum / count;
     r.rA = centre - bodies[c.a].m_x_W, r.rB = centre - bodies[c.b].m_x_W;
     SetDirection(r.normal, c.manifold.normal, r.rA, r.rB, m_solverBodies[c.a], m_solverBodies[c.b]);
@@ -297,9 +315,9 @@ void RWorldStep::JoinWeldImpacts(const RStepBodies& bodies, std::uint32_t first,
 // of their rows' speeds (a speed is linear in the point), so it is no faster than the
 // fastest row's; half the threshold leaves room for rounding (with no threshold there is
 // no room: every island has its impact rows). Not a number: the impact phase decides.
-bool RWorldStep::MayImpact(std::size_t island) const {
-  if (!(m_settings.restitutionThreshold > 0)) return true;
-  const RScalar floor = RScalar(-0.5) * m_settings.restitutionThreshold;
+bool RContactSolver::MayImpact(std::size_t island) const {
+  if (!(m_in->settings.restitutionThreshold > 0)) return true;
+  const RScalar floor = RScalar(-0.5) * m_in->settings.restitutionThreshold;
   const auto [rowsFirst, rowsLast] = IslandRows(island);
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) {
     const RContactRow& r = m_rows[i];
@@ -312,7 +330,7 @@ bool RWorldStep::MayImpact(std::size_t island) const {
 
 // After the island's impacts: which speculative rows keep their targets, and the arms of
 // the rows of bodies that impacted (with no impact row, deferN stays 0 and the arms as built).
-void RWorldStep::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
+void RContactSolver::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
   const auto [first, last] = m_blockIslands[island];
   // A manifold whose impact the narrow phase, run again along the motion, found not to
   // happen within this step keeps no speculative rows: their linear prediction from the
@@ -382,7 +400,7 @@ void RWorldStep::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
 // One manifold's normal rows: the block's minimum-norm answer when it pushes at every point,
 // else one point at a time. On the velocities (towards the rows' targets, impulses lambdaN)
 // or on the pseudo-velocities of position correction (pseudoTarget, lambdaP).
-RScalar RWorldStep::SolveNormalBlock(RBlock& blk, RContactRow* rows, RPhase phase) {
+RScalar RContactSolver::SolveNormalBlock(RBlock& blk, RContactRow* rows, RPhase phase) {
   const bool pseudo = phase == RPhase::kPosition;
   RSolverBody& sa = m_solverBodies[rows[0].a];
   RSolverBody& sb = m_solverBodies[rows[0].b];

@@ -1,8 +1,10 @@
-// The impact phase (RWorldStep::SolveIslandImpacts): impacts at their time within the step,
+// The impact phase (RContactSolver::SolveIslandImpacts): impacts at their time within the step,
 // restitution through one row per manifold.
 #include "shape/RCompound.h"
 #include "collision/RGjkEpa.h"
-#include "world/RWorldStep.h"
+#include "pairs/RPairSweep.h"
+#include "solver/RContactSolver.h"
+#include "world/RStepBodies.h"
 
 #include "solver/RSolverRows.h"
 
@@ -22,10 +24,10 @@ using namespace solver;
 // centre of the leading points, the same for both bodies (lever arms from where their
 // centres are at t), so angular momentum is exact. False if they do not meet this step.
 template <class Advance>
-bool RWorldStep::ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa,
-                                 RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
-                                 RVec3& rA, RVec3& rB, RDirection* dir, std::uint32_t childA,
-                                 std::uint32_t childB) const {
+bool RContactSolver::ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa,
+                                     RSolverBody& sb, const Advance& advance, RScalar& t, RScalar dt,
+                                     RVec3& rA, RVec3& rB, RDirection* dir, std::uint32_t childA,
+                                     std::uint32_t childB) const {
   const RConvexShape shapeA = ShapeOf(Body(A)), shapeB = ShapeOf(Body(B));
   // A compound's contact is one child pair's: the impact is that pair's.
   RShapeChild aloneA, aloneB;
@@ -62,11 +64,11 @@ bool RWorldStep::ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverB
       // one impact goes through their centre, as a single body's face would.
       RVec3 sum = leading.centre * leading.count;
       int count = leading.count;
-      ForEachChildManifold(shapeA, shapeB, X, lead + m_settings.penetrationSlop, [&](const RContactManifold& other) {
+      ForEachChildManifold(shapeA, shapeB, X, lead + m_in->settings.penetrationSlop, [&](const RContactManifold& other) {
         if (other.childA == m.childA && other.childB == m.childB) return;
         if (other.normal.dot(m.normal) < kFaceContactCos) return;
         for (int q = 0; q < other.pointCount; ++q) {
-          if (other.points[q].separation <= lead + m_settings.penetrationSlop) sum += other.points[q].position, ++count;
+          if (other.points[q].separation <= lead + m_in->settings.penetrationSlop) sum += other.points[q].position, ++count;
         }
       });
       leading.centre = sum / count;
@@ -87,7 +89,7 @@ bool RWorldStep::ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverB
     if (vn >= 0) return false;
     // Meeting after the step: not an impact of this step, unless the gap left is within
     // the slop (a row of balls a micrometre apart: the impulse goes down the row now).
-    if (t + lead / -vn > dt) return lead <= m_settings.penetrationSlop;
+    if (t + lead / -vn > dt) return lead <= m_in->settings.penetrationSlop;
     t += lead / -vn;
   }
   return true;  // close enough: the remaining gap shrinks every advance
@@ -116,7 +118,8 @@ bool RWorldStep::ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverB
 // read and never written: its path is known (x + v t), so where it is at an impact's time
 // is worked out on a copy, and its impacts with one body do not order those with another
 // (only a movable body's impacts happen one after another).
-void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc) {
+void RContactSolver::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
+                                        const RJointIslandView& jointView, RIslandScratch& sc) {
   const std::uint32_t* islandBodies = m_islandBodies.data() + m_islandBodyStart[island];
   const std::size_t bodyCount = m_islandBodyStart[island + 1] - m_islandBodyStart[island];
   for (std::size_t k = 0; k < bodyCount; ++k) {
@@ -155,9 +158,9 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
   bool anyImpact = false;
   // With joints (RJointImpacts.cpp): each impact bounces through the joints' reaction
   // (their rows hold the relative velocities of before the impacts: begun before them).
-  const bool joints = count > 0 && IslandHasJoints(island);
-  if (joints) BeginImpactJoints(island, sc);
-  const int passes = std::max(1, m_settings.solverIterations);
+  const bool joints = count > 0 && m_joints.IslandHasJoints(island);
+  if (joints) m_joints.BeginImpactJoints(jointView, sc);
+  const int passes = std::max(1, m_in->settings.solverIterations);
   for (int pass = 0; pass < passes && count > 0; ++pass) {
     bool any = false;
     for (std::size_t ii = 0; ii < count; ++ii) {
@@ -165,7 +168,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
       RSolverBody* pa = &m_solverBodies[r.a];
       RSolverBody* pb = &m_solverBodies[r.b];
       const RScalar vn0 = Speed(r.normal, pa->v, pa->w, pb->v, pb->w);
-      if (vn0 >= -m_settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
+      if (vn0 >= -m_in->settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
       // A static or kinematic body on a copy, at the start of its path (see above).
       RSolverBody copyA, copyB;
       if (pa->invM == 0) copyA = *pa, pa = &copyA;
@@ -187,7 +190,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
         SetDirection(dir[1], r.tangent[0], rA, rB, sa, sb);
         SetDirection(dir[2], r.tangent[1], rA, rB, sa, sb);
       } else if (!ImpactGeometry(bodies[r.a], bodies[r.b], sa, sb, advance, t, dt, rA, rB, dir,
-                                 m_sweep.Contacts()[r.contact].manifold.childA, m_sweep.Contacts()[r.contact].manifold.childB)) {
+                                 m_in->sweep.Contacts()[r.contact].manifold.childA, m_in->sweep.Contacts()[r.contact].manifold.childB)) {
         r.miss = true;  // they pass each other, or meet only after the step
         continue;
       }
@@ -206,12 +209,12 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
         r.lambdaN += probe;
         const RVec3 J = probe * dir[0].d;
         r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
-        ImpactJointsPass(t, sc);
+        m_joints.ImpactJointsPass(jointView, t, sc);
         const RScalar k = (Speed(dir[0], sa.v, sa.w, sb.v, sb.w) - vn) / probe;
         dn = k > 0 ? std::max(-(1 + r.restitution) * vn / k - probe, -r.lambdaN) : 0;
       }
       apply(r, dir, rA, rB, dn, sa, sb);
-      if (joints) ImpactJointsPass(t, sc);
+      if (joints) m_joints.ImpactJointsPass(jointView, t, sc);
     }
     if (!any) break;
   }
@@ -220,7 +223,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
     s.vImpacts = s.v;
   }
   if (!anyImpact) {
-    if (joints) EndImpactJoints(bodies, island, dt, sc, false);
+    if (joints) m_joints.EndImpactJoints(jointView, sc, false);
     return;
   }
   // The velocity each body moves with this step gives its piecewise path; the rest of the
@@ -237,7 +240,7 @@ void RWorldStep::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::
     // impact for the whole step.
     s.deferV = s.v - s.moved / dt;
   }
-  if (joints) EndImpactJoints(bodies, island, dt, sc, true);
+  if (joints) m_joints.EndImpactJoints(jointView, sc, true);
 }
 
 }  // namespace REngine

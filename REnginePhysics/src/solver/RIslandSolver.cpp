@@ -1,8 +1,12 @@
 // The island direct solve: islands of contact rows solved exactly by an active-set method
-// on their dense matrix (RWorldStep::LayOutIslands, SolveIslandDirect).
-#include "world/RWorldStep.h"
+// on their dense matrix (RContactSolver::LayOutIslands, SolveIslandDirect).
+#include "solver/RContactSolver.h"
 
+#include <REnginePhysics/RJobSystem.h>
+
+#include "pairs/RPairSweep.h"
 #include "solver/RSolverRows.h"
+#include "world/RStepBodies.h"
 
 #include <algorithm>
 #include <cmath>
@@ -76,17 +80,17 @@ void EnvelopeCholeskySolve(const RScalar* L, int m, int ld, const int* first, RS
 // meanwhile; the direct solve holds it exactly in the first step. Friction keeps its
 // iterated impulses, clamped again to the new cones. Larger islands (a whole pile) keep
 // the iterated answer: a dense solve grows as the cube of the rows.
-void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
+void RContactSolver::LayOutIslands(const RStepBodies& bodies) {
   const std::size_t n = bodies.size();
   m_islandSets.Reset(n);
-  m_rowStart.resize(m_sweep.Contacts().size());
+  m_rowStart.resize(m_in->sweep.Contacts().size());
   m_inRows.assign(n, 0);
   std::uint32_t blockCount = 0, warmCount = 0;
   constexpr std::size_t kWarmAhead = 16;  // entries: four contacts' manifolds
   // Each contact alone, as tasks: whether it is resolved, and where last step's warm starts
   // of its pair begin (searched in the contacts' order: the rows are built island by
   // island, where a search from the last contact's entries would cross the list each time).
-  ParallelRanges(m_jobs, m_sweep.Contacts().size(), m_tasks, 256, [&](std::size_t c0, std::size_t c1, std::size_t) {
+  ParallelRanges(m_in->jobs, m_in->sweep.Contacts().size(), m_in->tasks, 256, [&](std::size_t c0, std::size_t c1, std::size_t) {
     std::size_t warmFrom = 0;
     for (std::size_t ci = c0; ci < c1; ++ci) {
       // The search reads on from the last contact's entries, a manifold's worth (four
@@ -95,11 +99,11 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
       for (std::size_t w = warmFrom + kWarmAhead; w < std::min(warmFrom + kWarmAhead + 4, m_warm.size()); ++w) {
         __builtin_prefetch(&m_warm[w].pair);
       }
-      RContact& c = m_sweep.SolverContact(ci);
+      RContact& c = m_in->sweep.SolverContact(ci);
       // A manifold without points (the narrow phase hit its iteration cap) gives no rows:
       // its impact point and centroid would be 0/0; nor do separations that are not
       // numbers (see ImpactGeometry), which leave no point within the slop of the deepest.
-      c.resolved = m_sweep.RespondsAt(c.a) && m_sweep.RespondsAt(c.b) && !(m_sweep.ImmovableAt(c.a) && m_sweep.ImmovableAt(c.b)) &&
+      c.resolved = m_in->sweep.RespondsAt(c.a) && m_in->sweep.RespondsAt(c.b) && !(m_in->sweep.ImmovableAt(c.a) && m_in->sweep.ImmovableAt(c.b)) &&
                    c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
       if (!c.resolved) continue;
       warmFrom = FindWarmStarts(m_warm, PairKey(c.handleA.index, c.handleB.index), warmFrom);
@@ -108,8 +112,8 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   });
   m_warmPairsIncrease = true;
   std::uint64_t lastPair = 0;
-  for (std::uint32_t ci = 0; ci < m_sweep.Contacts().size(); ++ci) {
-    const RContact& c = m_sweep.Contacts()[ci];
+  for (std::uint32_t ci = 0; ci < m_in->sweep.Contacts().size(); ++ci) {
+    const RContact& c = m_in->sweep.Contacts()[ci];
     if (!c.resolved) continue;
     const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
     if (blockCount > 0 && !(pair > lastPair)) m_warmPairsIncrease = false;
@@ -120,10 +124,10 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     // contact's rows are solved in.
     m_rowStart[ci].warm = warmCount;
     warmCount += static_cast<std::uint32_t>(c.manifold.pointCount);
-    if (!m_sweep.ImmovableAt(c.a) && !m_sweep.ImmovableAt(c.b)) m_islandSets.Union(c.a, c.b);
+    if (!m_in->sweep.ImmovableAt(c.a) && !m_in->sweep.ImmovableAt(c.b)) m_islandSets.Union(c.a, c.b);
   }
   // Joints join islands as contacts do; the world's end (index n) joins nothing.
-  for (const RStepJoint& j : m_stepJoints) {
+  for (const RStepJoint& j : m_joints.StepJoints()) {
     const bool movesA = !bodies[j.a].Immovable(), movesB = j.b < n && !bodies[j.b].Immovable();
     m_inRows[j.a] = 1;
     if (j.b < n) m_inRows[j.b] = 1;
@@ -132,52 +136,29 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   // A counting sort of the resolved contacts by their island's representative (its smallest
   // body index), each island's in the contacts' order.
   m_blockStart.assign(n + 1, 0);
-  for (std::uint32_t ci = 0; ci < m_sweep.Contacts().size(); ++ci) {
-    const RContact& c = m_sweep.Contacts()[ci];
+  for (std::uint32_t ci = 0; ci < m_in->sweep.Contacts().size(); ++ci) {
+    const RContact& c = m_in->sweep.Contacts()[ci];
     if (!c.resolved) continue;
-    const std::uint32_t root = m_islandSets.Find(m_sweep.ImmovableAt(c.a) ? c.b : c.a);
+    const std::uint32_t root = m_islandSets.Find(m_in->sweep.ImmovableAt(c.a) ? c.b : c.a);
     m_rowStart[ci].block = root;  // for now
     ++m_blockStart[root + 1];
   }
   // Joints likewise, by the island of their movable body (an island may have only joints).
-  m_islandJointStart.clear();
-  if (!m_stepJoints.empty()) {
-    m_jointRootCount.assign(n, 0);
-    for (const RStepJoint& j : m_stepJoints) {
-      ++m_jointRootCount[m_islandSets.Find(bodies[j.a].Immovable() ? j.b : j.a)];
-    }
-  }
+  m_joints.CountIslandJoints(bodies, m_islandSets);
   m_blockIslands.clear();
   m_islandOfRoot.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const bool jointed = !m_stepJoints.empty() && m_jointRootCount[i] > 0;
-    if (m_blockStart[i + 1] > 0 || jointed) {
+    if (m_blockStart[i + 1] > 0 || m_joints.JointsAtRoot(i)) {
       m_islandOfRoot[i] = static_cast<std::uint32_t>(m_blockIslands.size());
       m_blockIslands.emplace_back(static_cast<std::uint32_t>(m_blockStart[i]),
                                   static_cast<std::uint32_t>(m_blockStart[i] + m_blockStart[i + 1]));
-      if (!m_stepJoints.empty()) m_islandJointStart.push_back(m_jointRootCount[i]);
     }
     m_blockStart[i + 1] += m_blockStart[i];
   }
-  if (!m_stepJoints.empty()) {
-    // Counts to starts, then each island's joints in the step's order.
-    std::uint32_t sum = 0;
-    for (std::uint32_t& c : m_islandJointStart) {
-      const std::uint32_t count = c;
-      c = sum, sum += count;
-    }
-    m_islandJointStart.push_back(sum);
-    m_islandJoints.resize(sum);
-    m_islandJointFill.assign(m_islandJointStart.begin(), m_islandJointStart.end() - 1);
-    for (std::uint32_t k = 0; k < m_stepJoints.size(); ++k) {
-      const RStepJoint& j = m_stepJoints[k];
-      const std::uint32_t root = m_islandSets.Find(bodies[j.a].Immovable() ? j.b : j.a);
-      m_islandJoints[m_islandJointFill[m_islandOfRoot[root]]++] = k;
-    }
-  }
+  m_joints.LayOutIslandJoints(bodies, m_islandSets, m_islandOfRoot, m_blockIslands.size());
   m_blockContact.resize(blockCount);
-  for (std::uint32_t ci = 0; ci < m_sweep.Contacts().size(); ++ci) {
-    if (!m_sweep.Contacts()[ci].resolved) continue;
+  for (std::uint32_t ci = 0; ci < m_in->sweep.Contacts().size(); ++ci) {
+    if (!m_in->sweep.Contacts()[ci].resolved) continue;
     const std::uint32_t block = m_blockStart[m_rowStart[ci].block]++;
     m_rowStart[ci].block = block;
     m_blockContact[block] = ci;
@@ -186,7 +167,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   for (std::uint32_t block = 0; block < blockCount; ++block) {
     const std::uint32_t ci = m_blockContact[block];
     m_rowStart[ci].row = rowCount;
-    rowCount += static_cast<std::uint32_t>(m_sweep.Contacts()[ci].manifold.pointCount);
+    rowCount += static_cast<std::uint32_t>(m_in->sweep.Contacts()[ci].manifold.pointCount);
   }
   // Resized, not cleared first: BuildContactRows writes every element whole, and a clear
   // would have resize zero 15 MB a step in a 10000-box pile.
@@ -200,7 +181,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_immovableRowBodies.clear();
   for (std::size_t i = 0; i < n; ++i) {
     if (!m_inRows[i]) continue;
-    if (m_sweep.ImmovableAt(i)) {
+    if (m_in->sweep.ImmovableAt(i)) {
       m_immovableRowBodies.push_back(static_cast<std::uint32_t>(i));
     } else {
       ++m_islandBodyStart[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))] + 1];
@@ -210,7 +191,7 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
   m_islandBodies.resize(m_islandBodyStart[islands]);
   m_islandBodyFill.assign(m_islandBodyStart.begin(), m_islandBodyStart.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!m_inRows[i] || m_sweep.ImmovableAt(i)) continue;
+    if (!m_inRows[i] || m_in->sweep.ImmovableAt(i)) continue;
     m_islandBodies[m_islandBodyFill[m_islandOfRoot[m_islandSets.Find(static_cast<std::uint32_t>(i))]]++] =
         static_cast<std::uint32_t>(i);
   }
@@ -224,12 +205,12 @@ void RWorldStep::LayOutIslands(const RStepBodies& bodies) {
     }
     const std::size_t rowsFirst = m_rowStart[m_blockContact[first]].row;
     const std::size_t rowsLast = m_rowStart[m_blockContact[last - 1]].row +
-                                 static_cast<std::size_t>(m_sweep.Contacts()[m_blockContact[last - 1]].manifold.pointCount);
+                                 static_cast<std::size_t>(m_in->sweep.Contacts()[m_blockContact[last - 1]].manifold.pointCount);
     m_islandDirect.push_back(last - first > 1 && rowsLast - rowsFirst <= std::size_t(kDirectRows));
   }
 }
 
-void RWorldStep::PrepareIslandDirect(std::size_t island, RIslandScratch& sc) {
+void RContactSolver::PrepareIslandDirect(std::size_t island, RIslandScratch& sc) {
   const auto [first, last] = IslandRows(island);
   sc.index.resize(last - first);
   for (std::size_t i = 0; i < sc.index.size(); ++i) sc.index[i] = static_cast<std::uint32_t>(first + i);
@@ -239,7 +220,7 @@ void RWorldStep::PrepareIslandDirect(std::size_t island, RIslandScratch& sc) {
 // The island's matrix K (m x m, row-major, in sc.K), assembled from the pairs of
 // manifolds that share a dynamic body: the others couple nothing, and in a stack or a pile
 // a manifold touches only a few of the island's others.
-void RWorldStep::AssembleIslandMatrix(RIslandScratch& sc) {
+void RContactSolver::AssembleIslandMatrix(RIslandScratch& sc) {
   const int m = static_cast<int>(sc.index.size());
   RScalar* K = sc.K.data();
   std::fill(K, K + std::size_t(m) * m, RScalar(0));
@@ -285,7 +266,7 @@ void RWorldStep::AssembleIslandMatrix(RIslandScratch& sc) {
 // The active-set solve of one island's normal rows (sc.index), on the velocities or on
 // the pseudo-velocities. Applies the answer and returns true if it converged; otherwise
 // leaves the iterated impulses as they are.
-bool RWorldStep::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
+bool RContactSolver::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
   const bool pseudo = phase == RPhase::kPosition;
   const int m = static_cast<int>(sc.index.size());
   const int ld = m;

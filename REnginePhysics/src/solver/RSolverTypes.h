@@ -1,11 +1,11 @@
-// Private to REnginePhysics: the contact solver's types, what RWorldStep's contact phase
-// (FindImpulses and the files of solver/) works on: a direction's precomputed arms and
-// effective mass, a contact point's normal row, a manifold's block with its friction patch
-// and its impact row, a body's working state through the solve, the warm-start memory kept
-// from step to step, and the layout's per-contact slots and per-task tallies. The step holds
-// them (world/RWorldStep.h); the joints, the motion, the welds and the contact events read
-// them. Plain data: the arithmetic on them is the solver's (solver/RSolverRows.h and the
-// step's functions).
+// Private to REnginePhysics: the contact solver's types, what its contact phase
+// (RContactSolver::FindImpulses and the files of solver/) works on: a direction's
+// precomputed arms and effective mass, a contact point's normal row, a manifold's block with
+// its friction patch and its impact row, a body's working state through the solve, the
+// warm-start memory kept from step to step, and the layout's per-contact slots and per-task
+// tallies. The contact solver holds them (solver/RContactSolver.h); the joints, the motion,
+// the welds and the contact events read them. Plain data: the arithmetic on them is the
+// solver's (solver/RSolverRows.h and RContactSolver's functions).
 #pragma once
 
 #include <REngineMath/RMath.h>
@@ -99,7 +99,7 @@ struct RSolverBody {
   // The solver's outputs for the motion (Integrate), besides the impulses it accumulates
   // on the body: contact impulses at the end of the step (world, N s and N m s about the
   // centre of mass at the start of the step), and the impacts' velocity change deferred
-  // to the step's end (N s). Valid when the step solved (RWorldStep::m_solved).
+  // to the step's end (N s). Valid when the step solved (RContactSolver::Solved).
   RVec3 endLinear, endAngular;
   RVec3 deferredImpulse;
   // What CloseAtEnd asks of the body, read here instead of from the body: its acceleration
@@ -168,7 +168,7 @@ struct RIslandTally {
   bool dropped = false;
   bool warmUnordered = false;  // some contact's points' features decrease (ReportIsland)
 };
-// A manifold's leading points (RWorldStep::LeadingPoints): its deepest point, how many lie
+// A manifold's leading points (RContactSolver::LeadingPoints): its deepest point, how many lie
 // within the slop of it, and their centre, where an impact acts.
 struct RLeadingPoints {
   int deepest = 0;

@@ -109,7 +109,7 @@ void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned
   WriteSettings(w, s.m_settings);
   w.U64(s.m_stepCount);
   const RSleeping::RSaved sleep = s.m_sleep.Saved();
-  w.U64(s.m_warmBodyCount), w.U64(sleep.bodyCount);
+  w.U64(s.m_solver.WarmBodyCount()), w.U64(sleep.bodyCount);
   w.Bool(sleep.wakeAll);
   w.Vec3(sleep.gravity_W);
   w.Bool(s.m_motion.NonFinite().has_value());
@@ -119,8 +119,8 @@ void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned
     w.String(nf.bodyName);
     w.U64(nf.step);
   }
-  w.U64(s.m_warm.size());
-  for (const RWarmStart& ws : s.m_warm) {
+  w.U64(s.m_solver.WarmStarts().size());
+  for (const RWarmStart& ws : s.m_solver.WarmStarts()) {
     w.U64(ws.pair), w.U32(ws.genA), w.U32(ws.genB), w.U32(ws.feature);
     w.Vec3(ws.point_A);
     w.F64(ws.lambdaN), w.F64(ws.lambdaE);

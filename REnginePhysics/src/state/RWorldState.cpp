@@ -110,15 +110,13 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_settings = step.settings;
   w.m_settings.threads = threads;
   w.m_stepCount = step.stepCount;
-  w.m_warmBodyCount = static_cast<std::size_t>(step.warmBodyCount);
   w.m_sleep.RestoreForLoad({step.sleepBodyCount, step.wakeAll, step.sleepGravity_W});
   w.m_motion.RestoreForLoad(std::move(step.nonFinite));
-  w.m_warm = std::move(step.warm);
+  w.m_solver.RestoreForLoad(std::move(step.warm), static_cast<std::size_t>(step.warmBodyCount));
   w.m_sweep.RestoreForLoad(std::move(step.manifolds));
   w.m_eventLog.RestoreForLoad(std::move(step.touching));
   w.m_cacheStamp = NextCacheStamp();
   w.m_profile = RStepProfile{};
-  w.m_solved = false;
   w.m_broad.Invalidate();
 }
 

@@ -1,6 +1,8 @@
 // RIntegrator::Update, the step as a table of contents: the stamp, CollisionDetection (pair
-// sweep, contact solver), UpdateObjects (the motion, sleeping). The subsystems and their
-// scratch state live behind RWorldStep (RWorldStep.h lists their files).
+// sweep, contact solver with its joint solver), UpdateObjects (the motion, sleeping), the
+// contact events. The subsystems are RWorldStep's members, each owning its state behind its
+// own header (docs/ARCHITECTURE.md, "Subsystems and folders", lists the folders and files);
+// each gets what it reads of the others here, as parameters.
 #include <REnginePhysics/RIntegrator.h>
 
 #include "world/RWorldStep.h"
@@ -60,7 +62,7 @@ RIntegrator::RIntegrator(RIntegrator&&) noexcept = default;
 RIntegrator& RIntegrator::operator=(RIntegrator&&) noexcept = default;
 
 void RIntegrator::ForgetContacts() {
-  m_w->m_warm.clear(), m_w->m_sweep.ForgetManifolds(), m_w->m_sleep.WakeAllNextStep();
+  m_w->m_solver.ForgetWarmStarts(), m_w->m_sweep.ForgetManifolds(), m_w->m_sleep.WakeAllNextStep();
 }
 const RWorldSettings& RIntegrator::Settings() const { return m_w->m_settings; }
 RWorldSettings& RIntegrator::Settings() { return m_w->m_settings; }
@@ -192,9 +194,9 @@ void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   const auto t2 = Clock::now();
   // Contact events: begin, persist, end, from the contacts and the motion (RContactEvents.h).
   const RContactEventLog::RStepInputs events{w.m_settings.contactEvents, w.m_sweep.Contacts(),
-                                             w.m_islandImpacts, w.m_blockIslands, w.m_sweep.PassiveFlags(),
-                                             w.m_jobs, w.m_tasks};
-  w.m_eventLog.FindContactEvents(bodies, events, w.m_impacts);
+                                             w.m_solver.IslandImpacts(), w.m_solver.BlockIslands(),
+                                             w.m_sweep.PassiveFlags(), w.m_jobs, w.m_tasks};
+  w.m_eventLog.FindContactEvents(bodies, events, w.m_solver.Impacts());
   // The bodies moved: a new stamp, so world forms that detection cached at the old poses
   // are recomputed when game code asks after the step.
   w.m_cacheStamp = NextCacheStamp();
@@ -218,17 +220,18 @@ void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {
   }
   w.m_sweep.MutableStats().wakeRuns = wakeRuns;
   const auto t0 = Clock::now();
-  w.FindImpulses(bodies, dt);
+  const RContactSolver::RSolverInputs solver{w.m_settings, w.m_sweep, w.m_welds, w.m_jobs, w.m_tasks};
+  w.m_solver.FindImpulses(bodies, dt, solver);
   w.m_profile.findImpulses = Ms(Clock::now() - t0);
 }
 
 void RIntegrator::UpdateObjects(const RStepBodies& bodies, RScalar dt) {
   RWorldStep& w = *m_w;
-  const RMotion::RStepInputs motion{w.m_settings, w.m_welds, w.m_solved, w.m_inRows,
+  const RMotion::RStepInputs motion{w.m_settings, w.m_welds, w.m_solver.Solved(), w.m_solver.InRows(),
                                     w.m_stepCount, w.m_jobs, w.m_tasks};
-  w.m_motion.Integrate(bodies, dt, motion, w.m_solverBodies, w.m_warm);
+  w.m_motion.Integrate(bodies, dt, motion, w.m_solver.SolverBodies(), w.m_solver.MutableWarmStarts());
   w.m_sweep.MutableStats().sleepingBodies =
-      w.m_sleep.SleepIslands(bodies, w.m_settings, w.m_sweep.Contacts(), w.m_sweep.BodyFlags(), w.m_stepJoints);
+      w.m_sleep.SleepIslands(bodies, w.m_settings, w.m_sweep.Contacts(), w.m_sweep.BodyFlags(), w.m_solver.StepJoints());
 }
 
 }  // namespace REngine
