@@ -2,7 +2,7 @@
 // checked against the bodies and joints that exist at each step, and sorted by step.
 #include "RSceneJson.h"
 
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <algorithm>
 #include <string>

@@ -4,7 +4,7 @@
 // engine's field.
 #include "RSceneJson.h"
 
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,5 @@
 #include <REnginePhysics/RRigidBody.h>
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <REngineMath/RQuaternion.h>
 

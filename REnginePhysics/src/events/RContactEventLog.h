@@ -9,6 +9,8 @@
 // vector keeps its capacity between steps.
 #pragma once
 
+#include "state/RLoadKey.h"
+
 #include <REnginePhysics/RContactEvents.h>
 #include <REnginePhysics/RIntegrator.h>
 
@@ -64,7 +66,7 @@ class RContactEventLog {
   // (a, b), are what carries to the next step; a load restores them and drops the last
   // step's events, which are not saved.
   const std::vector<RTouchingPair>& Touching() const { return m_touching; }
-  void RestoreForLoad(std::vector<RTouchingPair> touching) {
+  void RestoreForLoad(RLoadKey, std::vector<RTouchingPair> touching) {
     m_touching = std::move(touching);
     m_events.clear(), m_eventsBySlot.clear(), m_eventsByBody.clear();
   }

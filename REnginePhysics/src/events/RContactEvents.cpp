@@ -4,7 +4,7 @@
 // both in handle order, into begin, persist and end events.
 #include "events/RContactEventLog.h"
 
-#include "world/RWorldStep.h"
+#include "world/RStepBodies.h"
 
 #include "collision/RGjkEpa.h"
 

@@ -3,7 +3,7 @@
 #include <REnginePhysics/RBodies.h>
 
 #include "joints/RJointRows.h"
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <REngineMath/RQuaternion.h>
 

@@ -25,7 +25,7 @@
 #include "joints/RWeldGroups.h"
 
 #include "motion/RMotion.h"
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 #include "world/RStepBodies.h"
 
 #include <REngineMath/RQuaternion.h>

@@ -4,7 +4,7 @@
 // that need them; a body without any of it takes the plain free body's path, bit for bit.
 #include "motion/RMotion.h"
 
-#include "world/RWorldStep.h"
+#include "world/RStepBodies.h"
 
 #include <REngineMath/RQuaternion.h>
 

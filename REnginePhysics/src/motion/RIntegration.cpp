@@ -3,9 +3,9 @@
 #include "motion/RMotion.h"
 
 #include "joints/RWeldGroups.h"
-#include "world/RWorldStep.h"
+#include "world/RStepBodies.h"
 
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <REngineMath/RQuaternion.h>
 

@@ -11,6 +11,8 @@
 // drag, gravity scales).
 #pragma once
 
+#include "state/RLoadKey.h"
+
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/detail/RBodyCore.h>
 
@@ -142,7 +144,7 @@ class RMotion {
   const std::vector<RNonFiniteBody>& NonFiniteInLastStep() const { return m_nonFiniteLast; }
   // Save/load's (state/RWorldState.cpp; RStateStep.cpp writes NonFinite()): a load restores
   // the first body put back and forgets the last step's, which are not saved.
-  void RestoreForLoad(std::optional<RNonFiniteBody> nonFinite) {
+  void RestoreForLoad(RLoadKey, std::optional<RNonFiniteBody> nonFinite) {
     m_nonFinite = std::move(nonFinite);
     m_nonFiniteLast.clear();
   }

@@ -12,7 +12,7 @@
 // (Box2D's and Bullet's dynamic trees keep fat boxes and a pair list the same way).
 #include "pairs/RBroadPhase.h"
 
-#include "world/RWorldStep.h"
+#include "world/RStepBodies.h"
 
 #include <algorithm>
 #include <cmath>

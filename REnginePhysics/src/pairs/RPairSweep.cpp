@@ -5,7 +5,7 @@
 #include "pairs/RPairSweep.h"
 
 #include "shape/RCompound.h"
-#include "world/RWorldStep.h"
+#include "world/RStepBodies.h"
 
 #include "solver/RSolverRows.h"
 

@@ -13,6 +13,8 @@
 // Every vector keeps its capacity between steps.
 #pragma once
 
+#include "state/RLoadKey.h"
+
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RIntegrator.h>
 
@@ -104,7 +106,7 @@ class RPairSweep {
   // step's contacts, their memory entries, the counts and the pair count (the broad
   // phase's cost estimate), which are not saved.
   const std::vector<RManifoldMemory>& Manifolds() const { return m_manifolds; }
-  void RestoreForLoad(std::vector<RManifoldMemory> manifolds) {
+  void RestoreForLoad(RLoadKey, std::vector<RManifoldMemory> manifolds) {
     m_manifolds = std::move(manifolds);
     m_contacts.clear(), m_contactMemory.clear();
     m_pairStats = RPairStats{};

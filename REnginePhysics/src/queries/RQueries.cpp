@@ -3,7 +3,7 @@
 // their answers. The narrow phases are RRayCast.cpp and RShapeCast.cpp; the tree's upkeep
 // is RQueryState.cpp.
 #include <REnginePhysics/RQueries.h>
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <REngineMath/RQuaternion.h>
 

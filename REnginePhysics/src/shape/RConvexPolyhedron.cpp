@@ -1,5 +1,5 @@
 #include <REnginePhysics/RConvexPolyhedron.h>
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>

@@ -1,6 +1,6 @@
 // Triangle meshes: checks, the bounding-volume tree, active edges and rays (RTriangleMesh.h).
 #include <REnginePhysics/RTriangleMesh.h>
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <algorithm>
 #include <cmath>

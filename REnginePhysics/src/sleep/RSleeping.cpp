@@ -2,7 +2,7 @@
 // sleep after it (RSleeping, sleep/RSleeping.h); see RIntegrator.h.
 #include "sleep/RSleeping.h"
 
-#include "world/RWorldStep.h"
+#include "world/RStepBodies.h"
 
 #include "solver/RSolverRows.h"
 

@@ -9,6 +9,8 @@
 // The bodies' own sleep state (m_sleeping, m_sleepIsland, m_restTime) is theirs, in RBodyCore.
 #pragma once
 
+#include "state/RLoadKey.h"
+
 #include <REnginePhysics/RIntegrator.h>
 
 #include "joints/RJointTypes.h"
@@ -67,7 +69,7 @@ class RSleeping {
   RSaved Saved() const { return {m_sleepBodyCount, m_wakeAll, m_sleepGravity_W}; }
   // Restores what Saved gave; from then on the bodies carry this integrator's own id (the
   // loaded bodies were given it), not an original's.
-  void RestoreForLoad(const RSaved& saved) {
+  void RestoreForLoad(RLoadKey, const RSaved& saved) {
     m_sleepBodyCount = static_cast<std::size_t>(saved.bodyCount);
     m_wakeAll = saved.wakeAll;
     m_sleepGravity_W = saved.gravity_W;

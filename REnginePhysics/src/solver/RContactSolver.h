@@ -17,6 +17,8 @@
 // RContactReport.cpp.
 #pragma once
 
+#include "state/RLoadKey.h"
+
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RIntegrator.h>
 
@@ -86,7 +88,7 @@ class RContactSolver {
   // (Solved() false), which is not saved.
   const std::vector<RWarmStart>& WarmStarts() const { return m_warm; }
   std::size_t WarmBodyCount() const { return m_warmBodyCount; }
-  void RestoreForLoad(std::vector<RWarmStart> warm, std::size_t warmBodyCount) {
+  void RestoreForLoad(RLoadKey, std::vector<RWarmStart> warm, std::size_t warmBodyCount) {
     m_warm = std::move(warm);
     m_warmBodyCount = warmBodyCount;
     m_solved = false;

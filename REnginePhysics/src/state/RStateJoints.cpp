@@ -4,7 +4,7 @@
 // joints after a load and a world with joints continues bit for bit.
 #include "state/RStateAccess.h"
 
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 #include "body/RBodyAccess.h"
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 // back field for field in the same order into temporaries that RWorldState.cpp checks whole before the world is touched.
 #include "state/RStateAccess.h"
 
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 #include "body/RBodyAccess.h"
 
 #include <algorithm>

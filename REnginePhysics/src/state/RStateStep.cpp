@@ -4,7 +4,7 @@
 // that RWorldState.cpp checks whole before the world is touched.
 #include "state/RStateAccess.h"
 
-#include "world/RLimits.h"
+#include <REnginePhysics/RLimits.h>
 
 #include <cmath>
 #include <utility>

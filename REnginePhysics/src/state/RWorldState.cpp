@@ -110,11 +110,11 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_settings = step.settings;
   w.m_settings.threads = threads;
   w.m_stepCount = step.stepCount;
-  w.m_sleep.RestoreForLoad({step.sleepBodyCount, step.wakeAll, step.sleepGravity_W});
-  w.m_motion.RestoreForLoad(std::move(step.nonFinite));
-  w.m_solver.RestoreForLoad(std::move(step.warm), static_cast<std::size_t>(step.warmBodyCount));
-  w.m_sweep.RestoreForLoad(std::move(step.manifolds));
-  w.m_eventLog.RestoreForLoad(std::move(step.touching));
+  w.m_sleep.RestoreForLoad(RLoadKey{}, {step.sleepBodyCount, step.wakeAll, step.sleepGravity_W});
+  w.m_motion.RestoreForLoad(RLoadKey{}, std::move(step.nonFinite));
+  w.m_solver.RestoreForLoad(RLoadKey{}, std::move(step.warm), static_cast<std::size_t>(step.warmBodyCount));
+  w.m_sweep.RestoreForLoad(RLoadKey{}, std::move(step.manifolds));
+  w.m_eventLog.RestoreForLoad(RLoadKey{}, std::move(step.touching));
   w.m_cacheStamp = NextCacheStamp();
   w.m_profile = RStepProfile{};
   w.m_broad.Invalidate();

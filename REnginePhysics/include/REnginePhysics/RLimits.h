@@ -1,4 +1,6 @@
-// The ranges the engine accepts at its doors, shared by every check that applies them.
+// The ranges the engine accepts at its doors, shared by every check that applies them: the
+// API, the scene loader and the state loader refuse what lies outside them (RBodyError,
+// RJointError, RSceneError, RStateError). A game may check its own input against them.
 #pragma once
 
 #include <REngineMath/RMath.h>
