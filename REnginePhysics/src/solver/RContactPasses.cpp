@@ -370,8 +370,11 @@ bool RContactSolver::CloseAtEnd(RContactRow& r, RScalar dt) const {
   const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
   const RScalar band = 1e-6 * (sa.radius + sb.radius);
   // A contact that closes faster than the restitution threshold is an impact, and the
-  // next step's impact phase bounces it; stopped here it would end inelastic.
+  // next step's impact phase bounces it; stopped here it would end inelastic. What this
+  // step's acceleration alone adds (a resting body's g dt / 2 into the ground) is not an
+  // approach: the support acts all through the step.
   const RScalar vnEnd = vn + halfDt * r.n.d.dot(sb.accel - sa.accel);
+  const bool approaching = vnEnd < -m_in->settings.restitutionThreshold && vn < -m_in->settings.restitutionThreshold;
   // A body that had an impact this step is not at rest: its end-of-step velocity is the
   // impact's outcome, left as it is.
   const bool impacted = sa.tau > 0 || sb.tau > 0;
@@ -387,7 +390,7 @@ bool RContactSolver::CloseAtEnd(RContactRow& r, RScalar dt) const {
   };
   // (Its square roots only for a row that is otherwise closed.)
   auto spinning = [&] { return arc(sa, r.rA) + arc(sb, r.rB) > m_in->settings.penetrationSlop; };
-  r.endTarget = gapEnd <= band && vnEnd >= -m_in->settings.restitutionThreshold && !impacted && r.n.k > 0 &&
+  r.endTarget = gapEnd <= band && !approaching && !impacted && r.n.k > 0 &&
                         !spinning()
                     ? RScalar(0) : kNever;
   if (r.endTarget == kNever) r.lambdaE = 0;
