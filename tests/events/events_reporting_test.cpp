@@ -98,12 +98,15 @@ TEST(ContactEvents, TurnedOffThereAreNoneAndTheMotionIsTheSame) {
 
 // Events keep their vectors' capacity: once a world's contacts have been seen, a step
 // allocates nothing, events on or off (boxes resting, elastic balls bouncing: begins, ends
-// and persists every few steps).
+// and persists every few steps). The balls start at one height: exact bounces keep their
+// periods equal, so the warm-up sees the most contacts any measured step has (balls of
+// different periods would first land together at some later step, and the solver's
+// arrays grow once then, as for any world that reaches a new size).
 TEST(ContactEvents, SteadyStepsAllocateNothing) {
   RBodies bodies;
   bodies.Add(GroundDef().Restitution(1));
   for (int i = 0; i < 5; ++i) bodies.Add(UnitBoxDef(RVec3(3 * i, 0.5, 0)));
-  for (int i = 0; i < 3; ++i) bodies.Add(SphereDef(0.5).Mass(1).Restitution(1).At(RVec3(3 * i, 3 + i, 4)));
+  for (int i = 0; i < 3; ++i) bodies.Add(SphereDef(0.5).Mass(1).Restitution(1).At(RVec3(3 * i, 3, 4)));
   RWorldSettings settings = EarthGravity();
   settings.shortcuts.sleeping = false;
   settings.threads = 1;

@@ -204,7 +204,7 @@ void RJointSolver::SolveJointsAtEnd(const RJointIslandView& v, RIslandScratch& s
   sc.endContacts.clear();
   for (std::uint32_t i = v.rowsFirst; i < v.rowsLast; ++i) {
     const RContactRow& c = v.rows[i];
-    if (c.endTarget != 0 || !(c.n.k > 0)) continue;
+    if (c.endTarget == solver::kNever || !(c.n.k > 0)) continue;
     auto endIndex = [&](std::uint32_t body) -> std::uint32_t {
       if (solverBodies[body].invM != 0) return sc.mark[body];  // kNone: not a joint body
       RJointEndBody e;

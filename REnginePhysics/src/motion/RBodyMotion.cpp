@@ -140,9 +140,14 @@ void RMotion::TurnLocked(RBodyCore& b, RScalar dt) {
 }
 
 RVec3 RMotion::KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end) {
-  if (!b.m_isKinematic || b.m_w_W.isZero(0)) return RVec3::Zero();
-  const RVec3 chord = QuatExp(b.m_w_W * dt) * r_W - r_W;  // the point's displacement, m
-  return end ? RVec3(b.m_w_W.cross(chord)) : RVec3(chord / dt - b.m_w_W.cross(r_W));
+  if (!b.m_isKinematic) return RVec3::Zero();
+  return SurfaceDrift_W(b.m_w_W, r_W, dt, end);
+}
+
+RVec3 RMotion::SurfaceDrift_W(const RVec3& w_W, const RVec3& r_W, RScalar dt, bool end) {
+  if (w_W.isZero(0)) return RVec3::Zero();
+  const RVec3 chord = QuatExp(w_W * dt) * r_W - r_W;  // the point's displacement, m
+  return end ? RVec3(w_W.cross(chord)) : RVec3(chord / dt - w_W.cross(r_W));
 }
 
 RScalar RMotion::GravitySpread(const RStepBodies& bodies) {

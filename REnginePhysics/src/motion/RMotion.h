@@ -105,6 +105,15 @@ class RMotion {
   // end, the surface velocity where the point is then, w x (exp(w dt) r - r). Zero for
   // every other body.
   static RVec3 KinematicDrift_W(const RBodyCore& b, const RVec3& r_W, RScalar dt, bool end);
+  // The same for a surface turning at w_W (rad/s, world), whatever the body.
+  static RVec3 SurfaceDrift_W(const RVec3& w_W, const RVec3& r_W, RScalar dt, bool end);
+  // A contact at arms rA, rB (world, m) against a spinning kinematic body: A's drift less
+  // B's, both arms turning with the kinematic body's spin w_W (a body at rest on it turns
+  // with it: its centre then keeps to its own circle, not to the contact point's). Zero
+  // when w_W is.
+  static RVec3 ContactDrift_W(const RVec3& w_W, const RVec3& rA, const RVec3& rB, RScalar dt, bool end) {
+    return SurfaceDrift_W(w_W, rA, dt, end) - SurfaceDrift_W(w_W, rB, dt, end);
+  }
   // A kinematic body's step: x += v dt, q = exp(w dt) q, exact for constant velocities.
   static void MoveKinematic(RBodyCore& b, RScalar dt);
   // Whether a body's state after its motion is finite and within kMaxPosition (Integrate).

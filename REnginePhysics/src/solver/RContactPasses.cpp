@@ -358,20 +358,30 @@ RScalar RContactSolver::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
 // step at rest, and the support it needs is shared between the two ends of the step, the
 // way kick-drift-kick shares a force; a sliding box's friction is shared the same way. The
 // impulses are inelastic (targets of zero, never pulling): they cannot add energy.
-// Whether row r is closed at the end of the step (endTarget 0), or not (kNever, and no end
-// impulse).
+// Whether row r is closed at the end of the step (endTarget its end velocity), or not
+// (kNever, and no end impulse).
 bool RContactSolver::CloseAtEnd(RContactRow& r, RScalar dt) const {
   const RScalar halfDt = RScalar(0.5) * dt;
   const RSolverBody& sa = m_solverBodies[r.a];
   const RSolverBody& sb = m_solverBodies[r.b];
   // Closed at the end: the gap after moving with this step's velocities (a touching band
   // of a micrometre per metre of size for rounding).
+  // A spinning kinematic body's surface point moves on an arc: the gap closes by the motion
+  // relative to the chord that point travels (KinematicDrift_W), and the contact ends at
+  // rest with the velocity that surface has at the end, where the point then is.
+  const bool kinematic = (sa.invM == 0 && !sa.w.isZero(0)) || (sb.invM == 0 && !sb.w.isZero(0));
+  auto surfaceDrift = [&](bool end) {
+    return r.n.d.dot(RMotion::ContactDrift_W(sa.invM == 0 ? sa.w : sb.w, r.rA, r.rB, dt, end));
+  };
   const RScalar vn = Speed(r.n, sa.v, sa.w, sb.v, sb.w);
-  const RScalar gapEnd = r.gap + (vn - r.deferN) * dt;
+  const RScalar gapEnd = r.gap + (kinematic ? vn - surfaceDrift(false) - r.deferN : vn - r.deferN) * dt;
   const RScalar band = 1e-6 * (sa.radius + sb.radius);
   // A contact that closes faster than the restitution threshold is an impact, and the
-  // next step's impact phase bounces it; stopped here it would end inelastic.
+  // next step's impact phase bounces it; stopped here it would end inelastic. What this
+  // step's acceleration alone adds (a resting body's g dt / 2 into the ground) is not an
+  // approach: the support acts all through the step.
   const RScalar vnEnd = vn + halfDt * r.n.d.dot(sb.accel - sa.accel);
+  const bool approaching = vnEnd < -m_in->settings.restitutionThreshold && vn < -m_in->settings.restitutionThreshold;
   // A body that had an impact this step is not at rest: its end-of-step velocity is the
   // impact's outcome, left as it is.
   const bool impacted = sa.tau > 0 || sb.tau > 0;
@@ -382,16 +392,22 @@ bool RContactSolver::CloseAtEnd(RContactRow& r, RScalar dt) const {
   // pair in the debris cloud gained 1e-5 of its energy in one step). A sphere's contact
   // point does not turn with it, and a kinematic body's impulse is not applied (a crate on
   // a turntable keeps its end impulses).
-  auto arc = [dt](const RSolverBody& s, const RVec3& arm) {
-    return s.armTurns ? s.w.norm() * arm.norm() * dt : RScalar(0);
+  // Against a kinematic body it is the spin relative to its surface that carries the point
+  // (a crate turning with a station's deck does not move on it).
+  auto arc = [dt](const RSolverBody& s, const RSolverBody& other, const RVec3& arm) {
+    if (!s.armTurns) return RScalar(0);
+    return (other.invM == 0 ? RVec3(s.w - other.w) : s.w).norm() * arm.norm() * dt;
   };
   // (Its square roots only for a row that is otherwise closed.)
-  auto spinning = [&] { return arc(sa, r.rA) + arc(sb, r.rB) > m_in->settings.penetrationSlop; };
-  r.endTarget = gapEnd <= band && vnEnd >= -m_in->settings.restitutionThreshold && !impacted && r.n.k > 0 &&
-                        !spinning()
-                    ? RScalar(0) : kNever;
-  if (r.endTarget == kNever) r.lambdaE = 0;
-  return r.endTarget == 0;
+  auto spinning = [&] { return arc(sa, sb, r.rA) + arc(sb, sa, r.rB) > m_in->settings.penetrationSlop; };
+  const bool closed = gapEnd <= band && !approaching && !impacted && r.n.k > 0 && !spinning();
+  // Closed, the contact ends the step at rest on the other body's surface: with no normal
+  // velocity against it, or, against a spinning kinematic body (a station's deck), with the
+  // surface's own there (its acceleration, w x (w x r) for a steady spin, taken into
+  // account, as gravity's is above).
+  r.endTarget = closed ? (kinematic ? surfaceDrift(true) : RScalar(0)) : kNever;
+  if (!closed) r.lambdaE = 0;
+  return closed;
 }
 
 }  // namespace REngine

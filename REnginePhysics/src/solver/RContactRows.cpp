@@ -131,6 +131,13 @@ std::uint32_t RContactSolver::BuildContactRows(const RStepBodies& bodies, std::u
     SetDirection(r.n, normal, r.rA, r.rB, sa, sb);
     r.block = blockIndex;
     r.target = -std::max(gap, RScalar(0)) / dt;
+    // Against a spinning kinematic body (a station's deck), resting is moving with the point
+    // of its surface: along the chord that point travels in the step (KinematicDrift_W), as
+    // friction's targets say for the tangents.
+    if (A.m_isKinematic || B.m_isKinematic) {
+      const RVec3& spin = A.m_isKinematic ? A.m_w_W : B.m_w_W;
+      r.target += normal.dot(RMotion::ContactDrift_W(spin, r.rA, r.rB, dt, false));
+    }
     r.pseudoTarget = gap < -m_in->settings.penetrationSlop
                          ? std::min(m_in->settings.positionCorrection * (-gap - m_in->settings.penetrationSlop),
                                     m_in->settings.maxPositionCorrection) / dt
@@ -200,8 +207,7 @@ std::uint32_t RContactSolver::BuildContactRows(const RStepBodies& bodies, std::u
   for (int ph = 0; ph < 2; ++ph) {
     blk.targetT[ph][0] = blk.targetT[ph][1] = 0;
     if (!(A.m_isKinematic || B.m_isKinematic)) continue;
-    const RVec3 drift =
-        RMotion::KinematicDrift_W(A, blk.rA, dt, ph == 1) - RMotion::KinematicDrift_W(B, blk.rB, dt, ph == 1);
+    const RVec3 drift = RMotion::ContactDrift_W(A.m_isKinematic ? A.m_w_W : B.m_w_W, blk.rA, blk.rB, dt, ph == 1);
     blk.targetT[ph][0] = drift.dot(t1), blk.targetT[ph][1] = drift.dot(t2);
   }
   for (int ph = 0; ph < 2; ++ph) blk.lambdaT1[ph] = blk.lambdaT2[ph] = blk.lambdaTwist[ph] = 0;

@@ -16,6 +16,34 @@ namespace REngine {
 
 using namespace solver;
 
+namespace {
+
+// Under gravity and constant forces a body's velocity through the step is v + a (t - dt/2),
+// v its mean velocity (what the solver holds), a its acceleration: between impacts it moves
+// on the parabola, and a pair's normal speed changes at the rate n . (aB - aA). Both are
+// zero-cost where no body accelerates (space): then the motion is a line, as before.
+RScalar NormalAcceleration(const RVec3& n, const RSolverBody& sa, const RSolverBody& sb) {
+  return n.dot(sb.accel - sa.accel);
+}
+
+// How long a gap g >= 0 takes to close from an approach speed w (m/s, > 0 approaching) under
+// an approach acceleration alpha (m/s^2): the first root of w t + alpha t^2 / 2 = g, or
+// infinity if it never closes. The root is taken as 2 g / (w + sqrt(w^2 + 2 alpha g)), which
+// cancels nothing; without acceleration it is g / w.
+RScalar CloseTime(RScalar g, RScalar w, RScalar alpha) {
+  constexpr RScalar kNever = std::numeric_limits<RScalar>::infinity();
+  if (!(g < kNever)) return kNever;  // (a row joined into another has an infinite gap)
+  if (alpha == 0) return w > 0 ? g / w : kNever;
+  const RScalar disc = w * w + 2 * alpha * g;
+  if (disc < 0) return kNever;  // slowing down, it stops short of the gap
+  const RScalar root = w + std::sqrt(disc);
+  if (root > 0) return 2 * g / root;
+  // g = 0 and moving apart: back at 2 (-w)/alpha if pulled back.
+  return alpha > 0 ? -2 * w / alpha : kNever;
+}
+
+}  // namespace
+
 // The geometry of an impact within the step, at time t (updated): the narrow phase again at
 // the poses the bodies have then (moved along their paths; orientations as at the start),
 // advanced conservatively until the leading points touch: t += gap / approach, which for
@@ -84,13 +112,25 @@ bool RContactSolver::ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSol
     SetDirection(dir[0], n, rA, rB, sa, sb);
     SetDirection(dir[1], t1, rA, rB, sa, sb);
     SetDirection(dir[2], t2, rA, rB, sa, sb);
-    if (lead <= tolerance) return true;
-    const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
-    if (vn >= 0) return false;
+    // The normal speed at t (the mean speed, with acceleration the speed at t).
+    const RScalar an = NormalAcceleration(n, sa, sb);
+    const RScalar vn = an == 0 ? Speed(dir[0], sa.v, sa.w, sb.v, sb.w)
+                               : Speed(dir[0], sa.v, sa.w, sb.v, sb.w) + an * (t - RScalar(0.5) * dt);
+    if (lead <= tolerance) {
+      // Touching and moving apart, but pulled back (a ball just bounced under gravity):
+      // they meet again at t + 2 vn / (-an), if within the step.
+      if (an < 0 && vn > 0 && t + 2 * vn / -an <= dt) {
+        t += 2 * vn / -an;
+        continue;
+      }
+      return true;
+    }
+    const RScalar close = CloseTime(lead, -vn, -an);
+    if (close == std::numeric_limits<RScalar>::infinity()) return false;
     // Meeting after the step: not an impact of this step, unless the gap left is within
     // the slop (a row of balls a micrometre apart: the impulse goes down the row now).
-    if (t + lead / -vn > dt) return lead <= m_in->settings.penetrationSlop;
-    t += lead / -vn;
+    if (t + close > dt) return lead <= m_in->settings.penetrationSlop;
+    t += close;
   }
   return true;  // close enough: the remaining gap shrinks every advance
 }
@@ -129,10 +169,17 @@ void RContactSolver::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, s
   }
   const auto [first, last] = m_blockIslands[island];
   const std::size_t count = m_islandImpacts[island] ? last - first : 0;
-  // Moves a body along its present velocity up to time t of the step.
-  auto advance = [](RSolverBody& s, RScalar t) {
+  // Moves a body along its present velocity up to time t of the step: on the line of its
+  // velocity, or, accelerating, on its parabola (its mean velocity over [tau, t]).
+  const RScalar halfDt = RScalar(0.5) * dt;
+  auto advance = [halfDt](RSolverBody& s, RScalar t) {
     if (t <= s.tau) return;
-    s.moved += s.v * (t - s.tau), s.tau = t;
+    if (s.accel.isZero(0)) {
+      s.moved += s.v * (t - s.tau);
+    } else {
+      s.moved += (s.v + s.accel * (RScalar(0.5) * (t + s.tau) - halfDt)) * (t - s.tau);
+    }
+    s.tau = t;
   };
   // The normal impulse dn at arms rA, rB (dir: normal and tangents), then friction at the
   // same point, within mu times this row's normal impulse so far.
@@ -168,7 +215,19 @@ void RContactSolver::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, s
       RSolverBody* pa = &m_solverBodies[r.a];
       RSolverBody* pb = &m_solverBodies[r.b];
       const RScalar vn0 = Speed(r.normal, pa->v, pa->w, pb->v, pb->w);
-      if (vn0 >= -m_in->settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
+      // Accelerating, the normal speed runs from vn0 - an dt/2 at the start to vn0 + an dt/2
+      // at the end; the gap closes when the parabola says.
+      // After an impact of either body the gap at the start says nothing of when they meet
+      // (a ball bounced once may land again within the step): the geometry at its time does.
+      const RScalar an0 = NormalAcceleration(r.normal.d, *pa, *pb);
+      const bool fromStart = an0 == 0 || std::max(pa->tau, pb->tau) == 0;
+      if (an0 == 0) {
+        if (vn0 >= -m_in->settings.restitutionThreshold || r.gap > -vn0 * dt) continue;
+      } else {
+        const RScalar vnStart = vn0 - an0 * halfDt;
+        if (std::min(vnStart, vn0 + an0 * halfDt) >= -m_in->settings.restitutionThreshold) continue;
+        if (fromStart && r.gap > 0 && CloseTime(r.gap, -vnStart, -an0) > dt) continue;
+      }
       // A static or kinematic body on a copy, at the start of its path (see above).
       RSolverBody copyA, copyB;
       if (pa->invM == 0) copyA = *pa, pa = &copyA;
@@ -177,7 +236,7 @@ void RContactSolver::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, s
       RSolverBody& sb = *pb;
       // When: the gap closed at this approach, and no earlier than either body's last.
       RScalar t = std::max(sa.tau, sb.tau);
-      if (r.gap > 0) t = std::max(t, r.gap / -vn0);
+      if (r.gap > 0 && fromStart) t = std::max(t, an0 == 0 ? r.gap / -vn0 : CloseTime(r.gap, -(vn0 - an0 * halfDt), -an0));
       if (t > dt) continue;
       advance(sa, t), advance(sb, t);
       RDirection dir[3];
@@ -194,10 +253,21 @@ void RContactSolver::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, s
         r.miss = true;  // they pass each other, or meet only after the step
         continue;
       }
-      const RScalar vn = Speed(dir[0], sa.v, sa.w, sb.v, sb.w);
+      // The approach at the moment of contact: under acceleration, the speed at t.
+      const RScalar an = NormalAcceleration(dir[0].d, sa, sb);
+      const RScalar vn = an == 0 ? Speed(dir[0], sa.v, sa.w, sb.v, sb.w)
+                                 : Speed(dir[0], sa.v, sa.w, sb.v, sb.w) + an * (t - halfDt);
       if (vn >= 0 || !(dir[0].k > 0)) continue;  // (no effective mass: no impulse to find)
+      // Accelerating, the speed at the moment of contact is the one the threshold judges
+      // (a box resting on the ground under a stack a falling box hits: its approach gains
+      // g t within the step, and stays a resting contact's).
+      if (an != 0 && vn >= -m_in->settings.restitutionThreshold) continue;
       any = anyImpact = true;
-      RScalar dn = -(1 + r.restitution) * vn / dir[0].k;
+      // Pulled back onto each other (an < 0), a bounce of e vn returns after 2 e |vn| / |an|,
+      // and all the bounces after it take 2 e |vn| / (|an| (1 - e)) (Zeno): if they end within
+      // the step, the pair is at rest from now on, and bounces no more.
+      const RScalar e = an < 0 && 2 * r.restitution * -vn <= -an * (1 - r.restitution) * (dt - t) ? 0 : r.restitution;
+      RScalar dn = -(1 + e) * vn / dir[0].k;
       if (joints) {
         // The joints react within the impact: the approach changes per unit impulse by less
         // than the free bodies' k (a door turns about its hinge). That rate, measured by
@@ -211,7 +281,7 @@ void RContactSolver::SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, s
         r.impulse += J, r.angularA += rA.cross(J), r.angularB += rB.cross(J);
         m_joints.ImpactJointsPass(jointView, t, sc);
         const RScalar k = (Speed(dir[0], sa.v, sa.w, sb.v, sb.w) - vn) / probe;
-        dn = k > 0 ? std::max(-(1 + r.restitution) * vn / k - probe, -r.lambdaN) : 0;
+        dn = k > 0 ? std::max(-(1 + e) * vn / k - probe, -r.lambdaN) : 0;
       }
       apply(r, dir, rA, rB, dn, sa, sb);
       if (joints) m_joints.ImpactJointsPass(jointView, t, sc);
