@@ -52,8 +52,11 @@ RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   settings.frictionCombine =
       root.Get("friction_combine", settings.frictionCombine, ReadFrictionCombine);
   if (root.Has("solver")) {
-    const Object solver(root.Required("solver"), "solver", {"iterations", "sleeping", "broadphase"});
+    const Object solver(root.Required("solver"), "solver",
+                        {"iterations", "restitution_threshold", "sleeping", "broadphase"});
     settings.solverIterations = solver.Get("iterations", settings.solverIterations, ReadIterations);
+    settings.restitutionThreshold =
+        solver.Get("restitution_threshold", settings.restitutionThreshold, ReadNonNegative);
     settings.shortcuts.sleeping = solver.Get("sleeping", settings.shortcuts.sleeping, ReadBool);
     settings.shortcuts.broadPhase =
         solver.Get("broadphase", settings.shortcuts.broadPhase, ReadBool);

@@ -20,6 +20,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <random>
 #include <string>
 #include <system_error>
@@ -245,6 +246,43 @@ TEST(Threads, AThreadCountOutOfRangeIsRefused) {
     bodies.emplace_back(SphereDef(0.5).At(RVec3(0, 0, 0)).Mass(1).Named("a"));
     bodies[0].SetVelocity_W(RVec3(1, 0, 0));
     EXPECT_THROW(integrator.Update(bodies, 1.0 / 60), RError) << threads;
+    EXPECT_EQ(bodies[0].Position_W(), RVec3(0, 0, 0)) << "the body moved";
+  }
+}
+
+// A setting that is not a number, or out of its range, is refused before anything moves,
+// naming the setting: a NaN restitution threshold would bounce nothing, a negative slop
+// would push resting bodies apart.
+TEST(Settings, NonFiniteOrNegativeSettingsAreRefusedNamingTheField) {
+  const RScalar nan = std::numeric_limits<RScalar>::quiet_NaN();
+  const struct {
+    const char* field;
+    void (*spoil)(RWorldSettings&, RScalar);
+    RScalar bad;
+  } cases[] = {
+      {"gravity_W", [](RWorldSettings& s, RScalar x) { s.gravity_W.y() = x; }, nan},
+      {"restitutionThreshold", [](RWorldSettings& s, RScalar x) { s.restitutionThreshold = x; }, nan},
+      {"restitutionThreshold", [](RWorldSettings& s, RScalar x) { s.restitutionThreshold = x; }, -1},
+      {"penetrationSlop", [](RWorldSettings& s, RScalar x) { s.penetrationSlop = x; }, -1e-3},
+      {"maxPositionCorrection", [](RWorldSettings& s, RScalar x) { s.maxPositionCorrection = x; }, nan},
+      {"sleepSpeed", [](RWorldSettings& s, RScalar x) { s.sleepSpeed = x; }, -1},
+      {"sleepTime", [](RWorldSettings& s, RScalar x) { s.sleepTime = x; }, std::numeric_limits<RScalar>::infinity()},
+      {"positionCorrection", [](RWorldSettings& s, RScalar x) { s.positionCorrection = x; }, -0.5},
+      {"positionCorrection", [](RWorldSettings& s, RScalar x) { s.positionCorrection = x; }, nan},
+  };
+  for (const auto& c : cases) {
+    RWorldSettings settings;
+    c.spoil(settings, c.bad);
+    RIntegrator integrator(settings);
+    std::vector<RRigidBody> bodies;
+    bodies.emplace_back(SphereDef(0.5).At(RVec3(0, 0, 0)).Mass(1).Named("a"));
+    bodies[0].SetVelocity_W(RVec3(1, 0, 0));
+    try {
+      integrator.Update(bodies, 1.0 / 60);
+      ADD_FAILURE() << c.field << " = " << c.bad << " was accepted";
+    } catch (const RError& e) {
+      EXPECT_EQ(e.Field(), c.field);
+    }
     EXPECT_EQ(bodies[0].Position_W(), RVec3(0, 0, 0)) << "the body moved";
   }
 }

@@ -104,6 +104,28 @@ void RIntegrator::PrepareJobs() {
                    "RIntegrator::Update: RWorldSettings::restitutionCombine and frictionCombine " + problem);
     }
   }
+  // The numbers the step divides by, compares with and multiplies into every body: a NaN or
+  // a negative one would silently disable what it controls (a NaN threshold bounces
+  // nothing), so they are refused here, as the scene loader refuses them.
+  auto refuse = [](const char* field, const std::string& requirement, RScalar got) {
+    const std::string problem = "must be " + requirement + " (got " + std::to_string(got) + ")";
+    throw RError(field, problem, std::string("RIntegrator::Update: RWorldSettings::") + field + " " + problem);
+  };
+  const RWorldSettings& s = w.m_settings;
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(s.gravity_W[k])) refuse("gravity_W", "finite", s.gravity_W[k]);
+  }
+  const struct {
+    const char* field;
+    RScalar value;
+  } nonNegative[] = {{"restitutionThreshold", s.restitutionThreshold}, {"penetrationSlop", s.penetrationSlop},
+                     {"positionCorrection", s.positionCorrection},
+                     {"maxPositionCorrection", s.maxPositionCorrection}, {"sleepSpeed", s.sleepSpeed},
+                     {"sleepTime", s.sleepTime}};
+  // (As a saved state's settings are read: RStateStep.cpp.)
+  for (const auto& [field, value] : nonNegative) {
+    if (!(std::isfinite(value) && value >= 0)) refuse(field, "finite and >= 0", value);
+  }
   RJobSystem* jobs = m_gameJobs;
   if (!jobs) {
     const int threads = w.m_settings.threads > 0 ? w.m_settings.threads : RThreadPool::MachineThreads();
