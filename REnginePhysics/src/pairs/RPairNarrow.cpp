@@ -18,10 +18,21 @@ using namespace solver;
 
 namespace {
 
-// When within the step the manifold's deepest point closes, moving with the bodies' step
-// velocities: 0 when it is closed already, infinity when it does not close this step.
-RScalar TimeOfImpact(const RBodyCore& a, const RBodyCore& b, const RVec3& va, const RVec3& vb,
-                     const RContactManifold& m, RScalar dt) {
+// Whether a pair (its bodies' flags, RPairSweep::BodyFlags) is a moving body's contact with
+// an immovable one, both responding: the contacts the covered-feature rule reads.
+bool OneImmovable(std::uint8_t fa, std::uint8_t fb) {
+  return ((fa ^ fb) & RPairSweep::kFlagImmovable) && (fa & fb & RPairSweep::kFlagResponds);
+}
+
+// Whether a memory entry comes before a pair in the sweep's (i, then j) order.
+bool Before(const RManifoldMemory& mem, const std::pair<std::uint32_t, std::uint32_t>& p) {
+  return mem.i < p.first || (mem.i == p.first && mem.j < p.second);
+}
+
+}  // namespace
+
+RScalar RPairSweep::TimeOfImpact(const RBodyCore& a, const RBodyCore& b, const RVec3& va, const RVec3& vb,
+                                 const RContactManifold& m, RScalar dt) {
   if (m.pointCount == 0) return m.query.separation <= 0 ? 0 : std::numeric_limits<RScalar>::infinity();
   int deepest = 0;
   for (int k = 1; k < m.pointCount; ++k) {
@@ -38,12 +49,12 @@ RScalar TimeOfImpact(const RBodyCore& a, const RBodyCore& b, const RVec3& va, co
   return std::numeric_limits<RScalar>::infinity();
 }
 
-// Whether a memory entry comes before a pair in the sweep's (i, then j) order.
-bool Before(const RManifoldMemory& mem, const std::pair<std::uint32_t, std::uint32_t>& p) {
-  return mem.i < p.first || (mem.i == p.first && mem.j < p.second);
+RScalar RPairSweep::PairMargin(const RStepBodies& bodies, std::size_t i, std::size_t j, RScalar dt,
+                               RScalar allowance) const {
+  const RScalar approach = (m_moveV[j] - m_moveV[i]).norm() + m_moveW[i] * bodies[i].m_boundingRadius +
+                           m_moveW[j] * bodies[j].m_boundingRadius;
+  return approach * dt + allowance;
 }
-
-}  // namespace
 
 void RPairSweep::PrefetchHull(const RBodyCore& b) {
   if (b.m_polyhedron_B) PrefetchBytes(b.m_polyhedron_B->Vertices().data(), 4 * 64);
@@ -74,6 +85,7 @@ std::size_t RPairSweep::NarrowPairs(const RStepBodies& bodies, RScalar dt, RScal
   return ParallelRanges(in.jobs, m_pairs.size(), tasks, kSweepPairGrain, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = m_sweepTasks[task];
     st.contacts.clear(), st.wake.clear(), st.manifolds.clear(), st.contactMemory.clear();
+    st.immovable.clear();
     st.rejectedFilter = st.rejectedBoxes = st.narrowPhase = st.reused = 0;
     // Last step's manifolds from this range's first pair on.
     RMemoryCursor cursor{m_memoryFrom[task], m_memoryFrom[task + 1], reuse};
@@ -145,8 +157,6 @@ void RPairSweep::NarrowPair(const RStepBodies& bodies, const std::pair<std::uint
   const RBodyCore& a = bodies[i];
   const RBodyCore& b = bodies[j];
   RContact contact;
-  const RScalar approach = (m_moveV[j] - m_moveV[i]).norm() +
-                           m_moveW[i] * a.m_boundingRadius + m_moveW[j] * b.m_boundingRadius;
   // The pair in slot order, whatever the bodies' places in storage: its manifold, normal
   // and feature ids, and so its warm start, do not change when a removal moves a body.
   const bool flip = bodies.Slot(j) < bodies.Slot(i);
@@ -154,7 +164,7 @@ void RPairSweep::NarrowPair(const RStepBodies& bodies, const std::pair<std::uint
   const RBodyCore& A = bodies[ia];
   const RBodyCore& B = bodies[ib];
   const RNarrowPair p{pair, i, j, ia, ib, ShapeOf(Body(A)), ShapeOf(Body(B)), RelativePose(Body(A), Body(B)),
-                      RMargin{approach * dt + allowance}};
+                      RMargin{PairMargin(bodies, i, j, dt, allowance)}};
   if (HasParts(p.shapeA) || HasParts(p.shapeB)) {
     ChildContacts(bodies, p, dt, st);
     return;
@@ -185,6 +195,9 @@ void RPairSweep::NarrowPair(const RStepBodies& bodies, const std::pair<std::uint
     contact.b = static_cast<std::uint32_t>(ib);
     contact.handleA = bodies.handles[ia], contact.handleB = bodies.handles[ib];
     contact.timeOfImpact = TimeOfImpact(A, B, m_moveV[ia], m_moveV[ib], contact.manifold, dt);
+    if (OneImmovable(m_bodyFlags[i], m_bodyFlags[j])) {
+      st.immovable.push_back(static_cast<std::uint32_t>(st.contacts.size()));
+    }
     st.contacts.push_back(contact);
     st.contactMemory.push_back(st.inPlace + st.manifolds.size() > remembered ? static_cast<std::uint32_t>(remembered) : kNoMemory);
   }
@@ -211,6 +224,9 @@ void RPairSweep::ChildContacts(const RStepBodies& bodies, const RNarrowPair& p, 
     child.a = static_cast<std::uint32_t>(p.ia), child.b = static_cast<std::uint32_t>(p.ib);
     child.handleA = bodies.handles[p.ia], child.handleB = bodies.handles[p.ib];
     child.timeOfImpact = TimeOfImpact(A, B, m_moveV[p.ia], m_moveV[p.ib], child.manifold, dt);
+    if (OneImmovable(m_bodyFlags[p.i], m_bodyFlags[p.j])) {
+      st.immovable.push_back(static_cast<std::uint32_t>(st.contacts.size()));
+    }
     st.contacts.push_back(child);
     st.contactMemory.push_back(kNoMemory);
   });

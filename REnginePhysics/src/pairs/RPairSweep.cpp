@@ -157,6 +157,7 @@ bool RPairSweep::JoinSweep(std::size_t pairTasks, const RStepInputs& in, RSleepi
     m_contacts.clear();
   } else if (pairTasks == 1) {
     std::swap(m_contacts, m_sweepTasks[0].contacts);
+    m_sweepTasks[0].contactsAt = 0;
   } else {
     std::size_t total = 0;
     for (std::size_t t = 0; t < pairTasks; ++t) m_sweepTasks[t].contactsAt = total, total += m_sweepTasks[t].contacts.size();
@@ -317,6 +318,8 @@ bool RPairSweep::DetectPairs(const RStepBodies& bodies, RScalar dt, const RStepI
 
   const std::size_t pairTasks = NarrowPairs(bodies, dt, allowance, kGrow, in);
   const bool woke = JoinSweep(pairTasks, in, sleep);
+  // (A sweep that woke islands runs again: its contacts are not the step's.)
+  if (!woke) CoveredFeatures(bodies, dt, allowance, pairTasks, in);
   // Pairs never visited: two passive static bodies (counted with the filter's), or two
   // passive bodies of which one at least sleeps. (Counts are those of the last sweep when
   // waking islands made it run again.)

@@ -4,13 +4,15 @@
 // touch (stage 1: the all-pairs loop, AllPairs, or the broad phase's tree, RBroadPhase);
 // takes each through the bounding boxes, the filters and the narrow phase, or keeps last
 // step's manifold (stage 2, NarrowPairs in RPairNarrow.cpp); and joins the tasks' results
-// (JoinSweep). It owns the step's contacts (its output, which the contact solver, the
-// events, sleeping and save/load read), the manifold memory carried from step to step with
-// each contact's entry in it, the set-up pass's per-body arrays (centres, reaches, motion,
-// passive and body flags), the pair list, the per-task scratch (RSweepTask), the game's pair
-// filter and the step's pair counters. The broad phase, sleeping (which a sweep marks the
-// sleeping islands it touched in), the settings and the job system come in as parameters.
-// Every vector keeps its capacity between steps.
+// (JoinSweep); then rewrites or drops the contacts on features that flush immovable bodies
+// cover, which are no surface of the world (CoveredFeatures, RPairCovered.cpp). It owns the
+// step's contacts (its output, which the contact solver, the events, sleeping and save/load
+// read), the manifold memory carried from step to step with each contact's entry in it, the
+// set-up pass's per-body arrays (centres, reaches, motion, passive and body flags), the pair
+// list, the per-task scratch (RSweepTask), the covered-feature rule's scratch, the game's
+// pair filter and the step's pair counters. The broad phase, sleeping (which a sweep marks
+// the sleeping islands it touched in), the settings and the job system come in as
+// parameters. Every vector keeps its capacity between steps.
 #pragma once
 
 #include "state/RLoadKey.h"
@@ -18,6 +20,7 @@
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RIntegrator.h>
 
+#include "collision/RCoveredFeatures.h"
 #include "pairs/RSweepTask.h"
 
 #include <cstddef>
@@ -124,6 +127,17 @@ class RPairSweep {
   std::size_t NarrowPairs(const RStepBodies& bodies, RScalar dt, RScalar allowance, RScalar grow,
                           const RStepInputs& in);
   bool JoinSweep(std::size_t pairTasks, const RStepInputs& in, RSleeping& sleep);
+  // The covered-feature rule (collision/RCoveredFeatures.h) over the joined contacts
+  // (RPairCovered.cpp): each moving body that touches several immovable bodies, its contacts
+  // with each against the others; a contact on a covered feature is rewritten along the
+  // surface or dropped (the contacts and their memory entries closed up). One thread, in
+  // the contacts' order.
+  void CoveredFeatures(const RStepBodies& bodies, RScalar dt, RScalar allowance, std::size_t pairTasks,
+                       const RStepInputs& in);
+  // The rule for one moving body's contacts m_coverContacts[first, last): false when
+  // none was dropped.
+  bool CoverBody(const RStepBodies& bodies, RScalar dt, RScalar allowance, RScalar slop, std::size_t first,
+                 std::size_t last, std::uint64_t cacheStamp);
 
   // Stage 2, pair by pair (RPairNarrow.cpp). A task's place in last step's manifold memory:
   // the next entry to look at, the end of its part, and whether this step's entries still
@@ -162,6 +176,13 @@ class RPairSweep {
   // Where this task's next entry of the manifold memory goes (in place while it stays
   // behind last step's entries still to be read, from `unread` on; else in st.manifolds).
   RManifoldMemory* Remember(RSweepTask& st, RMemoryCursor& cursor, std::size_t unread);
+  // The speculative margin of pair (i, j) (m): how far its bodies can approach within the
+  // step, from their step motion, plus the allowance.
+  RScalar PairMargin(const RStepBodies& bodies, std::size_t i, std::size_t j, RScalar dt, RScalar allowance) const;
+  // When within the step the manifold's deepest point closes, moving with the bodies' step
+  // velocities: 0 when it is closed already, infinity when it does not close this step.
+  static RScalar TimeOfImpact(const RBodyCore& a, const RBodyCore& b, const RVec3& va, const RVec3& vb,
+                              const RContactManifold& m, RScalar dt);
   // A body's hull (its polyhedron's vertex array, up to 4 lines), read by its world form
   // and the narrow phase: asked for once the body's own lines have arrived (PrefetchBody a
   // few pairs earlier), since the pointer to it is in them.
@@ -185,6 +206,15 @@ class RPairSweep {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> m_pairs;  // (i < j), the loop's order
   std::size_t m_lastPairCount = 0;  // pairs the last sweep found (the trees' cost estimate)
   std::vector<char> m_formNeeded;  // bodies whose world form a pair reads (threads only)
+  // The covered-feature rule's scratch (CoveredFeatures): per body, its first contact with
+  // an immovable body this step (kNoCover: none; kSeveralCovers set: it has more), every
+  // entry kNoCover between steps; the (moving body, contact) pairs of the bodies with
+  // several, sorted; one body's immovable surfaces; the contacts dropped.
+  static constexpr std::uint32_t kNoCover = 0xffffffffu, kSeveralCovers = 0x80000000u;
+  std::vector<std::uint32_t> m_coverFirst;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> m_coverContacts;
+  std::vector<RCoverSurface> m_coverSurfaces;
+  std::vector<std::uint32_t> m_coverDropped;
   RPairStats m_pairStats;
   RPairFilter m_filter = nullptr;
   void* m_filterUser = nullptr;

@@ -51,6 +51,9 @@ struct RSweepTask {
   std::vector<std::uint32_t> wake;         // stage 2: sleeping islands touched
   std::vector<RManifoldMemory> manifolds;  // stage 2: this step's manifold memory
   std::vector<std::uint32_t> contactMemory;  // stage 2: per contact, its entry in manifolds
+  // Stage 2: its contacts between a moving body and an immovable one, both responding
+  // (indices in contacts), which the covered-feature rule reads.
+  std::vector<std::uint32_t> immovable;
   std::uint64_t sphereTests = 0, rejectedFilter = 0, rejectedBoxes = 0, narrowPhase = 0, reused = 0;
 };
 
