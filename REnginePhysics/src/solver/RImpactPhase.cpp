@@ -31,15 +31,15 @@ RScalar NormalAcceleration(const RVec3& n, const RSolverBody& sa, const RSolverB
 // infinity if it never closes. The root is taken as 2 g / (w + sqrt(w^2 + 2 alpha g)), which
 // cancels nothing; without acceleration it is g / w.
 RScalar CloseTime(RScalar g, RScalar w, RScalar alpha) {
-  constexpr RScalar kNever = std::numeric_limits<RScalar>::infinity();
-  if (!(g < kNever)) return kNever;  // (a row joined into another has an infinite gap)
-  if (alpha == 0) return w > 0 ? g / w : kNever;
+  constexpr RScalar kNoMeeting = std::numeric_limits<RScalar>::infinity();
+  if (!(g < kNoMeeting)) return kNoMeeting;  // (a row joined into another has an infinite gap)
+  if (alpha == 0) return w > 0 ? g / w : kNoMeeting;
   const RScalar disc = w * w + 2 * alpha * g;
-  if (disc < 0) return kNever;  // slowing down, it stops short of the gap
+  if (disc < 0) return kNoMeeting;  // slowing down, it stops short of the gap
   const RScalar root = w + std::sqrt(disc);
   if (root > 0) return 2 * g / root;
   // g = 0 and moving apart: back at 2 (-w)/alpha if pulled back.
-  return alpha > 0 ? -2 * w / alpha : kNever;
+  return alpha > 0 ? -2 * w / alpha : kNoMeeting;
 }
 
 }  // namespace
