@@ -407,13 +407,8 @@ RCoverResult CoverMeshPiece(const RCoverSurface& b, bool bIsA, const RPosedShape
   }
   if (!onEdge) return RCoverResult::kKept;
   // The piece's own face, on M's side, as the mesh's inactive edges take it.
-  int& level = TriangleScratchLevel();
-  RConvexPolyhedron& scratch = TriangleScratch(level);
-  ++level;
-  struct Leave {
-    int& level;
-    ~Leave() { --level; }
-  } leave{level};
+  RTriangleScratchScope scope;
+  RConvexPolyhedron& scratch = scope.Scratch();
   RShapeChild tri;
   MakeTriangleChild(mesh, t, scratch, tri);
   const RVec3 face = (R_BW * (m.x_W - b.x_W) - tri.p_BC).dot(nt) >= 0 ? nt : RVec3(-nt);

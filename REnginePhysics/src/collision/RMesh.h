@@ -82,15 +82,25 @@ int& TriangleScratchLevel();
 // Triangle t as a convex child, its polyhedron built into `scratch`.
 void MakeTriangleChild(const RTriangleMesh& mesh, std::uint32_t t, RConvexPolyhedron& scratch, RShapeChild& out);
 
+// The scratch polyhedron of the next nesting level, held for a scope (the level is given
+// back however the scope ends).
+class RTriangleScratchScope {
+ public:
+  RTriangleScratchScope() : m_level(TriangleScratchLevel()), m_scratch(TriangleScratch(m_level)) { ++m_level; }
+  ~RTriangleScratchScope() { --m_level; }
+  RTriangleScratchScope(const RTriangleScratchScope&) = delete;
+  RTriangleScratchScope& operator=(const RTriangleScratchScope&) = delete;
+  RConvexPolyhedron& Scratch() { return m_scratch; }
+
+ private:
+  int& m_level;
+  RConvexPolyhedron& m_scratch;
+};
+
 template <class F>
 void ForEachTriangleChild(const RTriangleMesh& mesh, const RVec3& lo, const RVec3& hi, const F& f) {
-  int& level = TriangleScratchLevel();
-  RConvexPolyhedron& scratch = TriangleScratch(level);
-  ++level;
-  struct Leave {
-    int& level;
-    ~Leave() { --level; }
-  } leave{level};
+  RTriangleScratchScope scope;
+  RConvexPolyhedron& scratch = scope.Scratch();
   mesh.ForEachOverlapping(lo, hi, [&](std::uint32_t t) {
     // The triangle's own box first: a leaf's box holds four.
     const RVec3 &a = mesh.Vertex(t, 0), &b = mesh.Vertex(t, 1), &c = mesh.Vertex(t, 2);
