@@ -252,7 +252,7 @@ TEST_F(Cli, ReferenceScenesKeepTheirPinnedHashes) {
     const char* hash;
   } pins[] = {
       {"box_pile_1000", "53f176ac143e2b28"},     {"box_stack_10", "15c7e33cb50b3227"},
-      {"debris_cloud_1000", "d4103f47e4d4be83"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"debris_cloud_1000", "b0ab52ff53050032"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {
