@@ -194,8 +194,10 @@ void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb
   }
 }
 
-RScalar JointHingeAngle(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb) {
-  return HingeAngle(Geometry(J, pa, pb));
+RScalar JointMotorPosition(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb) {
+  const RJointGeometry g = Geometry(J, pa, pb);
+  if (J.def.type == RJointType::kHinge) return HingeAngle(g);
+  return J.def.type == RJointType::kSlider ? g.axisA.dot(g.pB - g.pA) : 0;
 }
 
 template void BuildJointRows<RSolverBody>(const RJoint&, const RJointPoseIn&, const RJointPoseIn&, const RSolverBody&,

@@ -172,15 +172,24 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
     if (m_islandDirect[island]) IslandDirectSolves(island, sc, settled);
   };
   enum class RRounds { kMet, kLeft, kDiverged };
+  // An island with a motor turning a body about a fixed axis goes on past the joints'
+  // tolerance to rounding (fine: what is beyond it, the motors' turns included;
+  // joints/RJointMotors.cpp) while the rounds still halve it; then it is met whatever is left
+  // below the tolerance.
   auto rounds = [&] {
     RScalar previous = std::numeric_limits<RScalar>::infinity();
     for (int round = 0;; ++round) {
       const RScalar worst = m_joints.PredictJoints(joints, sc);
-      if (worst == 0) return RRounds::kMet;
-      if (!(worst < RScalar(0.5) * previous)) return RRounds::kDiverged;
-      if (round == RJointSolver::kJointRounds) return RRounds::kLeft;
-      previous = worst;
+      const RScalar fine = m_joints.MotorRound(joints, sc);
+      if (worst == 0 && fine == 0) return RRounds::kMet;
+      const RScalar off = worst > 0 ? worst : fine;
+      if (!(off < RScalar(0.5) * previous)) return worst == 0 ? RRounds::kMet : RRounds::kDiverged;
+      if (round == (fine > 0 ? RJointSolver::kMotorRounds : RJointSolver::kJointRounds)) {
+        return worst == 0 ? RRounds::kMet : RRounds::kLeft;
+      }
+      previous = off;
       m_joints.SetJointTargets(joints, sc);
+      m_joints.SetMotorTargets(joints, sc);
       passes();
     }
   };
@@ -196,6 +205,7 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
   }
   if (outcome == RRounds::kDiverged) {
     m_joints.ClearEquality(joints);
+    m_joints.ResetMotors(joints, sc);
     m_joints.Stiffen(joints, sc);
     outcome = rounds();
     if (outcome == RRounds::kDiverged) m_joints.ClearEquality(joints);

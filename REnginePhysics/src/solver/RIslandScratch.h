@@ -66,6 +66,8 @@ struct RIslandScratch {
   bool stiffened = false;
   std::vector<RMat3> keptInvI;
   std::vector<RVec3> keptW;
+  // Whether the island has a motor whose turn the rounds hold (RJointMotors.cpp).
+  bool jointMotors = false;
 };
 
 }  // namespace REngine
