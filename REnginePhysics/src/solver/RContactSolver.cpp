@@ -186,7 +186,7 @@ void RContactSolver::SolveIsland(const RStepBodies& bodies, RScalar dt, std::siz
       tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
     }
   }
-  WarmStartIsland(RPhase::kVelocity, first, last);
+  WarmStartIslandVelocities(bodies, dt, island, sc);
   const bool joints = m_joints.IslandHasJoints(island);
   const RJointIslandView jointView = JointView(bodies, dt, island);
   if (joints) m_joints.BuildIslandJoints(jointView, sc);
