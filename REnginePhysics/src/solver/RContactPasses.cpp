@@ -100,12 +100,10 @@ void RContactSolver::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, 
   if (m_joints.IslandHasJoints(island)) JointRounds(joints, sc);
   bool closes = false;
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) closes = CloseAtEnd(m_rows[i], dt) || closes;
-  // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland),
-  // and the spin a body that turned at an impact turns with from its last one on.
+  // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland).
   for (std::size_t k = 0; k < bodyCount; ++k) {
     RSolverBody& s = m_solverBodies[islandBodies[k]];
     s.contactDeltaV = s.v - s.vImpacts;
-    if (s.turned) s.turnW_W = s.w;
   }
   if (!closes) {
     for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) m_rows[i].lambdaE = 0;
