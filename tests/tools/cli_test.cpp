@@ -251,8 +251,8 @@ TEST_F(Cli, ReferenceScenesKeepTheirPinnedHashes) {
     const char* scene;
     const char* hash;
   } pins[] = {
-      {"box_pile_1000", "98b9de0293971f56"},     {"box_stack_10", "15c7e33cb50b3227"},
-      {"debris_cloud_1000", "7426fd3f5375123f"}, {"dzhanibekov", "c436ffe2bfd0195c"},
+      {"box_pile_1000", "53f176ac143e2b28"},     {"box_stack_10", "15c7e33cb50b3227"},
+      {"debris_cloud_1000", "d4103f47e4d4be83"}, {"dzhanibekov", "c436ffe2bfd0195c"},
       {"head_on_elastic", "0faffadb61f4169c"},
   };
   for (const auto& pin : pins) {

@@ -185,7 +185,7 @@ void RContactSolver::SolveIsland(const RStepBodies& bodies, RScalar dt, std::siz
       tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
     }
   }
-  WarmStartIslandVelocities(bodies, dt, island, sc);
+  WarmStartIsland(RPhase::kVelocity, first, last);
   const bool joints = m_joints.IslandHasJoints(island);
   const RJointIslandView jointView = JointView(bodies, dt, island);
   if (joints) m_joints.BuildIslandJoints(jointView, sc);

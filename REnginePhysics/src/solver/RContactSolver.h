@@ -128,13 +128,7 @@ class RContactSolver {
   bool ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa, RSolverBody& sb,
                       const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
                       RDirection* dir, std::uint32_t childA, std::uint32_t childB) const;
-  // Returns sum |lambda| (|a_A| + |a_B|) over the impulses it applied (N s m/s^2): what they
-  // can do at resting contacts, per second of the bodies' kicks (WarmStartIslandVelocities).
-  RScalar WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
-  // The velocity phase's warm start of an island, kept only when it does not raise the
-  // island's kinetic energy (RContactPasses.cpp).
-  void WarmStartIslandVelocities(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
-  RScalar IslandKineticEnergy(const RStepBodies& bodies, std::size_t island) const;
+  void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
   // An island's contact phase after its impacts (RContactPasses.cpp): passes, direct solves,
   // the joints' rounds, and, when some row is closed at the end of the step, the end's.
   void SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
