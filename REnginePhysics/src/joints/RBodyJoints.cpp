@@ -192,10 +192,7 @@ RScalar RBodies::JointPosition(RJointHandle h) const {
   const RJointPoseIn pa{A.Position_W(), A.Orientation_WB()};
   const RJointPoseIn pb = B ? RJointPoseIn{B->Position_W(), B->Orientation_WB()}
                             : RJointPoseIn{RVec3::Zero(), RQuat::Identity()};
-  if (j.def.type == RJointType::kHinge) return JointHingeAngle(j, pa, pb);
-  if (j.def.type != RJointType::kSlider) return 0;
-  const RVec3 pA = pa.x + pa.q * j.anchorA_B, pB = pb.x + pb.q * j.anchorB_B;
-  return (pa.q * j.axisA_B).dot(pB - pA);
+  return JointMotorPosition(j, pa, pb);
 }
 
 }  // namespace REngine

@@ -101,7 +101,12 @@ void RJointSolver::ProjectJoints(const RJointIslandView& v, RIslandScratch& sc) 
       const RScalar tolerance = JointTolerance(JointPose(v, sj.a, true).x);
       for (int k = 0; k < kRows; ++k) {
         RJointRow& r = sc.endRows[std::size_t(t) * kRows + k];
-        const RScalar C = sc.jointC[std::size_t(t) * kRows + k];
+        RScalar C = sc.jointC[std::size_t(t) * kRows + k];
+        // A motor whose row held its turn in the rounds keeps it (RJointMotors.cpp).
+        if (r.kind == Kind::kMotor && MotorTurning(j0 + t)) {
+          r.kind = Kind::kEquality, r.lo = -kInf, r.hi = kInf;
+          C = MotorError(v, j0 + t);
+        }
         if (r.kind == Kind::kMotor || (r.kind == Kind::kLimit && C >= 0)) r.kind = Kind::kOff;
         if (r.kind == Kind::kOff) continue;
         r.target = -C / dt;
@@ -192,6 +197,7 @@ void RJointSolver::SolveJointsAtEnd(const RJointIslandView& v, RIslandScratch& s
       // A limit holds at the end only where it is reached; a motor drives at both ends.
       if (r.kind == Kind::kLimit && sc.jointC[std::size_t(t) * kRows + k] > tolerance) r.kind = Kind::kOff;
       if (r.kind != Kind::kMotor) r.target = 0;
+      if (r.kind == Kind::kMotor) EndMotorBounds(j0 + t, midRows[std::size_t(t) * kRows + k], r);
       if (r.kind == Kind::kOff || !std::isfinite(J.lambdaEnd[k])) continue;
       r.lambda = std::clamp(J.lambdaEnd[k], r.lo, r.hi);
       if (r.lambda != 0) RowPush(r, r.lambda, sc.endBodies.data());

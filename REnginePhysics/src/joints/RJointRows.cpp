@@ -117,7 +117,7 @@ void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn&
         Angular(rows[5].dir, g.axisA), limit(5);
         Angular(rows[6].dir, -g.axisA), limit(6);
       }
-      if (J.def.motor.enabled) Angular(rows[7].dir, g.axisA), motor(7);
+      if (J.def.motor.enabled) Angular(rows[kMotorRow].dir, g.axisA), motor(kMotorRow);
       break;
     case RJointType::kSlider:
       across(0, g.perp[0]), across(1, g.perp[1]);
@@ -126,7 +126,7 @@ void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn&
         Linear(rows[5].dir, g.axisA, g.rA + u, g.rB), limit(5);
         Linear(rows[6].dir, -g.axisA, g.rA + u, g.rB), limit(6);
       }
-      if (J.def.motor.enabled) Linear(rows[7].dir, g.axisA, g.rA + u, g.rB), motor(7);
+      if (J.def.motor.enabled) Linear(rows[kMotorRow].dir, g.axisA, g.rA + u, g.rB), motor(kMotorRow);
       break;
     case RJointType::kDistance: {
       const RScalar L = u.norm();
@@ -194,8 +194,10 @@ void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb
   }
 }
 
-RScalar JointHingeAngle(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb) {
-  return HingeAngle(Geometry(J, pa, pb));
+RScalar JointMotorPosition(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb) {
+  const RJointGeometry g = Geometry(J, pa, pb);
+  if (J.def.type == RJointType::kHinge) return HingeAngle(g);
+  return J.def.type == RJointType::kSlider ? g.axisA.dot(g.pB - g.pA) : 0;
 }
 
 template void BuildJointRows<RSolverBody>(const RJoint&, const RJointPoseIn&, const RJointPoseIn&, const RSolverBody&,

@@ -13,6 +13,9 @@
 
 namespace REngine {
 
+// A hinge's and a slider's motor row in the layout of BuildJointRows (RJointRows.cpp).
+inline constexpr int kMotorRow = 7;
+
 // The joint's kMaxRows rows at the poses (the layout: RJointRows.cpp), with effective
 // masses from the bodies' inverse masses and inertias (sa, sb: the solver bodies, or the
 // end bodies of the step's end, RJointEndBody), and each row's position error in C.
@@ -34,8 +37,9 @@ void SetJointMass(RDirection& dir, const Body& a, const Body& b) {
 // The position errors of those rows at other poses.
 void JointErrors(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb, const RJointRow* rows,
                  RScalar* C);
-// A hinge's angle (rad) at the poses.
-RScalar JointHingeAngle(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb);
+// What a joint's motor drives, at the poses: a hinge's angle (rad, in (-pi, pi]), a slider's
+// travel (m); 0 for the other types.
+RScalar JointMotorPosition(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn& pb);
 // A static or kinematic body's pose at the start of the step, or at its end (end = true).
 RJointPoseIn ImmovablePose(const RBodyCore& b, RScalar dt, bool end);
 

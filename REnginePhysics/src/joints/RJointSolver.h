@@ -12,7 +12,7 @@
 // dt, the settings, the welds, the contacts its end projection reports on) comes in as an
 // RJointIslandView the contact solver fills for each island; per-task scratch as an
 // RIslandScratch (solver/RIslandScratch.h). Definitions: RJoints.cpp, RJointRows.cpp
-// (PredictPose), RJointStiffness.cpp, RJointEnd.cpp and RJointImpacts.cpp.
+// (PredictPose), RJointStiffness.cpp, RJointTurning.cpp, RJointMotors.cpp, RJointEnd.cpp and RJointImpacts.cpp.
 #pragma once
 
 #include <REngineMath/RMath.h>
@@ -82,6 +82,7 @@ class RJointSolver {
   void SizeForStep(std::size_t bodyCount) {
     m_jointRows.resize(m_stepJoints.size() * RJoint::kMaxRows);
     m_jointPoses.resize(bodyCount);
+    m_motorTurns.resize(m_stepJoints.size());
   }
   bool IslandHasJoints(std::size_t island) const {
     return !m_islandJointStart.empty() && m_islandJointStart[island + 1] > m_islandJointStart[island];
@@ -103,6 +104,28 @@ class RJointSolver {
   void ProjectJoints(const RJointIslandView& v, RIslandScratch& sc);
   void ReportJoints(const RJointIslandView& v);
   void SolveJointsAtEnd(const RJointIslandView& v, RIslandScratch& sc);
+  // The turn of a hinge motor that turns a body about a fixed axis, in the rounds
+  // (RJointMotors.cpp): what the velocity level gives the body's angle over the step (its
+  // force, or its speed, with the hinge holding to first order), and how far the predicted
+  // end poses are off it; with the island's rows' errors beyond rounding, the largest of
+  // them (m or rad, 0 when none: an island without such a motor, or stiffened).
+  // SetMotorTargets then holds each such turn in the next round (the motor's row an equality
+  // on it, within the step's whole impulse); ResetMotors gives the motors back their velocity
+  // rows (the rounds' fallbacks).
+  RScalar MotorRound(const RJointIslandView& v, RIslandScratch& sc);
+  void SetMotorTargets(const RJointIslandView& v, RIslandScratch& sc);
+  void ResetMotors(const RJointIslandView& v, RIslandScratch& sc);
+  // The rounds of an island in which a joint body turns more than kFastTurn rad a step
+  // (RJointTurning.cpp): TurnsFast says whether it does (and is neither stiffened nor has a
+  // motor's turn held, nor welds); TurningErrors, after a prediction, gives the block rows
+  // (equalities, pushing limits) the errors for which their Newton step through the rows of
+  // the start asks the impulses that the motion's own response takes the predicted errors
+  // out with (false, the errors left as they are: more than kTurningRows such rows, or
+  // redundant ones).
+  bool TurnsFast(const RJointIslandView& v, const RIslandScratch& sc) const;
+  bool TurningErrors(const RJointIslandView& v, RIslandScratch& sc);
+  static constexpr RScalar kFastTurn = 0.5;
+  static constexpr int kTurningRows = 48;
   // For the rounds (RContactSolver::JointRounds): the equality rows' impulses taken out of
   // the solver bodies (with the rows' masses they were given with), and the plain velocity
   // constraint's targets (no relative velocity along an equality row, a limit closing no
@@ -122,6 +145,10 @@ class RJointSolver {
   static constexpr RScalar kUnresolved = 1;
   // Newton rounds of the joints' end-of-step prediction after the first, at most.
   static constexpr int kJointRounds = 6;
+  // ... and of an island with a motor turning a body about a fixed axis, which goes on to
+  // rounding while each round halves what is left (RJointMotors.cpp): a body turning off its
+  // principal axes converges by about ten times a round.
+  static constexpr int kMotorRounds = 16;
   // An island's joints in its impacts (RJointImpacts.cpp): their equality rows hold the
   // joined bodies' relative velocities through the impacts (sc.impactRows, a copy of the
   // rows with impulses of their own), solved with each impact (at its time t, s); then the
@@ -164,6 +191,13 @@ class RJointSolver {
   static RScalar JointTolerance(const RVec3& x) {
     return std::max(RScalar(1e-10), RScalar(1e-15) * x.cwiseAbs().maxCoeff());
   }
+  // A joint's motor (p: the joint's place in m_islandJoints) whose row holds a turn
+  // (RJointMotors.cpp), how far its position at the end poses now is off that turn (for the
+  // position projection), and its row at the end of the step: the rest of the step's impulse.
+  bool MotorTurning(std::uint32_t p) const { return m_motorTurns[p].on; }
+  RScalar MotorError(const RJointIslandView& v, std::uint32_t p) const;
+  void EndMotorBounds(std::uint32_t p, const RJointRow& mid, RJointRow& end) const;
+  void ResetMotor(const RJointIslandView& v, RIslandScratch& sc, std::uint32_t p);
   // Joints solved exactly as one skyline block per island up to this many equality rows (a
   // chain of 40 hinges), larger islands as one sparse system (RJointSparse.h).
   static constexpr int kJointBlockRows = 256;
@@ -178,6 +212,17 @@ class RJointSolver {
   std::vector<RJointRow> m_jointRows;
   // Per movable body in some joint: its end pose, kept from the last prediction of the step.
   std::vector<RJointPose> m_jointPoses;
+  // Per joint, as m_islandJoints, for its motor (RJointMotors.cpp): whether it turns a body
+  // about a fixed axis (a hinge motor whose body has no other joint and is hinged to the
+  // world or a static body), the hinge's angle at the start of the step and where the
+  // rounds' turn ends it, the predicted end's error from that (measured: this round), its
+  // half step's impulse (maxForce dt / 2), and whether its row holds the turn (on) or, after
+  // the step's first passes, is still the velocity row it starts as.
+  struct RMotorTurn {
+    RScalar start = 0, end = 0, error = 0, nominal = 0;
+    bool fixedAxis = false, measured = false, on = false;
+  };
+  std::vector<RMotorTurn> m_motorTurns;
 };
 
 }  // namespace REngine

@@ -132,6 +132,10 @@ void RJointSolver::BuildIslandJoints(const RJointIslandView& v, RIslandScratch& 
     BuildJointRows(J, JointPose(v, sj.a, false), JointPose(v, sj.b, false), v.solverBodies[sj.a],
                    v.solverBodies[sj.b], sj.a, sj.b, dt, jr, C);
     std::copy(C, C + kRows, sc.startC.begin() + std::size_t(p - j0) * kRows);
+    // A motor starts the step as a velocity row (RJointMotors.cpp).
+    RMotorTurn& turn = m_motorTurns[p];
+    turn.measured = turn.on = turn.fixedAxis = false;
+    turn.nominal = jr[kMotorRow].kind == Kind::kMotor ? jr[kMotorRow].hi : 0;
     for (int k = 0; k < kRows; ++k) {
       RJointRow& r = jr[k];
       if (r.kind == Kind::kOff || !std::isfinite(J.lambda[k])) continue;
@@ -139,16 +143,35 @@ void RJointSolver::BuildIslandJoints(const RJointIslandView& v, RIslandScratch& 
       if (r.lambda != 0) RowPush(r, r.lambda, v.solverBodies.data());
     }
   }
-  // The island's movable joint bodies, each once (their end poses are predicted per round).
+  // The island's movable joint bodies, each once (their end poses are predicted per round),
+  // with how many joints each has (in mark).
   sc.jointBodies.clear();
   if (sc.mark.size() < v.solverBodies.size()) sc.mark.resize(v.solverBodies.size(), kNone);
   for (std::uint32_t p = j0; p < j1; ++p) {
     const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
     for (std::uint32_t i : {sj.a, sj.b}) {
-      if (v.solverBodies[i].invM == 0 || sc.mark[i] != kNone) continue;
-      sc.mark[i] = 0;
-      sc.jointBodies.push_back(i);
+      if (v.solverBodies[i].invM == 0) continue;
+      if (sc.mark[i] == kNone) sc.mark[i] = 0, sc.jointBodies.push_back(i);
+      ++sc.mark[i];
     }
+  }
+  // A hinge motor whose body turns about a fixed axis: the body's one joint, to the world or
+  // a static body, the body in no weld and without locks. Its turn is held in the rounds
+  // (RJointMotors.cpp says why there alone).
+  sc.jointMotors = false;
+  for (std::uint32_t p = j0; p < j1; ++p) {
+    const RStepJoint& sj = m_stepJoints[m_islandJoints[p]];
+    const RJoint& J = bodies.joints[sj.joint];
+    if (J.def.type != RJointType::kHinge || !(m_motorTurns[p].nominal > 0)) continue;
+    const bool aMoves = v.solverBodies[sj.a].invM != 0;
+    const std::uint32_t moving = aMoves ? sj.a : sj.b, other = aMoves ? sj.b : sj.a;
+    const bool fixed = other == bodies.size() || (v.solverBodies[other].invM == 0 && !bodies[other].m_isKinematic);
+    if (!fixed || sc.mark[moving] != 1 || v.welds.Welded(moving) || bodies[moving].m_linearLocked ||
+        bodies[moving].m_angularLocked) {
+      continue;
+    }
+    m_motorTurns[p].fixedAxis = sc.jointMotors = true;
+    m_motorTurns[p].start = JointMotorPosition(J, JointPose(v, sj.a, false), JointPose(v, sj.b, false));
   }
   for (std::uint32_t i : sc.jointBodies) sc.mark[i] = kNone;
   BeginJointBlocks(rows, std::size_t(j1 - j0) * kRows, sc);

@@ -162,6 +162,8 @@ void RContactSolver::IslandDirectSolves(std::size_t island, RIslandScratch& sc, 
 // cannot follow is solved stiffened (RJointStiffness.cpp): its equality impulses solved
 // again from nothing, the rounds again. The joint solver predicts, sets the targets,
 // stiffens and projects; the passes are the contact solver's, joints and contacts together.
+// An island in which a joint body turns far in a step takes its Newton steps through the
+// motion's own response to the rows' impulses (joints/RJointTurning.cpp), not the rows'.
 void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch& sc) {
   const std::size_t island = joints.island;
   // (Not a structured binding: the lambda below captures them, which C++17 forbids.)
@@ -172,15 +174,26 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
     if (m_islandDirect[island]) IslandDirectSolves(island, sc, settled);
   };
   enum class RRounds { kMet, kLeft, kDiverged };
+  // An island with a motor turning a body about a fixed axis goes on past the joints'
+  // tolerance to rounding (fine: what is beyond it, the motors' turns included;
+  // joints/RJointMotors.cpp) while the rounds still halve it; then it is met whatever is left
+  // below the tolerance.
+  const bool turning = m_joints.TurnsFast(joints, sc);
   auto rounds = [&] {
     RScalar previous = std::numeric_limits<RScalar>::infinity();
     for (int round = 0;; ++round) {
       const RScalar worst = m_joints.PredictJoints(joints, sc);
-      if (worst == 0) return RRounds::kMet;
-      if (!(worst < RScalar(0.5) * previous)) return RRounds::kDiverged;
-      if (round == RJointSolver::kJointRounds) return RRounds::kLeft;
-      previous = worst;
+      const RScalar fine = m_joints.MotorRound(joints, sc);
+      if (worst == 0 && fine == 0) return RRounds::kMet;
+      const RScalar off = worst > 0 ? worst : fine;
+      if (!(off < RScalar(0.5) * previous)) return worst == 0 ? RRounds::kMet : RRounds::kDiverged;
+      if (round == (fine > 0 ? RJointSolver::kMotorRounds : RJointSolver::kJointRounds)) {
+        return worst == 0 ? RRounds::kMet : RRounds::kLeft;
+      }
+      previous = off;
+      if (turning && !sc.stiffened) m_joints.TurningErrors(joints, sc);
       m_joints.SetJointTargets(joints, sc);
+      m_joints.SetMotorTargets(joints, sc);
       passes();
     }
   };
@@ -196,6 +209,7 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
   }
   if (outcome == RRounds::kDiverged) {
     m_joints.ClearEquality(joints);
+    m_joints.ResetMotors(joints, sc);
     m_joints.Stiffen(joints, sc);
     outcome = rounds();
     if (outcome == RRounds::kDiverged) m_joints.ClearEquality(joints);
