@@ -124,7 +124,7 @@ void RContactSolver::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, 
     s.v += RMotion::Acceleration(b, m_in->settings.gravity_W) * halfDt;
     s.w += s.invI * RMotion::EndAngularKick_W(b, halfDt);
   }
-  WarmStartIsland(RPhase::kEnd, first, last);  // last step's end impulses, found with the rows
+  WarmStartIsland(RPhase::kEnd, first, last, 0);  // last step's end impulses, found with the rows
   const bool settledAtEnd = SolveIslandBlocks(RPhase::kEnd, iterations, first, last);
   if (direct && !settledAtEnd) {
     PrepareIslandDirect(island, sc);
@@ -281,32 +281,42 @@ bool RContactSolver::SolveIslandBlocks(RPhase phase, int iterations, std::uint32
 // the rows were built) to the solver bodies' velocities.
 // Island by island, as the passes (SolveIslandBlocks): each island's rows in order, then its
 // patches, which is the whole world's order restricted to the island.
-RScalar RContactSolver::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last) {
+RScalar RContactSolver::WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last, RScalar dt) {
   const int ph = phase == RPhase::kEnd ? 1 : 0;
-  RScalar work = 0;
+  RScalar allowance = 0;
+  // Each impulse against the kicks' speed change, and a sliver (kWarmRounding) of the speed
+  // its direction has just before it is applied.
+  auto allow = [&](RScalar lambda, RScalar speed, const RSolverBody& sa, const RSolverBody& sb) {
+    allowance += std::abs(lambda) * (kWarmRounding * std::abs(speed) + (sa.accel.norm() + sb.accel.norm()) * dt);
+  };
   for (std::uint32_t k = first; k < last; ++k) {
     const RBlock& blk = m_blocks[k];
-    RScalar pushed = 0;
     for (int i = 0; i < blk.count; ++i) {
       RContactRow& r = m_rows[blk.first + i];
       const RScalar lambda = Lambda(r, phase);
       if (lambda == 0) continue;
       RSolverBody& sa = m_solverBodies[r.a];
       RSolverBody& sb = m_solverBodies[r.b];
+      if (dt > 0) allow(lambda, Speed(r.n, sa.v, sa.w, sb.v, sb.w), sa, sb);
       Push(r.n, lambda, sa, sb, sa.v, sa.w, sb.v, sb.w);
-      pushed += std::abs(lambda);
-    }
-    const RScalar rubbed = std::abs(blk.lambdaT1[ph]) + std::abs(blk.lambdaT2[ph]);
-    if (pushed + rubbed != 0) {
-      const RContactRow& r = m_rows[blk.first];
-      work += (pushed + rubbed) * (m_solverBodies[r.a].accel.norm() + m_solverBodies[r.b].accel.norm());
     }
   }
   for (std::uint32_t k = first; k < last; ++k) {
     const RBlock& blk = m_blocks[k];
-    ApplyPatch(blk, blk.lambdaT1[ph], blk.lambdaT2[ph], blk.lambdaTwist[ph]);
+    const RScalar l1 = blk.lambdaT1[ph], l2 = blk.lambdaT2[ph], lt = blk.lambdaTwist[ph];
+    if (dt > 0 && (l1 != 0 || l2 != 0 || lt != 0)) {
+      const RContactRow& r = m_rows[blk.first];
+      const RSolverBody& sa = m_solverBodies[r.a];
+      const RSolverBody& sb = m_solverBodies[r.b];
+      // (The patch's three impulses at once: each against the speed before them, the
+      // twist against the spin about the normal.)
+      allow(l1, Speed(blk.t[0], sa.v, sa.w, sb.v, sb.w), sa, sb);
+      allow(l2, Speed(blk.t[1], sa.v, sa.w, sb.v, sb.w), sa, sb);
+      allowance += std::abs(lt) * kWarmRounding * std::abs(blk.normal.dot(sb.w - sa.w));
+    }
+    ApplyPatch(blk, l1, l2, lt);
   }
-  return work;
+  return allowance;
 }
 
 // The velocity phase's warm start (last step's impulses as this step's first guess), kept
@@ -319,16 +329,19 @@ RScalar RContactSolver::WarmStartIsland(RPhase phase, std::uint32_t first, std::
 // impact, bodies spawned deep inside one another: rows whose arms and normals have swung
 // since), and the passes, which can take a warm start back only as far as they converge,
 // would leave part of it in (an island of 260 such bodies gained 45 times its kinetic energy
-// in a step). Such an island starts cold. (In zero gravity the bound is no gain at all; a
-// kinematic body pushing the island loses its guess too, and the passes find its impulse
-// again.) An island with joints keeps its guess: its contacts' impulses act with the joints'
-// (warm-started after them, and solved in rounds to their end poses), and what the contacts
-// alone do to its energy says nothing of the two together.
+// in a step). Such an island starts cold. The bound also holds kWarmRounding of each
+// impulse times the speed it meets, the energy it exchanges: in zero gravity the kicks' part
+// is 0, and a guess whose gain is that small against what it exchanges (a slow contact in a
+// fast island) is rounding, which must not decide whether the whole island starts cold.
+// (A kinematic body pushing the island loses its guess too, and the passes find its impulse
+// again.) An island with joints keeps its guess: its contacts' impulses act with the
+// joints' (warm-started after them, and solved in rounds to their end poses), and what the
+// contacts alone do to its energy says nothing of the two together.
 void RContactSolver::WarmStartIslandVelocities(const RStepBodies& bodies, RScalar dt, std::size_t island,
                                                RIslandScratch& sc) {
   const auto [first, last] = m_blockIslands[island];
   if (m_joints.IslandHasJoints(island)) {
-    WarmStartIsland(RPhase::kVelocity, first, last);
+    WarmStartIsland(RPhase::kVelocity, first, last, 0);
     return;
   }
   const std::uint32_t b0 = m_islandBodyStart[island], b1 = m_islandBodyStart[island + 1];
@@ -338,9 +351,9 @@ void RContactSolver::WarmStartIslandVelocities(const RStepBodies& bodies, RScala
     sc.warmV[k - b0] = s.v, sc.warmW[k - b0] = s.w;
   }
   const RScalar before = IslandKineticEnergy(bodies, island);
-  const RScalar work = WarmStartIsland(RPhase::kVelocity, first, last);
+  const RScalar allowance = WarmStartIsland(RPhase::kVelocity, first, last, dt);
   // (With the rounding of the energies' sums.)
-  if (!(IslandKineticEnergy(bodies, island) > before * (1 + RScalar(1e-12)) + work * dt)) return;
+  if (!(IslandKineticEnergy(bodies, island) > before * (1 + RScalar(1e-12)) + allowance)) return;
   for (std::uint32_t k = b0; k < b1; ++k) {
     RSolverBody& s = m_solverBodies[m_islandBodies[k]];
     s.v = sc.warmV[k - b0], s.w = sc.warmW[k - b0];

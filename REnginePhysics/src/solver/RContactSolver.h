@@ -139,9 +139,14 @@ class RContactSolver {
   RScalar SweepImpact(const RBodyCore& A, const RBodyCore& B, const RSolverBody& sa, const RSolverBody& sb,
                       RScalar t0, RScalar dt, std::uint32_t childA, std::uint32_t childB,
                       bool pastTouching) const;
-  // Returns sum |lambda| (|a_A| + |a_B|) over the impulses it applied (N s m/s^2): what they
-  // can do at resting contacts, per second of the bodies' kicks (WarmStartIslandVelocities).
-  RScalar WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
+  // With dt > 0, returns sum |lambda| ((|a_A| + |a_B|) dt + kWarmRounding |v|) over the
+  // impulses it applied, v the speed of each one's direction just before it (J): what a
+  // guess of resting contacts can put in, and the rounding of what it exchanges
+  // (WarmStartIslandVelocities).
+  RScalar WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last, RScalar dt);
+  // 1e4 times the rounding of the energy an impulse exchanges (some 1e3 operations of 1.1e-16
+  // each), and far below any gain that matters.
+  static constexpr RScalar kWarmRounding = 1e-9;
   // The velocity phase's warm start of an island, kept only when it does not raise the
   // island's kinetic energy (RContactPasses.cpp).
   void WarmStartIslandVelocities(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
