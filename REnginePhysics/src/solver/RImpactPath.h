@@ -8,6 +8,7 @@
 #pragma once
 
 #include <REngineMath/RMath.h>
+#include <REngineMath/RFunctions.h>
 #include <REnginePhysics/detail/RBodyCore.h>
 
 #include "body/RBodyAccess.h"
@@ -94,7 +95,7 @@ inline RScalar TurnAcceleration(const RBodyCore& b, const RVec3& w_B) {
       return w_B.squaredNorm();
     case RInertiaSymmetry::kSymmetric: {
       const int s = Core(b.m_rotation).m_axisUnique, t = (s + 1) % 3;
-      const RScalar across = std::hypot(w_B[t], w_B[(s + 2) % 3]);
+      const RScalar across = Hypot(w_B[t], w_B[(s + 2) % 3]);
       return w_B.squaredNorm() + std::abs(w_B[s] * (1 - I[s] / I[t])) * across;
     }
     case RInertiaSymmetry::kGeneral:
