@@ -252,10 +252,10 @@ TEST_F(Cli, ReferenceScenesKeepTheirPinnedHashes) {
     const char* scene;
     const char* hash;
   } pins[] = {
-      {"asteroid_field_500", "034db8ba3b441dd0"}, {"box_pile_1000", "49e569eb1a17ed0e"},
-      {"box_stack_10", "e075951bebc35874"},       {"box_stack_20", "dd16d73e11fcadb3"},
-      {"debris_cloud_1000", "d6a2c6abb2a08626"},  {"dzhanibekov", "86880b1a50e1d0e4"},
-      {"head_on_elastic", "0faffadb61f4169c"},    {"newtons_cradle", "48d3549724d81418"},
+      {"asteroid_field_500", "6838cf8a41a323df"}, {"box_pile_1000", "53f176ac143e2b28"},
+      {"box_stack_10", "15c7e33cb50b3227"},       {"box_stack_20", "f5ff07194df8205d"},
+      {"debris_cloud_1000", "351952a643b4e5a3"},  {"dzhanibekov", "b63229bbe454cb51"},
+      {"head_on_elastic", "0faffadb61f4169c"},    {"newtons_cradle", "35de15fdaada2f98"},
   };
   for (const auto& pin : pins) {
     const std::string scene = Quote(std::string(RENGINE_SCENES) + "/" + pin.scene + ".json");
