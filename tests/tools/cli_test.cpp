@@ -245,8 +245,8 @@ TEST_F(Cli, HullSceneRuns) {
 // The determinism gate: each reference scene's (scenes/) final-state hash is pinned, and
 // two runs agree. A change that alters the physics on purpose changes a hash: re-pin it here
 // with the reason in the commit message. A change that should not (a refactoring, a speed-up
-// of an exact shortcut) must leave every hash as it is. The same pins hold on 64-bit ARM and
-// with clang at -O2 and -O3 (tools/cross_check.sh).
+// of an exact shortcut) must leave every hash as it is. The same pins hold with clang, on
+// 64-bit ARM with gcc, at -O2 and -O3 (tools/cross_check.sh).
 TEST_F(Cli, ReferenceScenesKeepTheirPinnedHashes) {
   const struct {
     const char* scene;
