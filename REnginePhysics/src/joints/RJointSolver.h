@@ -12,7 +12,7 @@
 // dt, the settings, the welds, the contacts its end projection reports on) comes in as an
 // RJointIslandView the contact solver fills for each island; per-task scratch as an
 // RIslandScratch (solver/RIslandScratch.h). Definitions: RJoints.cpp, RJointRows.cpp
-// (PredictPose), RJointStiffness.cpp, RJointMotors.cpp, RJointEnd.cpp and RJointImpacts.cpp.
+// (PredictPose), RJointStiffness.cpp, RJointTurning.cpp, RJointMotors.cpp, RJointEnd.cpp and RJointImpacts.cpp.
 #pragma once
 
 #include <REngineMath/RMath.h>
@@ -115,6 +115,17 @@ class RJointSolver {
   RScalar MotorRound(const RJointIslandView& v, RIslandScratch& sc);
   void SetMotorTargets(const RJointIslandView& v, RIslandScratch& sc);
   void ResetMotors(const RJointIslandView& v, RIslandScratch& sc);
+  // The rounds of an island in which a joint body turns more than kFastTurn rad a step
+  // (RJointTurning.cpp): TurnsFast says whether it does (and is neither stiffened nor has a
+  // motor's turn held, nor welds); TurningErrors, after a prediction, gives the block rows
+  // (equalities, pushing limits) the errors for which their Newton step through the rows of
+  // the start asks the impulses that the motion's own response takes the predicted errors
+  // out with (false, the errors left as they are: more than kTurningRows such rows, or
+  // redundant ones).
+  bool TurnsFast(const RJointIslandView& v, const RIslandScratch& sc) const;
+  bool TurningErrors(const RJointIslandView& v, RIslandScratch& sc);
+  static constexpr RScalar kFastTurn = 0.5;
+  static constexpr int kTurningRows = 48;
   // For the rounds (RContactSolver::JointRounds): the equality rows' impulses taken out of
   // the solver bodies (with the rows' masses they were given with), and the plain velocity
   // constraint's targets (no relative velocity along an equality row, a limit closing no

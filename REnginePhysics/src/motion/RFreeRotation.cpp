@@ -176,12 +176,13 @@ bool RFreeRotation::ComputeConstants(RScalar h, const RVec3& w_B) {
   return true;
 }
 
-bool RFreeRotation::AdvanceClosedForm(RScalar h, RVec3& w_B, RQuat& q_WB) const {
+void RFreeRotation::Advance(RScalar h, RVec3& w_B, RQuat& q_WB) {
+  if (w_B.isZero(0)) return;
   switch (m_symmetry) {
     case RInertiaSymmetry::kSpherical:
       q_WB = q_WB * QuatExp(h * w_B);
       q_WB.normalize();
-      return true;
+      return;
     case RInertiaSymmetry::kSymmetric: {
       // H = |L|^2 / (2 I_t) + L_s^2 (1/I_s - 1/I_t) / 2: the two parts commute, so the
       // exact flow is the product of their flows. The first spins the body about L itself
@@ -204,22 +205,11 @@ bool RFreeRotation::AdvanceClosedForm(RScalar h, RVec3& w_B, RQuat& q_WB) const 
       w_B[u] = cs * wu + sn * wv;
       w_B[v] = -sn * wu + cs * wv;
       q_WB.normalize();
-      return true;
+      return;
     }
     case RInertiaSymmetry::kGeneral:
       break;
   }
-  return false;
-}
-
-void RFreeRotation::Flow(RScalar h, RVec3& w_B, RQuat& q_WB) const {
-  if (w_B.isZero(0) || AdvanceClosedForm(h, w_B, q_WB)) return;
-  RFreeRotation general = *this;
-  general.Advance(h, w_B, q_WB);
-}
-
-void RFreeRotation::Advance(RScalar h, RVec3& w_B, RQuat& q_WB) {
-  if (w_B.isZero(0) || AdvanceClosedForm(h, w_B, q_WB)) return;
 
   const RVec3& I = m_I_B;
   if (!(m_cacheValid && m_cacheH == h && m_cacheW_B == w_B)) {

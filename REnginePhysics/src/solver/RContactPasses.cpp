@@ -100,12 +100,10 @@ void RContactSolver::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, 
   if (m_joints.IslandHasJoints(island)) JointRounds(joints, sc);
   bool closes = false;
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) closes = CloseAtEnd(m_rows[i], dt) || closes;
-  // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland),
-  // and the spin a body that turned at an impact turns with from its last one on.
+  // What the contact phase changed after the impacts (see the deferred impulses, ReportIsland).
   for (std::size_t k = 0; k < bodyCount; ++k) {
     RSolverBody& s = m_solverBodies[islandBodies[k]];
     s.contactDeltaV = s.v - s.vImpacts;
-    if (s.turned) s.turnW_W = s.w;
   }
   if (!closes) {
     for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) m_rows[i].lambdaE = 0;
@@ -162,6 +160,8 @@ void RContactSolver::IslandDirectSolves(std::size_t island, RIslandScratch& sc, 
 // cannot follow is solved stiffened (RJointStiffness.cpp): its equality impulses solved
 // again from nothing, the rounds again. The joint solver predicts, sets the targets,
 // stiffens and projects; the passes are the contact solver's, joints and contacts together.
+// An island in which a joint body turns far in a step takes its Newton steps through the
+// motion's own response to the rows' impulses (joints/RJointTurning.cpp), not the rows'.
 void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch& sc) {
   const std::size_t island = joints.island;
   // (Not a structured binding: the lambda below captures them, which C++17 forbids.)
@@ -176,6 +176,7 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
   // tolerance to rounding (fine: what is beyond it, the motors' turns included;
   // joints/RJointMotors.cpp) while the rounds still halve it; then it is met whatever is left
   // below the tolerance.
+  const bool turning = m_joints.TurnsFast(joints, sc);
   auto rounds = [&] {
     RScalar previous = std::numeric_limits<RScalar>::infinity();
     for (int round = 0;; ++round) {
@@ -188,6 +189,7 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
         return worst == 0 ? RRounds::kMet : RRounds::kLeft;
       }
       previous = off;
+      if (turning && !sc.stiffened) m_joints.TurningErrors(joints, sc);
       m_joints.SetJointTargets(joints, sc);
       m_joints.SetMotorTargets(joints, sc);
       passes();

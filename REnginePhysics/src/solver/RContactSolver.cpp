@@ -88,7 +88,6 @@ void RContactSolver::FindImpulses(const RStepBodies& bodies, RScalar dt, const R
     RMotion::InitSolverBody(s, bodies[i], m_in->sweep.MoveV(i), halfDt, m_in->settings.gravity_W);
     s.moved.setZero(), s.tau = 0, s.deferV.setZero();
     s.vImpacts = s.v, s.contactDeltaV.setZero(), s.vMid = s.v;
-    s.turns = s.turned = false, s.impacts = 0;
   }
   // Next step's warm starts: those kept for sleeping pairs, then each contact's rows in the
   // contacts' order (RContactSlots::warm), written by the islands.
@@ -383,9 +382,7 @@ void RContactSolver::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
     dir.rBxd = sb.linLocked ? RVec3(rB.cross(d) + shiftB.cross(d.cwiseProduct(sb.linMask))) : RVec3((rB + shiftB).cross(d));
     SetEffectiveMass(dir, sa, sb);
   };
-  // A body that turned at an impact within the step has the inverse inertia of its
-  // orientation then (TurnTo), which the contact phase's impulses act with.
-  auto deferred = [this](std::uint32_t i) { return !m_solverBodies[i].deferV.isZero(0) || m_solverBodies[i].turned; };
+  auto deferred = [this](std::uint32_t i) { return !m_solverBodies[i].deferV.isZero(0); };
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) {
     RContactRow& r = m_rows[i];
     if (!deferred(r.a) && !deferred(r.b)) continue;
@@ -397,10 +394,6 @@ void RContactSolver::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
     const std::uint32_t a = m_rows[blk.first].a, b = m_rows[blk.first].b;
     if (!deferred(a) && !deferred(b)) continue;
     for (RDirection& t : blk.t) shiftArms(t, blk.rA, blk.rB, a, b);
-    if (m_solverBodies[a].turned || m_solverBodies[b].turned) {
-      blk.twistIA = m_solverBodies[a].invI * blk.normal, blk.twistIB = m_solverBodies[b].invI * blk.normal;
-      blk.kTwist = blk.normal.dot(blk.twistIA) + blk.normal.dot(blk.twistIB);
-    }
   }
 }
 

@@ -124,21 +124,10 @@ class RContactSolver {
   void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
                           const RJointIslandView& jointView, RIslandScratch& sc);
   void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
-  // The phase's parts (RImpactPhase.cpp): which of the island's bodies turn on their paths;
-  // one row's impact in a pass (returns whether it pushed), and its impact at a time; the
-  // geometry of an impact at its time; and (RImpactSweep.cpp) the time from t0 on at which a pair whose turning
-  // changed at an impact next closes (infinity: not within the step).
-  void BeginTurns(const RStepBodies& bodies, std::size_t island, bool joints);
-  bool ImpactRow(const RStepBodies& bodies, RImpactRow& r, RScalar dt, bool joints, const RJointIslandView& jointView,
-                 RIslandScratch& sc);
-  bool ImpactAt(const RStepBodies& bodies, RImpactRow& r, RSolverBody& sa, RSolverBody& sb, RScalar t, RScalar dt,
-                bool swept, bool joints, const RJointIslandView& jointView, RIslandScratch& sc);
-  bool ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa, RSolverBody& sb, RScalar& t,
-                      RScalar dt, RVec3& rA, RVec3& rB, RDirection* dir, std::uint32_t childA, std::uint32_t childB,
-                      bool whole) const;
-  RScalar SweepImpact(const RBodyCore& A, const RBodyCore& B, const RSolverBody& sa, const RSolverBody& sb,
-                      RScalar t0, RScalar dt, std::uint32_t childA, std::uint32_t childB,
-                      bool pastTouching) const;
+  template <class Advance>
+  bool ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa, RSolverBody& sb,
+                      const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
+                      RDirection* dir, std::uint32_t childA, std::uint32_t childB) const;
   void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
   // An island's contact phase after its impacts (RContactPasses.cpp): passes, direct solves,
   // the joints' rounds, and, when some row is closed at the end of the step, the end's.

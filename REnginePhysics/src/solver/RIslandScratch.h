@@ -66,6 +66,14 @@ struct RIslandScratch {
   bool stiffened = false;
   std::vector<RMat3> keptInvI;
   std::vector<RVec3> keptW;
+  // The rounds of an island whose joint body turns fast (RJointTurning.cpp): the block rows
+  // (indices into the island's joint rows) and each row's place among them (kNone: not one),
+  // the derivatives of their end errors with respect to their bodies' velocities (4 a row:
+  // a linear, angular; b linear, angular), the errors' response to their impulses (row-major)
+  // and the impulses that take the errors out.
+  std::vector<std::uint32_t> turnRows, turnPlace;
+  std::vector<RVec3> turnD;
+  std::vector<RScalar> turnG, turnY;
   // Whether the island has a motor whose turn the rounds hold (RJointMotors.cpp).
   bool jointMotors = false;
 };
