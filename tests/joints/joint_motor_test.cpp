@@ -126,7 +126,8 @@ TEST(HingeMotor, TiltedOffAxisBoxFollowsAlphaTSquaredOverTwo) {
 // A turret: a base (0.8 x 0.4 x 0.8 m) on a hinge about y through its centre and a barrel
 // 1.2 m long, raised 15 degrees, off to one side: the centre of mass is off the axis and y is
 // not a principal axis.
-TEST(HingeMotor, TurretWithARaisedBarrelFollowsAlphaTSquaredOverTwo) {
+namespace {
+BodyDef TurretDef(const RVec3& at) {
   std::vector<RCompoundChild> parts(2);
   parts[0].shape = RShape::Box(RVec3(0.4, 0.2, 0.4));
   parts[1].shape = RShape::Box(RVec3(0.6, 0.05, 0.05));
@@ -135,7 +136,13 @@ TEST(HingeMotor, TurretWithARaisedBarrelFollowsAlphaTSquaredOverTwo) {
   parts[1].density = 8;
   BodyDef def;
   def.shape = RShape::Compound(std::move(parts));
-  def.Mass(30).At(RVec3(0, 1, 0));
+  def.Mass(30).At(at);
+  return def;
+}
+}  // namespace
+
+TEST(HingeMotor, TurretWithARaisedBarrelFollowsAlphaTSquaredOverTwo) {
+  const BodyDef def = TurretDef(RVec3(0, 1, 0));
   const MotorFigures f = SpinUp(def, RVec3(0, 1, 0), RVec3::UnitY(), 5, 6);
   Report("turret", f);
   ExpectClosedForm(f, 6);
@@ -176,15 +183,7 @@ TEST(HingeMotor, DrivesAnOffAxisDoorIntoItsLimitAndHoldsItThere) {
 // threads agree bit for bit.
 TEST(HingeMotor, TurretOnAFreeHullKeepsMomentumAndAngularMomentum) {
   auto run = [](int threads, RVec3& momentum, RVec3& angular, RScalar& gap, RScalar& turned) {
-    std::vector<RCompoundChild> parts(2);
-    parts[0].shape = RShape::Box(RVec3(0.4, 0.2, 0.4));
-    parts[1].shape = RShape::Box(RVec3(0.6, 0.05, 0.05));
-    parts[1].position_S = RVec3(0.6 * std::cos(0.26) + 0.3, 0.2 + 0.6 * std::sin(0.26), 0.1);
-    parts[1].q_SC = RQuat(Eigen::AngleAxisd(0.26, RVec3::UnitZ()));
-    parts[1].density = 8;
-    BodyDef turretDef;
-    turretDef.shape = RShape::Compound(std::move(parts));
-    turretDef.Mass(30).At(RVec3(0, 1.2, 0));
+    const BodyDef turretDef = TurretDef(RVec3(0, 1.2, 0));
     RBodies bodies;
     const RBodyHandle hull = bodies.Add(BoxDef(RVec3(2, 0.5, 1)).Mass(200).At(RVec3(0.3, 0.5, -0.2)));
     const RBodyHandle turret = bodies.Add(turretDef);

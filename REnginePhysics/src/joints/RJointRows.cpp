@@ -118,7 +118,7 @@ void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn&
         Angular(rows[5].dir, g.axisA), limit(5);
         Angular(rows[6].dir, -g.axisA), limit(6);
       }
-      if (J.def.motor.enabled) Angular(rows[7].dir, g.axisA), motor(7);
+      if (J.def.motor.enabled) Angular(rows[kMotorRow].dir, g.axisA), motor(kMotorRow);
       break;
     case RJointType::kSlider:
       across(0, g.perp[0]), across(1, g.perp[1]);
@@ -127,7 +127,7 @@ void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn&
         Linear(rows[5].dir, g.axisA, g.rA + u, g.rB), limit(5);
         Linear(rows[6].dir, -g.axisA, g.rA + u, g.rB), limit(6);
       }
-      if (J.def.motor.enabled) Linear(rows[7].dir, g.axisA, g.rA + u, g.rB), motor(7);
+      if (J.def.motor.enabled) Linear(rows[kMotorRow].dir, g.axisA, g.rA + u, g.rB), motor(kMotorRow);
       break;
     case RJointType::kDistance: {
       const RScalar L = u.norm();

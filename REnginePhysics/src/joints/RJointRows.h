@@ -13,6 +13,9 @@
 
 namespace REngine {
 
+// A hinge's and a slider's motor row in the layout of BuildJointRows (RJointRows.cpp).
+inline constexpr int kMotorRow = 7;
+
 // The joint's kMaxRows rows at the poses (the layout: RJointRows.cpp), with effective
 // masses from the bodies' inverse masses and inertias (sa, sb: the solver bodies, or the
 // end bodies of the step's end, RJointEndBody), and each row's position error in C.

@@ -28,8 +28,6 @@ using solver::SkylineSolve;
 using Kind = RJointRowKind;
 inline constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 inline constexpr int kRows = RJoint::kMaxRows;
-// A hinge's and a slider's motor row (RJointRows.cpp's layout).
-inline constexpr int kMotorRow = 7;
 // A row this close to its target is at it (m/s, rad/s): the contacts' kAtTarget.
 inline constexpr RScalar kAtTarget = 1e-12;
 
