@@ -7,8 +7,8 @@
 # difference. Installs what is missing (Debian 12, as root or through sudo): the arm64
 # cross compiler, qemu-user, and the arm64 multiarch Qhull (Eigen, nlohmann-json and CLI11
 # are headers, shared by both architectures).
-#   tools/cross_check.sh                       the six configurations (first run: about 25 min
-#                                              of building on two cores, then 3 min of runs)
+#   tools/cross_check.sh                       the eight configurations (first run: about 35 min
+#                                              of building on two cores, then 4 min of runs)
 #   tools/cross_check.sh x86-gcc-O3 arm-gcc-O3 only those (the first is the reference)
 # Builds go to build-cross/NAME (with ccache where installed); x86-gcc-O3 is the tests'
 # build (Release), whose hashes tests/tools/cli_test.cpp pins.
@@ -16,12 +16,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root="$(pwd)"
 
-# arm-clang-O3 is known to differ and is left out unless named: clang's arm_neon.h declares
-# its FMA intrinsics only where __ARM_FEATURE_FMA is defined, so clang keeps the macro and
-# Eigen's NEON kernels fuse their multiply-adds (REngineMath/CMakeLists.txt).
-all=(x86-gcc-O3 x86-gcc-O2 x86-clang-O3 x86-clang-O2 arm-gcc-O3 arm-gcc-O2 arm-clang-O3)
+all=(x86-gcc-O3 x86-gcc-O2 x86-clang-O3 x86-clang-O2 arm-gcc-O3 arm-gcc-O2 arm-clang-O3 arm-clang-O2)
 configs=("$@")
-[ ${#configs[@]} -eq 0 ] && configs=("${all[@]:0:6}")
+[ ${#configs[@]} -eq 0 ] && configs=("${all[@]}")
 
 # ---- packages ----
 sudo=""
