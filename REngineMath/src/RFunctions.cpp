@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 // Every function here is a fixed sequence of IEEE-754 double operations (+, -, *, /, sqrt and
@@ -277,7 +278,7 @@ RScalar Atan2(RScalar y, RScalar x) {
 }
 
 RScalar Asin(RScalar x) {
-  if (!(std::abs(x) <= 1)) return std::isnan(x) ? x : (x - x) / (x - x);
+  if (!(std::abs(x) <= 1)) return std::isnan(x) ? x : std::numeric_limits<RScalar>::quiet_NaN();  // outside [-1, 1]
   return Atan2(x, std::sqrt((1 - x) * (1 + x)));
 }
 
