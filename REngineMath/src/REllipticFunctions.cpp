@@ -1,4 +1,5 @@
 #include <REngineMath/REllipticFunctions.h>
+#include <REngineMath/RFunctions.h>
 
 #include <cmath>
 
@@ -39,16 +40,16 @@ RJacobiSnCnDn JacobiSnCnDn(RScalar u, RScalar m, RScalar mc) {
     return r;
   }
   if (m <= 0) {
-    r.sn = std::sin(u);
-    r.cn = std::cos(u);
+    r.sn = Sin(u);
+    r.cn = Cos(u);
     r.dn = 1;
     return r;
   }
   if (mc <= 0) {
     // Exactly on the separatrix: the limit is exact, not an approximation (for mc > 0,
     // however small, the functions are periodic and differ from it beyond ~K/2).
-    r.sn = std::tanh(u);
-    r.cn = 1 / std::cosh(u);
+    r.sn = Tanh(u);
+    r.cn = 1 / Cosh(u);
     r.dn = r.cn;
     return r;
   }
@@ -68,13 +69,13 @@ RJacobiSnCnDn JacobiSnCnDn(RScalar u, RScalar m, RScalar mc) {
   RScalar phiPrev = phi;
   for (int j = n; j >= 1; --j) {
     phiPrev = phi;
-    phi = RScalar(0.5) * (phi + std::asin(c[j] / a[j] * std::sin(phi)));
+    phi = RScalar(0.5) * (phi + Asin(c[j] / a[j] * Sin(phi)));
   }
-  r.sn = std::sin(phi);
-  r.cn = std::cos(phi);
+  r.sn = Sin(phi);
+  r.cn = Cos(phi);
   // dn = cos(phi0) / cos(phi1 - phi0): keeps full relative accuracy where
   // sqrt(1 - m sn^2) would cancel (m -> 1, sn -> 1).
-  r.dn = n > 0 ? r.cn / std::cos(phiPrev - phi) : RScalar(1);
+  r.dn = n > 0 ? r.cn / Cos(phiPrev - phi) : RScalar(1);
   return r;
 }
 

@@ -1,4 +1,5 @@
 #include <REngineMath/RQuaternion.h>
+#include <REngineMath/RFunctions.h>
 
 #include <cmath>
 
@@ -9,14 +10,15 @@ RQuat QuatExp(const RVec3& theta) {
   const RScalar half = RScalar(0.5) * angle;
   // sin(half)/angle; below 1e-4 rad the Taylor series to x^4 is exact to rounding
   // (the next term is x^6/5040 ~ 2e-28 relative).
-  RScalar s;
+  RScalar s, c;
+  SinCos(half, s, c);
   if (angle < RScalar(1e-4)) {
     const RScalar h2 = half * half;
     s = RScalar(0.5) * (1 - h2 / 6 * (1 - h2 / 20));
   } else {
-    s = std::sin(half) / angle;
+    s /= angle;
   }
-  return RQuat(std::cos(half), s * theta.x(), s * theta.y(), s * theta.z());
+  return RQuat(c, s * theta.x(), s * theta.y(), s * theta.z());
 }
 
 RVec3 QuatLog(const RQuat& q) {
@@ -25,19 +27,20 @@ RVec3 QuatLog(const RQuat& q) {
   const RVec3 v = p.vec();
   const RScalar sinHalf = v.norm();
   if (sinHalf == 0) return RVec3::Zero();
-  const RScalar angle = 2 * std::atan2(sinHalf, p.w());
+  const RScalar angle = 2 * Atan2(sinHalf, p.w());
   return v * (angle / sinHalf);
 }
 
 RQuat QuatAxisAngle(const RVec3& axis, RScalar angle) {
   const RScalar half = RScalar(0.5) * angle;
-  const RScalar s = std::sin(half);
-  return RQuat(std::cos(half), s * axis.x(), s * axis.y(), s * axis.z());
+  RScalar s, c;
+  SinCos(half, s, c);
+  return RQuat(c, s * axis.x(), s * axis.y(), s * axis.z());
 }
 
 RScalar QuatAngleBetween(const RQuat& a, const RQuat& b) {
   const RQuat d = a.conjugate() * b;
-  return 2 * std::atan2(d.vec().norm(), std::abs(d.w()));
+  return 2 * Atan2(d.vec().norm(), std::abs(d.w()));
 }
 
 RQuat QuatFromTo(const RVec3& from, const RVec3& to) {

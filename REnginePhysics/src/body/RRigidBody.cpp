@@ -1,4 +1,5 @@
 #include <REnginePhysics/RRigidBody.h>
+#include <REngineMath/RFunctions.h>
 #include <REnginePhysics/RLimits.h>
 
 #include <REngineMath/RQuaternion.h>
@@ -133,7 +134,7 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
   }
   p.boundingRadius = p.polyhedron_B ? p.polyhedron_B->MaxRadius()
                      : shape.type == RShapeType::kCapsule  ? shape.halfHeight + shape.radius
-                     : shape.type == RShapeType::kCylinder ? std::hypot(shape.halfHeight, shape.radius)
+                     : shape.type == RShapeType::kCylinder ? Hypot(shape.halfHeight, shape.radius)
                                                            : shape.radius;
   return prepared;
 }

@@ -1,6 +1,7 @@
 // Covered features across immovable bodies: the rule that makes flush tiles one surface
 // (RCoveredFeatures.h).
 #include "collision/RCoveredFeatures.h"
+#include <REngineMath/RFunctions.h>
 
 #include "collision/RGjkEpa.h"
 #include "collision/RManifold.h"
@@ -228,7 +229,7 @@ bool ClipToUncovered(const Coverers& others, const RVec3& f_W, const RCoverToler
   RVec3 u, w;
   OrthonormalBasis(f_W, u, w);
   for (int k = 0; k < points; ++k) {
-    in[k] = {m.points[k], q_W[k], std::atan2((q_W[k] - centre).dot(w), (q_W[k] - centre).dot(u))};
+    in[k] = {m.points[k], q_W[k], Atan2((q_W[k] - centre).dot(w), (q_W[k] - centre).dot(u))};
   }
   std::sort(in, in + points, [](const Corner& a, const Corner& b) { return a.angle < b.angle; });
   const int sides = points == 2 ? 1 : points;  // a segment is one side, not a closed polygon

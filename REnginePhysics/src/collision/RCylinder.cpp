@@ -1,6 +1,7 @@
 // The distance and depth of pairs with a cylinder (RCylinder.h); their manifold is in
 // RCylinderManifold.cpp.
 #include "collision/RCylinder.h"
+#include <REngineMath/RFunctions.h>
 
 #include "collision/RGjkEpa.h"
 
@@ -65,7 +66,7 @@ bool InCore(const RConvexShape& s, const RVec3& p, RScalar tolerance) {
     return true;
   }
   if (s.cylinderRadius > 0) {
-    return std::hypot(p.x(), p.z()) <= s.cylinderRadius + tolerance && std::abs(p.y()) <= s.halfHeight + tolerance;
+    return Hypot(p.x(), p.z()) <= s.cylinderRadius + tolerance && std::abs(p.y()) <= s.halfHeight + tolerance;
   }
   return (p - RVec3(0, std::clamp(p.y(), -s.halfHeight, s.halfHeight), 0)).norm() <= tolerance;
 }

@@ -1,5 +1,6 @@
 // The contact manifold of pairs with a cylinder, from features (RCylinder.h).
 #include "collision/RCylinder.h"
+#include <REngineMath/RFunctions.h>
 
 #include "collision/RGjkEpa.h"
 #include "collision/RManifold.h"
@@ -123,7 +124,7 @@ void IncidentOf(const Placed& shape, const RVec3& refN, Incident& inc) {
       const bool tilted = deepest.dot(dl) - octagonMost > RScalar(1e-6) * s.cylinderRadius;
       int after = -1;  // the deepest point's place in the order: after rim point floor(angle / 45)
       if (tilted) {
-        RScalar angle = std::atan2(-sigma * deepest.z(), deepest.x());
+        RScalar angle = Atan2(-sigma * deepest.z(), deepest.x());
         if (angle < 0) angle += 2 * kPi;
         after = std::min(kRim - 1, static_cast<int>(angle / (kPi / 4)));
       }

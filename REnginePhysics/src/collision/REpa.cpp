@@ -4,6 +4,7 @@
 // vertex keeps its points a and b, so witness points come from barycentric coordinates. No
 // heap: every buffer is a fixed-size array on the stack. See RCollision.h for conventions.
 #include "collision/RGjkEpa.h"
+#include <REngineMath/RFunctions.h>
 
 #include <algorithm>
 #include <cmath>
@@ -71,7 +72,7 @@ bool CompleteTetrahedron(RPairSupport& sup, RSimplexPoint* p, int& n, RScalar to
     OrthonormalBasis(e, u, w);
     for (int k = 0; k < 6 && n == 2; ++k) {
       const RScalar t = kPi * k / 3;
-      add(std::cos(t) * u + std::sin(t) * w);
+      add(Cos(t) * u + Sin(t) * w);
       if ((p[2].w - p[0].w).cross(e).norm() > tol) n = 3;
     }
     if (n == 2) return false;

@@ -2,6 +2,7 @@
 // projection of the position error the Newton rounds leave, and the end's velocity
 // projection (the second half of RATTLE), both on rows built at the predicted end poses.
 #include "joints/RJointSolver.h"
+#include <REngineMath/RFunctions.h>
 
 #include <REnginePhysics/RIntegrator.h>
 
@@ -249,7 +250,7 @@ void RJointSolver::SolveJointsAtEnd(const RJointIslandView& v, RIslandScratch& s
     if (!(blk.friction > 0)) continue;
     RScalar normal = 0;
     for (int k = 0; k < blk.count; ++k) normal += v.rows[blk.first + k].lambdaN + v.rows[blk.first + k].lambdaE;
-    const RScalar used = std::hypot(blk.lambdaT1[0] + blk.lambdaT1[1], blk.lambdaT2[0] + blk.lambdaT2[1]);
+    const RScalar used = Hypot(blk.lambdaT1[0] + blk.lambdaT1[1], blk.lambdaT2[0] + blk.lambdaT2[1]);
     const RScalar left = blk.friction * normal - used;
     if (!(left > 0)) continue;
     // (The contact row's end bodies by value: the pushes below may move the rows.)

@@ -2,6 +2,7 @@
 // two bodies, the rows of its Jacobian with their effective masses, its position errors, and
 // the poses the motion will give a body from the solver's velocities.
 #include "joints/RJointRows.h"
+#include <REngineMath/RFunctions.h>
 
 #include "body/RBodyAccess.h"
 #include "joints/RJointSolver.h"
@@ -48,7 +49,7 @@ RScalar HingeAngle(const RJointGeometry& g) {
   // in (-pi, pi].
   const RScalar sign = g.error.w() < 0 ? RScalar(-1) : RScalar(1);
   const RVec3 v(g.error.x(), g.error.y(), g.error.z());
-  return 2 * std::atan2(sign * v.dot(g.axisA), sign * g.error.w());
+  return 2 * Atan2(sign * v.dot(g.axisA), sign * g.error.w());
 }
 
 void Linear(RDirection& dir, const RVec3& d, const RVec3& armA, const RVec3& armB) {

@@ -3,6 +3,7 @@
 // (RIntegration.cpp) and the solver's set-up (RContactSolver.cpp) call these for the bodies
 // that need them; a body without any of it takes the plain free body's path, bit for bit.
 #include "motion/RMotion.h"
+#include <REngineMath/RFunctions.h>
 
 #include "world/RStepBodies.h"
 
@@ -48,7 +49,7 @@ RMat3 RMotion::InvInertia_W(const RBodyCore& b, const RMat3& R_WB) {
 // 0.1^10/12! ~ 2e-19.
 RMotion::RDragFlow RMotion::DragFlow(RScalar c, RScalar dt) {
   const RScalar x = c * dt;
-  const RScalar em1 = std::expm1(-x);
+  const RScalar em1 = Expm1(-x);
   RScalar G = 0;
   if (x < RScalar(0.1)) {
     // Horner from the highest term: G = 1/2! - x (1/3! - x (1/4! - ...)).

@@ -1,4 +1,5 @@
 #include <REnginePhysics/RFreeRotation.h>
+#include <REngineMath/RFunctions.h>
 
 #include <REngineMath/REllipticFunctions.h>
 #include <REngineMath/RQuaternion.h>
@@ -197,7 +198,8 @@ bool RFreeRotation::AdvanceClosedForm(RScalar h, RVec3& w_B, RQuat& q_WB) const 
       q_WB = q_WB * QuatExp(h * spin) * QuatAxisAngle(axis, h * rate);
       // omega_perp rotates by -h*rate about e_s (equal moments: omega_perp is L_perp / I_t).
       const int u = (s + 1) % 3, v = (s + 2) % 3;
-      const RScalar cs = std::cos(h * rate), sn = std::sin(h * rate);
+      RScalar sn, cs;
+      SinCos(h * rate, sn, cs);
       const RScalar wu = w_B[u], wv = w_B[v];
       w_B[u] = cs * wu + sn * wv;
       w_B[v] = -sn * wu + cs * wv;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "state/RLoadKey.h"
+#include <REngineMath/RFunctions.h>
 
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/detail/RBodyCore.h>
@@ -60,7 +61,7 @@ class RMotion {
     return b.m_linearLocked ? RVec3(dv.cwiseProduct(b.m_linearMask)) : dv;
   }
   // e^(-c t): a drag rate's factor over time t (1/s, s).
-  static RScalar Decay(RScalar c, RScalar t) { return std::exp(-c * t); }
+  static RScalar Decay(RScalar c, RScalar t) { return Exp(-c * t); }
   // Drag at rate c over a step dt: the exact flow of dv/dt = a - c v from u (a constant) is
   // v(dt) = E u + M dt a and x(dt) = x(0) + dt (M u + G dt a), with E = e^(-c dt), M the
   // mean of e^(-c t) over the step, (1 - E)/(c dt), and G = (c dt - 1 + E)/(c dt)^2 (1/2

@@ -1,5 +1,6 @@
 // A ray against one convex shape in its own frame (RayCastShape, RQueries.h).
 #include <REnginePhysics/RQueries.h>
+#include <REngineMath/RFunctions.h>
 
 #include "shape/RCompound.h"
 
@@ -81,17 +82,17 @@ bool RayCapsule(RScalar r, RScalar h, const RVec3& o, const RVec3& d, RScalar ma
   // discriminant from the perpendicular to the axis (see RaySphere).
   const RScalar a = d.x() * d.x() + d.z() * d.z();
   const RScalar b = o.x() * d.x() + o.z() * d.z();
-  const RScalar len = std::hypot(o.x(), o.z());
+  const RScalar len = Hypot(o.x(), o.z());
   if (a > 0 && b < 0 && len > r) {
     const RScalar px = o.x() - b / a * d.x(), pz = o.z() - b / a * d.z();
-    const RScalar p = std::hypot(px, pz);
+    const RScalar p = Hypot(px, pz);
     const RScalar h2 = (r - p) * (r + p);  // the half chord squared, over a
     if (h2 >= 0) {
       const RScalar t = (len - r) * (len + r) / (std::sqrt(a * h2) - b);
       const RScalar yt = o.y() + t * d.y();
       if (t <= maxDistance && std::abs(yt) <= h) {
         hit.distance = t;
-        const RScalar nx = o.x() + t * d.x(), nz = o.z() + t * d.z(), nn = std::hypot(nx, nz);
+        const RScalar nx = o.x() + t * d.x(), nz = o.z() + t * d.z(), nn = Hypot(nx, nz);
         hit.normal = nn > 0 ? RVec3(nx / nn, 0, nz / nn) : RVec3(-d);
         found = true;
       }
@@ -123,13 +124,13 @@ bool RayCylinder(RScalar r, RScalar h, const RVec3& o, const RVec3& d, RScalar m
     exit = std::min(exit, std::max(t0, t1));
   }
   const RScalar a = d.x() * d.x() + d.z() * d.z();
-  const RScalar len = std::hypot(o.x(), o.z());
+  const RScalar len = Hypot(o.x(), o.z());
   if (a == 0) {
     if (len > r) return false;
   } else {
     const RScalar b = o.x() * d.x() + o.z() * d.z();
     const RScalar px = o.x() - b / a * d.x(), pz = o.z() - b / a * d.z();
-    const RScalar p = std::hypot(px, pz);
+    const RScalar p = Hypot(px, pz);
     const RScalar h2 = (r - p) * (r + p);
     if (h2 < 0) return false;
     const RScalar s = std::sqrt(a * h2), c = (len - r) * (len + r);
@@ -143,7 +144,7 @@ bool RayCylinder(RScalar r, RScalar h, const RVec3& o, const RVec3& d, RScalar m
     }
     if (tNear > enter) {
       enter = tNear;
-      const RScalar nx = o.x() + enter * d.x(), nz = o.z() + enter * d.z(), nn = std::hypot(nx, nz);
+      const RScalar nx = o.x() + enter * d.x(), nz = o.z() + enter * d.z(), nn = Hypot(nx, nz);
       normal = nn > 0 ? RVec3(nx / nn, 0, nz / nn) : RVec3(-d);
     }
     exit = std::min(exit, tFar);

@@ -1,4 +1,5 @@
 #include <REnginePhysics/RConvexPolyhedron.h>
+#include <REngineMath/RFunctions.h>
 #include <REnginePhysics/RLimits.h>
 
 extern "C" {
@@ -172,7 +173,7 @@ RConvexPolyhedron RConvexPolyhedron::Hull(const std::vector<RVec3>& points) {
     std::vector<std::pair<RScalar, std::uint32_t>> byAngle;
     for (std::uint32_t i : f.loop) {
       const RVec3 d = poly.m_vertices[i] - c;
-      byAngle.emplace_back(std::atan2(d.dot(w), d.dot(u)), i);
+      byAngle.emplace_back(Atan2(d.dot(w), d.dot(u)), i);
     }
     // (u, w, n) is right-handed, so increasing angle is counter-clockwise seen from outside.
     std::sort(byAngle.begin(), byAngle.end());
@@ -254,7 +255,7 @@ RConvexPolyhedron RConvexPolyhedron::Hull(const std::vector<RVec3>& points) {
     std::vector<std::pair<RScalar, std::uint32_t>> byAngle;
     for (std::uint32_t i : members) {
       const RVec3 d = poly.m_vertices[i] - c;
-      byAngle.emplace_back(std::atan2(d.dot(w), d.dot(u)), i);
+      byAngle.emplace_back(Atan2(d.dot(w), d.dot(u)), i);
     }
     std::sort(byAngle.begin(), byAngle.end());
     for (const auto& [angle, i] : byAngle) face.loop.push_back(i);

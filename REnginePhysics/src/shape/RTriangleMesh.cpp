@@ -1,5 +1,6 @@
 // Triangle meshes: checks, the bounding-volume tree, active edges and rays (RTriangleMesh.h).
 #include <REnginePhysics/RTriangleMesh.h>
+#include <REngineMath/RFunctions.h>
 #include <REnginePhysics/RLimits.h>
 
 #include <algorithm>
@@ -134,7 +135,7 @@ void RTriangleMesh::FindActiveEdges() {
     return x.lo != y.lo ? x.lo < y.lo : x.hi != y.hi ? x.hi < y.hi : x.triangle != y.triangle ? x.triangle < y.triangle : x.k < y.k;
   });
   m_active.assign(m_triangles.size(), 0);
-  const RScalar flat = std::cos(kActiveEdgeAngle);
+  const RScalar flat = Cos(kActiveEdgeAngle);
   // The direction across edge k inside triangle t: from the edge towards the third corner,
   // perpendicular to the edge. Two triangles lie flat across their edge when these point
   // opposite ways (half-planes at 180 degrees), whatever their windings: triangles are
