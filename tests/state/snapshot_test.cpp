@@ -9,6 +9,7 @@
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RSnapshot.h>
 
+#include "support/CountingNew.h"
 #include "support/TestBodies.h"
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
 
 using namespace REngine;
 using namespace REngine::test;
@@ -242,6 +244,27 @@ TEST(Snapshot, AFrameHoldsOnlyWhatAStepChanges) {
   EXPECT_LE(b.FrameBytes(), 200u * (120 + 32) + 1024);
   EXPECT_EQ(b.SharedBytes(), a.SharedBytes()) << "the layout and the polhodes are shared";
   EXPECT_EQ(b.StoredBodies(), 200u);
+}
+
+// Once a ring's buffers have grown, a frame's save and a restore into the same container
+// allocate nothing: the layout and polhodes are shared, the records written in place.
+TEST(Snapshot, SavingAndRestoringAFrameAllocatesNothingOnceGrown) {
+  RBodies bodies;
+  for (int k = 0; k < 100; ++k) {
+    bodies.Add(BoxDef(RVec3(0.2, 0.5, 0.9)).Mass(2).At(RVec3(3.0 * k, 0, 0)).Spinning(RVec3(0.1, 2, 0.3)));
+  }
+  RWorldSettings settings;
+  settings.threads = 1;
+  RIntegrator integrator(settings);
+  RSnapshotRing ring(4);
+  for (int s = 0; s < 12; ++s) integrator.Update(bodies, kDt), ring.Save(integrator, bodies);
+  ring.Restore(integrator, bodies, 10);
+  integrator.Update(bodies, kDt), ring.Save(integrator, bodies);
+  const std::size_t before = test::HeapAllocations();
+  ring.Save(integrator, bodies);  // frame 11 again, over itself
+  ring.Restore(integrator, bodies, 10);
+  ring.Save(integrator, bodies);
+  EXPECT_EQ(test::HeapAllocations() - before, 0u);
 }
 
 // Refused: nothing saved, another world's tag, another integrator's snapshot; the world
