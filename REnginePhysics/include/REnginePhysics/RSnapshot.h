@@ -35,8 +35,8 @@
 //
 // Refused (RStateError, the world left as it was): an empty snapshot, another world's (a
 // worldTag other than the one it was saved under, or another RIntegrator than the one that
-// saved it: its contact memory names that integrator's bodies), and a delta snapshot whose
-// base is not the one it was saved against.
+// saved it: its contact memory names that integrator's bodies), and a snapshot whose
+// records do not match its layout.
 #pragma once
 
 #include <REnginePhysics/RBodies.h>
@@ -84,8 +84,9 @@ struct RSnapshotOptions {
   // constants are shared where unchanged instead of copied. Null: `out`'s own earlier ones.
   const RSnapshot* shareWith = nullptr;
   // Delta mode: store only the bodies whose frame data differ bit for bit from this full
-  // snapshot's (a key frame of a ring); the rest are read from it on restore, so it must
-  // not be saved over while this snapshot is in use (a restore checks). Null: a full save.
+  // snapshot's (a key frame of a ring); the rest are read from its records, which this
+  // snapshot keeps alive (a key frame saved over while deltas hold its records writes new
+  // ones). Bodies added or removed since the key frame: a full save. Null: a full save.
   const RSnapshot* deltaFrom = nullptr;
 };
 
