@@ -39,6 +39,7 @@
 // records do not match its layout.
 #pragma once
 
+#include <REnginePhysics/RAbi.h>
 #include <REnginePhysics/RBodies.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RWorldState.h>
@@ -125,3 +126,10 @@ class RSnapshotRing {
 };
 
 }  // namespace REngine
+
+// This header's public types, whose layouts are checked against the library's (RAbi.h).
+#define RENGINE_ABI_TYPES_SNAPSHOT(X) \
+  X(RSnapshot) \
+  X(RSnapshotOptions) \
+  X(RSnapshotRing)
+RENGINE_ABI_CHECK(kSnapshot, RENGINE_ABI_TYPES_SNAPSHOT)
