@@ -101,7 +101,8 @@ void RestoreSnapshot(RIntegrator& integrator, RBodies& bodies, const RSnapshot& 
 
 // The last `frames` snapshots of one world, by frame (StepCount). Each save shares with the
 // one before it; with keyInterval > 1 every keyInterval-th frame is full and those between
-// are deltas against it (less memory when most bodies rest; a restore reads two snapshots).
+// are deltas against it (less memory when most bodies rest; a restore reads two snapshots;
+// a key frame's records are new memory while deltas of the frame it replaces still read them).
 class RSnapshotRing {
  public:
   explicit RSnapshotRing(std::size_t frames, std::size_t keyInterval = 1, std::uint64_t worldTag = 0);
