@@ -88,6 +88,12 @@ class RContactSolver {
   // (Solved() false), which is not saved.
   const std::vector<RWarmStart>& WarmStarts() const { return m_warm; }
   std::size_t WarmBodyCount() const { return m_warmBodyCount; }
+  // A rollback snapshot's (RSnapshot.h): copied into the memory's capacity.
+  void RestoreForSnapshot(RLoadKey, const std::vector<RWarmStart>& warm, std::size_t warmBodyCount) {
+    m_warm = warm;
+    m_warmBodyCount = warmBodyCount;
+    m_solved = false;
+  }
   void RestoreForLoad(RLoadKey, std::vector<RWarmStart> warm, std::size_t warmBodyCount) {
     m_warm = std::move(warm);
     m_warmBodyCount = warmBodyCount;
