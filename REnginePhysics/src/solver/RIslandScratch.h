@@ -28,6 +28,7 @@ struct RIslandScratch {
   std::vector<int> map, envelope, lo, hi, columnsFrom, columnsTo;
   std::vector<std::pair<int, int>> runs;  // the island's manifolds: [first, last)
   std::vector<char> active;
+  std::vector<char> dropped;  // taken out of the active set for pulling, in this solve
   bool kReady = false;
   // The island's joints (RJoints.cpp): their equality rows (indices into the rows), the
   // group of them solved as one block ([first, last) of eq), its skyline factor, the end
