@@ -258,16 +258,21 @@ bool RContactSolver::SolveIslandBlocks(RPhase phase, int iterations, std::uint32
   RScalar change = 0;
   for (int it = 0; it < iterations; ++it) {
     change = withJoints ? m_joints.SolveJointsPass(*joints, *sc) : 0;
+    const bool forward = it % 2 == 0;
     for (std::uint32_t k = first; k < last; ++k) {
-      RBlock& blk = m_blocks[(it % 2 == 0) ? k : last - 1 - (k - first)];
+      RBlock& blk = m_blocks[forward ? k : last - 1 - (k - first)];
       RContactRow* rows = &m_rows[blk.first];
+      // A patch shared by a group of manifolds (RPatchGroups.cpp) is solved after the
+      // group's last normal block in the sweep's direction, as a manifold's after its own.
+      const bool patchDue = forward ? blk.nextInPatch == kNoBlock : &m_blocks[blk.patch] == &blk;
+      RBlock& patch = m_blocks[blk.patch];
       if (phase == RPhase::kVelocity) {
         change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kVelocity));
-        change = std::max(change, SolvePatch(blk, false, RPhase::kVelocity));
+        if (patchDue) change = std::max(change, SolvePatch(patch, false, RPhase::kVelocity));
         change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kPosition));
       } else {
         change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kEnd));
-        change = std::max(change, SolvePatch(blk, false, RPhase::kEnd));
+        if (patchDue) change = std::max(change, SolvePatch(patch, false, RPhase::kEnd));
       }
     }
     if (!(change > kConverged)) break;
@@ -320,14 +325,22 @@ void RContactSolver::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScal
 // point's impulse slightly off the sliding direction, which loses about 1% of the friction
 // of a box sliding down an incline. clampOnly: only bring the impulses back inside limits
 // that the normal impulses changed.
+//
+// A group of manifolds on flush immovable bodies (RPatchGroups.cpp) has one patch, its
+// first block's: the limits sum all the group's rows, the others' patches are empty.
 RScalar RContactSolver::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
+  if (&m_blocks[blk.patch] != &blk) return 0;  // its group's patch is another block's
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   RContactRow* rows = &m_rows[blk.first];
   RScalar normal = 0, twistArm = 0, reach = 0;
-  for (int i = 0; i < blk.count; ++i) {
-    const RScalar l = Lambda(rows[i], phase);
-    normal += l, twistArm += l * rows[i].lever;
-    reach = std::max(reach, rows[i].lever);
+  for (const RBlock* g = &blk;; g = &m_blocks[g->nextInPatch]) {
+    RContactRow* gRows = &m_rows[g->first];
+    for (int i = 0; i < g->count; ++i) {
+      const RScalar l = Lambda(gRows[i], phase);
+      normal += l, twistArm += l * gRows[i].lever;
+      reach = std::max(reach, gRows[i].lever);
+    }
+    if (g->nextInPatch == kNoBlock) break;
   }
   const RSolverBody& sa = m_solverBodies[rows[0].a];
   const RSolverBody& sb = m_solverBodies[rows[0].b];
