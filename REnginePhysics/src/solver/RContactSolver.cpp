@@ -188,7 +188,7 @@ void RContactSolver::SolveIsland(const RStepBodies& bodies, RScalar dt, std::siz
   }
   const bool joints = m_joints.IslandHasJoints(island);
   // (An island with joints keeps a patch per manifold: the joints' end reads them one by one.)
-  if (!joints) GroupPatches(bodies, first, last);
+  if (!joints) GroupPatches(bodies, first, last, sc);
   WarmStartIsland(RPhase::kVelocity, first, last);
   const RJointIslandView jointView = JointView(bodies, dt, island);
   if (joints) m_joints.BuildIslandJoints(jointView, sc);

@@ -131,9 +131,11 @@ class RContactSolver {
   void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
   // The island's friction patches shared by manifolds of one body on flush immovable bodies
   // (RPatchGroups.cpp): grouped, and each group's patch set up as one manifold's.
-  void GroupPatches(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last);
+  void GroupPatches(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last, RIslandScratch& sc);
   bool SharesPatch(std::uint32_t lead, std::uint32_t k) const;
-  void SetUpGroupPatch(const RStepBodies& bodies, std::uint32_t lead);
+  void SetUpGroupPatch(const RStepBodies& bodies, std::uint32_t lead, std::uint32_t& slots);
+  // A group's normal rows as one block (groupRows), as SolveNormalBlock a manifold's.
+  RScalar SolveGroupNormals(RBlock& lead, RPhase phase, RIslandScratch& sc);
   // Block k's part of its group's patch impulse in a phase (0 start, 1 end): the patch's
   // tangential impulse (world, on the pair's b, N s) and twist (N m s) in proportion to
   // its normal impulses; a patch alone, all of its own.

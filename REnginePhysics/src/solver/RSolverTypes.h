@@ -158,8 +158,14 @@ struct RBlock {
   // round from the patch block's; otherPatch: the body's next patch (grouping only).
   std::uint32_t patch, nextInPatch, otherPatch;
   bool flipped;
+  // On a group's patch block: the group's normal rows are few enough (kGroupRows) to be
+  // solved as one block, as one manifold's, its inverse at groupSlot of the island's scratch
+  // (RPatchGroups.cpp, SolveGroupNormals).
+  bool groupRows, groupInverse;  // groupInverse: worked out this step
+  std::uint32_t groupSlot;
 };
 inline constexpr std::uint32_t kNoBlock = ~std::uint32_t{0};
+inline constexpr int kGroupRows = 16;
 // Row building (FindImpulses): where each resolved contact's rows and block go (its impact
 // row has its block's index), and where its rows' warm starts go in next step's memory.
 // Blocks and rows are laid out island by island (LayOutIslands): the whole contact phase
