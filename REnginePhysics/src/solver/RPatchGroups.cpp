@@ -2,21 +2,21 @@
 //
 // Flush tiles are one surface for normals (collision/RCoveredFeatures.h); for friction they
 // were not. A capsule or cylinder rolling with its line of contact split between two tiles
-// has a one-point manifold on each: two patches, each at its own point, with no twist limit
-// (a point's lever about itself is 0), solved one after the other. Sticking the first point
-// turns the body about it, the second's then slips back, and the pair of patches settles on
-// a twist the one line of contact would never take: the roller drifted (0.36 m/s at 50 m/s).
-// On one floor the same line is one manifold: one patch at the middle of the line, limited
-// by mu times both points' impulses and twisting within mu times their levers. So a body's
-// manifolds on immovable bodies that move as one (static ones; kinematic ones translating
-// at one velocity without turning, as the cover rule asks), whose normals agree to 1e-12
-// (the cover rule gives them the same face normal) and whose points lie within the slop of
-// one plane, get one patch, the group's first block's, set up as one manifold's would be:
-// at the centroid of all their points, the limits summing all their rows. Their normal
-// blocks stay each its own; the patch's impulse is split among them in proportion to their
-// normal impulses for the contacts' reports and warm starts (PatchShare), so each pair
-// reports its part, the parts sum to the patch, and next step's patch starts from their sum.
-// An island with no such group computes exactly what it did.
+// has a manifold on each (the piece's ends, or one point): a patch each, at its own centroid,
+// the twist limited by its own piece, solved one after the other with a normal block each.
+// Friction stopping the line's sliding at one piece tilts the body about it, the other's
+// rows and patch answer, and what is left drifted the roller (0.36 m/s at 50 m/s) where on
+// one floor the same line, one manifold, stays exact. So a body's manifolds on immovable
+// bodies that move as one (static ones; kinematic ones translating at one velocity without
+// turning, as the cover rule asks), whose normals agree to 1e-12 (the cover rule gives them
+// the same face normal) and whose points lie within the slop of one plane, are solved as
+// one manifold: one patch, the group's first block's, at the centroid of all their points,
+// its limits summing all their rows; and their normal rows one block (SolveGroupNormals),
+// up to kGroupRows of them. The manifolds stay the pairs' own: the patch's impulse is split
+// among them in proportion to their normal impulses for the contacts' reports and warm
+// starts (PatchShare), so each pair reports its part, the parts sum to the patch, and next
+// step's patch starts from their sum. An island with no such group computes exactly what
+// it did (islands with joints are not grouped: the joints' end reads each manifold's patch).
 #include "solver/RContactSolver.h"
 
 #include "pairs/RPairSweep.h"
@@ -94,7 +94,8 @@ void RContactSolver::GroupPatches(const RStepBodies& bodies, std::uint32_t first
     m_blocks[end].nextInPatch = k;
     RBlock& blk = m_blocks[k];
     blk.patch = lead;
-    blk.flipped = m_in->sweep.ImmovableAt(m_rows[blk.first].a) != m_in->sweep.ImmovableAt(m_rows[m_blocks[lead].first].a);
+    const std::uint32_t a = m_rows[blk.first].a, leadA = m_rows[m_blocks[lead].first].a;
+    blk.flipped = m_in->sweep.ImmovableAt(a) != m_in->sweep.ImmovableAt(leadA);
     any = true;
   }
   if (!any) return;
@@ -103,7 +104,8 @@ void RContactSolver::GroupPatches(const RStepBodies& bodies, std::uint32_t first
     if (m_blocks[k].patch == k && m_blocks[k].nextInPatch != kNoBlock) SetUpGroupPatch(bodies, k, slots);
   }
   // (Its capacity kept from island to island and step to step.)
-  if (sc.groupPinv.size() < std::size_t(slots) * kGroupRows * kGroupRows) sc.groupPinv.resize(std::size_t(slots) * kGroupRows * kGroupRows);
+  const std::size_t size = std::size_t(slots) * kGroupRows * kGroupRows;
+  if (sc.groupPinv.size() < size) sc.groupPinv.resize(size);
 }
 
 // The group's patch on its first block, as one manifold's (RContactSolver::BuildContactRows)
@@ -149,8 +151,8 @@ void RContactSolver::SetUpGroupPatch(const RStepBodies& bodies, std::uint32_t le
   }
 }
 
-// A group's normal rows (at most kGroupRows) as one block: the minimum-norm answer when it pushes at
-// every row, else one row at a time, as SolveNormalBlock a manifold's. Solved one manifold
+// A group's normal rows (at most kGroupRows) as one block: the minimum-norm answer when it
+// pushes at every row, else one row at a time, as SolveNormalBlock a manifold's. Solved one manifold
 // after the other, the rows of a line split between two tiles pass the load from one to the
 // other a fraction at a time, the patch in between holding what they have not yet taken
 // (the roller tilts, friction stops the tilt's sliding), and the island's direct solve,
@@ -162,7 +164,7 @@ RScalar RContactSolver::SolveGroupNormals(RBlock& lead, RPhase phase, RIslandScr
   using RMatG = Eigen::Matrix<RScalar, Eigen::Dynamic, Eigen::Dynamic, 0, kGroupRows, kGroupRows>;
   RContactRow* rows[kGroupRows];
   int count = 0;
-  for (std::uint32_t k = m_blocks[lead.patch].patch; k != kNoBlock; k = m_blocks[k].nextInPatch) {
+  for (std::uint32_t k = lead.patch; k != kNoBlock; k = m_blocks[k].nextInPatch) {  // (lead.patch: lead)
     for (int i = 0; i < m_blocks[k].count; ++i) rows[count++] = &m_rows[m_blocks[k].first + i];
   }
   const RContactRow& r0 = *rows[0];
@@ -186,7 +188,8 @@ RScalar RContactSolver::SolveGroupNormals(RBlock& lead, RPhase phase, RIslandScr
   if (phase != RPhase::kVelocity) {
     bool active = false;
     for (int i = 0; i < count; ++i) {
-      active = active || target(*rows[i]) > 0 || lambda(*rows[i]) > 0 || (phase == RPhase::kEnd && target(*rows[i]) == 0);
+      RContactRow& r = *rows[i];
+      active = active || target(r) > 0 || lambda(r) > 0 || (phase == RPhase::kEnd && target(r) == 0);
     }
     if (!active) return 0;
   }
