@@ -197,50 +197,6 @@ TEST(Seams, AGridOfTilesCrossedObliquelyIsOneFloor) {
   }
 }
 
-// The contacts stay the pairs' own: each reports its normal impulses and its part of the
-// friction patch its tile shares with the others under the body, and what they report is
-// what the body got. A box sliding with friction over the turned grid (mu 0.5: it slows at
-// mu g) has manifolds on up to four tiles; each step, the impulses its contacts report
-// (normal along each contact's normal, friction as reported) are its momentum change less
-// gravity's, m (v1 - v0) - m g dt, to rounding (1e-12 of m g dt asked).
-TEST(Seams, EachTileReportsItsPartOfTheFrictionUnderABody) {
-  Crossing c;
-  c.mover = Mover::kBox, c.speed = 5, c.grid = true, c.tileYaw = 0.4, c.tileCount = TileCount(5);
-  c.moverFriction = 0.5;
-  RScalar height = 0;
-  RVec3 w0;
-  std::vector<RRigidBody> bodies = SeamScene(c, 0.4, height, w0);
-  RIntegrator integrator;
-  SetGravity(integrator, c);
-  integrator.Settings().shortcuts.sleeping = false;
-  const std::uint32_t mover = static_cast<std::uint32_t>(bodies.size() - 1);
-  const RVec3 g = integrator.Settings().gravity_W;
-  RScalar worst = 0;
-  int shared = 0;
-  for (int k = 0; k < 30; ++k) {
-    const RVec3 v0 = bodies.back().Velocity_W();
-    integrator.Update(bodies, kDt);
-    const RScalar m = bodies.back().Mass();
-    RVec3 reported = RVec3::Zero();
-    int rubbing = 0;
-    for (const RContact& ct : integrator.Contacts()) {
-      if (ct.a != mover && ct.b != mover) continue;
-      RScalar normal = 0;
-      for (int i = 0; i < ct.manifold.pointCount; ++i) normal += ct.normalImpulse[i];
-      const RVec3 J = normal * ct.manifold.normal + ct.frictionImpulse_W;  // on b
-      reported += ct.b == mover ? J : RVec3(-J);
-      rubbing += ct.frictionImpulse_W.norm() > 0;
-    }
-    shared += rubbing > 1;
-    const RVec3 got = m * (bodies.back().Velocity_W() - v0) - m * g * kDt;
-    worst = std::max(worst, (reported - got).norm() / (m * g.norm() * kDt));
-  }
-  std::printf("box sliding with friction over a turned grid: %d steps on several tiles with friction, "
-              "reports off the momentum change by %.1e of m g dt\n", shared, worst);
-  EXPECT_GT(shared, 0);
-  EXPECT_LT(worst, 1e-12);
-}
-
 namespace {
 
 // A box of half height hh (scene frame) sliding at 5 m/s from x = 2.2 towards tile 3 raised
