@@ -135,6 +135,18 @@ class RContactSolver {
                       const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
                       RDirection* dir, std::uint32_t childA, std::uint32_t childB) const;
   void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
+  // The island's friction patches shared by manifolds of one body on flush immovable bodies
+  // (RPatchGroups.cpp): grouped, and each group's patch set up as one manifold's.
+  void GroupPatches(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last, RIslandScratch& sc);
+  bool SharesPatch(std::uint32_t lead, std::uint32_t k) const;
+  void SetUpGroupPatch(const RStepBodies& bodies, std::uint32_t lead, std::uint32_t& slots);
+  // A group's normal rows as one block (groupRows), as SolveNormalBlock a manifold's.
+  RScalar SolveGroupNormals(RBlock& lead, RPhase phase, RIslandScratch& sc);
+  // Block k's part of its group's patch impulse in a phase (0 start, 1 end): the patch's
+  // tangential impulse (world, on the pair's b, N s) and twist (N m s) in proportion to
+  // its normal impulses; a patch alone, all of its own.
+  void PatchShare(std::uint32_t k, int ph, RVec3& tangent, RScalar& twist) const;
+  bool Grouped(const RBlock& blk) const { return blk.nextInPatch != kNoBlock || &m_blocks[blk.patch] != &blk; }
   // An island's contact phase after its impacts (RContactPasses.cpp): passes, direct solves,
   // the joints' rounds, and, when some row is closed at the end of the step, the end's.
   void SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
@@ -190,6 +202,9 @@ class RContactSolver {
   std::vector<char> m_inRows;
   std::vector<std::uint32_t> m_islandBodies, m_islandBodyStart, m_islandBodyFill, m_islandOfRoot;
   std::vector<std::uint32_t> m_immovableRowBodies;
+  // Per body: the first of its friction patches against immovable bodies, while its island
+  // groups them (GroupPatches; a movable body's entry is only its island's).
+  std::vector<std::uint32_t> m_patchHead;
   std::vector<RVec3> m_rowPoint_A;  // per row: its point in body a's frame (next warm start)
   std::vector<RIslandTally> m_islandTallies;  // per task of the islands' solve
   // The resolved contacts' pair keys increase from one to the next (LayOutIslands): next
