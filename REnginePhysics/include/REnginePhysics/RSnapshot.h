@@ -31,7 +31,10 @@
 // the same steps from there give the same bodies, contacts and events bit for bit, on any
 // thread count. Restoring into the container the snapshot came from, unchanged in layout,
 // writes the frame data in place and allocates nothing once buffers have grown; otherwise
-// the layout is copied in whole (a body edited since: that body alone).
+// the layout is copied in whole (a body edited since: that body alone). A save allocates
+// only when a body on the exact rotation's cache (three distinct moments) has changed its
+// angular momentum since the frame it shares with: a new table of the polhodes (a pointer a
+// body) and the changed bodies' constants.
 //
 // Refused (RStateError, the world left as it was): an empty snapshot, another world's (a
 // worldTag other than the one it was saved under, or another RIntegrator than the one that

@@ -254,7 +254,7 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
 bool RContactSolver::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last,
                                        const RJointIslandView* joints, RIslandScratch* sc) {
   constexpr RScalar kConverged = 1e-12;  // m/s
-  constexpr int kGroupSweeps = 4;  // (two sufficed: the seams test)
+  constexpr int kGroupSweeps = 4;  // (two suffice in seams_tests' crossings)
   const bool withJoints = joints && sc && phase == RPhase::kVelocity && m_joints.IslandHasJoints(joints->island);
   RScalar change = 0;
   for (int it = 0; it < iterations; ++it) {

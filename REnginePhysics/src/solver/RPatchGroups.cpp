@@ -1,11 +1,11 @@
 // Friction patches shared across flush immovable bodies (RContactSolver::GroupPatches).
 //
-// Flush tiles are one surface for normals (collision/RCoveredFeatures.h); for friction they
-// were not. A capsule or cylinder rolling with its line of contact split between two tiles
+// Flush tiles are one surface for normals (collision/RCoveredFeatures.h), and must be for
+// friction too. A capsule or cylinder rolling with its line of contact split between two tiles
 // has a manifold on each (the piece's ends, or one point): a patch each, at its own centroid,
 // the twist limited by its own piece, solved one after the other with a normal block each.
 // Friction stopping the line's sliding at one piece tilts the body about it, the other's
-// rows and patch answer, and what is left drifted the roller (0.36 m/s at 50 m/s) where on
+// rows and patch answer, and what is left drifts the roller (0.36 m/s at 50 m/s) where on
 // one floor the same line, one manifold, stays exact. So a body's manifolds on immovable
 // bodies that move as one (static ones; kinematic ones translating at one velocity without
 // turning, as the cover rule asks), whose normals agree to 1e-12 (the cover rule gives them

@@ -60,8 +60,8 @@ struct RRotationFrame {
 static_assert(sizeof(RRotationFrame) == 32, "RRotationFrame is packed");
 
 // The exact rotation's constants for one polhode (RFreeRotationCore minus the phase): they
-// change only when the body's angular momentum does. Zero-filled before being set, so that
-// two are compared with memcmp.
+// change only when the body's angular momentum does. Compared field by field (SameAs), never
+// with memcmp: the struct's padding is not set.
 struct RRotationConstants {
   RFreeRotationCore core;
   static RRotationConstants Of(const RFreeRotationCore& f);
