@@ -9,6 +9,7 @@
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RSnapshot.h>
 
+#include "support/BodiesHash.h"
 #include "support/CountingNew.h"  // this binary's operator new counts allocations
 #include "support/TestBodies.h"
 
@@ -47,31 +48,7 @@ namespace {
 constexpr RScalar kDt = 1.0 / 60;
 constexpr int kEnd = 420;
 
-template <class T>
-void Fold(std::uint64_t& h, const T& value) {
-  unsigned char bytes[sizeof value];
-  std::memcpy(bytes, &value, sizeof value);
-  for (unsigned char b : bytes) h = (h ^ b) * 0x100000001b3ULL;
-}
-void FoldVec(std::uint64_t& h, const RVec3& v) { Fold(h, v.x()), Fold(h, v.y()), Fold(h, v.z()); }
-
-// Every body's public state in dense order with its handle, and the joints' impulses.
-std::uint64_t BodiesHash(const RBodies& bodies) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (std::size_t d = 0; d < bodies.Size(); ++d) {
-    const RRigidBody& b = bodies.At(d);
-    Fold(h, bodies.HandleAt(d).index), Fold(h, bodies.HandleAt(d).generation);
-    Fold(h, bodies.IsEnabled(bodies.HandleAt(d)));
-    FoldVec(h, b.Position_W()), FoldVec(h, b.Velocity_W());
-    FoldVec(h, b.AngularVelocity_B()), FoldVec(h, b.AngularVelocity_W());
-    Fold(h, b.Orientation_WB().w()), FoldVec(h, b.Orientation_WB().vec());
-    Fold(h, b.IsSleeping());
-  }
-  for (std::size_t k = 0; k < bodies.JointCount(); ++k) FoldVec(h, bodies.JointAt(k).impulse_W);
-  return h;
-}
-
-// And the step's events and sleepers: equal for bit-identical worlds after a step.
+// BodiesHash and the step's events and sleepers: equal for bit-identical worlds after a step.
 std::uint64_t WorldHash(const RIntegrator& integrator, const RBodies& bodies) {
   std::uint64_t h = BodiesHash(bodies);
   for (const RContactEvent& e : integrator.Events()) {
