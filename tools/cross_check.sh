@@ -80,10 +80,10 @@ for f in scenes/*.json; do scenes+=("$(basename "$f" .json)"); done
 run() {
   local name="$1" scene="$2" sim="$root/build-cross/$1/bin/rengine-sim" out
   case "$name" in
-    arm-*) out=$(nice qemu-aarch64 "$sim" "scenes/$scene.json" --threads 1 --out /dev/null 2>&1) ;;
-    *) out=$(nice "$sim" "scenes/$scene.json" --threads 1 --out /dev/null 2>&1) ;;
+    arm-*) out=$(nice qemu-aarch64 "$sim" "scenes/$scene.json" --threads 1 --out /dev/null 2>&1) || true ;;
+    *) out=$(nice "$sim" "scenes/$scene.json" --threads 1 --out /dev/null 2>&1) || true ;;
   esac
-  grep -o 'hash=[0-9a-f]*' <<<"$out" | tail -n 1 | cut -d= -f2
+  grep -o 'hash=[0-9a-f]*' <<<"$out" | tail -n 1 | cut -d= -f2 || true  # none: "(failed)" below
 }
 declare -A hash
 for c in "${configs[@]}"; do

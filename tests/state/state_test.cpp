@@ -9,6 +9,7 @@
 #include <REnginePhysics/RWorldState.h>
 
 #include "state/RStateFormat.h"  // the header's layout and checksum: to forge bad states
+#include "support/BodiesHash.h"
 #include "support/TestBodies.h"
 
 #include <gtest/gtest.h>
@@ -26,30 +27,7 @@ namespace {
 
 constexpr RScalar kDt = 1.0 / 60;
 
-// FNV-1a over raw bytes, folded into h.
-template <class T>
-void Fold(std::uint64_t& h, const T& value) {
-  unsigned char bytes[sizeof value];
-  std::memcpy(bytes, &value, sizeof value);
-  for (unsigned char b : bytes) h = (h ^ b) * 0x100000001b3ULL;
-}
-void FoldVec(std::uint64_t& h, const RVec3& v) { Fold(h, v.x()), Fold(h, v.y()), Fold(h, v.z()); }
-
-// Every body's public state, in dense order with its handle: equal for bit-identical worlds.
-std::uint64_t StateHash(const RBodies& bodies) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (std::size_t d = 0; d < bodies.Size(); ++d) {
-    const RRigidBody& b = bodies.At(d);
-    Fold(h, bodies.HandleAt(d).index), Fold(h, bodies.HandleAt(d).generation);
-    Fold(h, bodies.IsEnabled(bodies.HandleAt(d)));
-    FoldVec(h, b.Position_W()), FoldVec(h, b.Velocity_W());
-    FoldVec(h, b.AngularVelocity_B()), FoldVec(h, b.AngularVelocity_W());
-    Fold(h, b.Orientation_WB().w()), FoldVec(h, b.Orientation_WB().vec());
-    Fold(h, b.IsSleeping());
-  }
-  return h;
-}
-
+// The events' fields, as BodiesHash the bodies'.
 std::uint64_t EventHash(const std::vector<RContactEvent>& events) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
   for (const RContactEvent& e : events) {
@@ -137,7 +115,7 @@ struct Game {
 struct Record {
   std::vector<std::uint64_t> state, events, sleeping;
   void Observe(const RIntegrator& integrator, const RBodies& bodies) {
-    state.push_back(StateHash(bodies));
+    state.push_back(BodiesHash(bodies));
     events.push_back(EventHash(integrator.Events()));
     sleeping.push_back(integrator.PairStats().sleepingBodies);
   }

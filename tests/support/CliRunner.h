@@ -82,6 +82,15 @@ inline std::vector<Row> ParseCsv(const std::string& text) {
 
 // A row's state, world frame: the shape frame's position (m), the centre of mass's velocity
 // (m/s), the angular velocity (rad/s).
+// The rows of one body, in step order.
+inline std::vector<Row> RowsOf(const std::vector<Row>& rows, const std::string& body) {
+  std::vector<Row> out;
+  for (const Row& r : rows) {
+    if (r.body == body) out.push_back(r);
+  }
+  return out;
+}
+
 inline RVec3 Position(const Row& r) { return RVec3(r.state[0], r.state[1], r.state[2]); }
 inline RVec3 Velocity(const Row& r) { return RVec3(r.state[7], r.state[8], r.state[9]); }
 inline RVec3 AngularVelocity(const Row& r) { return RVec3(r.state[10], r.state[11], r.state[12]); }

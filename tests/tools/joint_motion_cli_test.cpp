@@ -22,12 +22,6 @@ namespace {
 constexpr double kG = 9.81;
 constexpr double kDt = 1.0 / 60;
 
-std::vector<Row> RowsOf(const std::vector<Row>& rows, const std::string& body) {
-  std::vector<Row> out;
-  std::copy_if(rows.begin(), rows.end(), std::back_inserter(out), [&](const Row& r) { return r.body == body; });
-  return out;
-}
-
 }  // namespace
 
 // A 4 kg box (half extents 0.3, 0.1, 0.1 m) whose centre is 0.4 m from a hinge to the world

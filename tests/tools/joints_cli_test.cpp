@@ -24,13 +24,6 @@ namespace {
 constexpr double kG = 9.81;
 constexpr double kDt = 1.0 / 60;
 
-// The rows of one body, in step order.
-std::vector<Row> RowsOf(const std::vector<Row>& rows, const std::string& body) {
-  std::vector<Row> out;
-  std::copy_if(rows.begin(), rows.end(), std::back_inserter(out), [&](const Row& r) { return r.body == body; });
-  return out;
-}
-
 }  // namespace
 
 // A 2 kg ball of radius 0.2 m hung 1 m below a ball joint to the world and released from

@@ -45,6 +45,9 @@ class RBodiesStamp {
   RBodiesStamp& operator=(const RBodiesStamp&);
   void Bump();
   std::uint64_t Value() const { return m_value; }
+  // A snapshot's restore (RSnapshot.h), which has just put back the container a value was
+  // drawn for: the container holds that layout again.
+  void Adopt(std::uint64_t value) { m_value = value; }
 
  private:
   std::uint64_t m_value;
@@ -78,7 +81,11 @@ struct RBodiesCore {
   // colliding (lower << 32 | higher, sorted; a pair joined twice is there twice).
   RJointSlots m_jointSlots;
   std::vector<std::uint64_t> m_noCollide;
-  void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(); }
+  // Changes with LayoutStamp and with every change of the joints' table or definitions: a
+  // rollback snapshot (RSnapshot.h) shares the container's tables with earlier snapshots
+  // while it is the value they were copied at.
+  RBodiesStamp m_definitionStamp;
+  void LayoutChanged() { m_layoutStamp.Bump(), m_poseStamp.Bump(), m_definitionStamp.Bump(); }
 };
 
 class RBodies : private RBodiesCore {

@@ -70,7 +70,7 @@ class alignas(64) RRigidBody : private RBodyCore {
   void SetCollisionFilter(std::uint32_t category, std::uint32_t mask);
   // The game's value (RBodyDef::userData); never read by the engine.
   std::uintptr_t UserData() const { return m_userData; }
-  void SetUserData(std::uintptr_t value) { m_userData = value; }
+  void SetUserData(std::uintptr_t value) { m_userData = value, m_definition.Bump(); }
 
   // Mass, kg (0 for a static or kinematic body), and its inverse, 1/kg (0 for a static or
   // kinematic body). A body with locked axes keeps its mass; the solver zeroes its inverse

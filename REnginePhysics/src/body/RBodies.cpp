@@ -129,6 +129,7 @@ void RBodies::IgnoreCollisions(RBodyHandle a, RBodyHandle b) {
     }
     if (id == RBodyCore::kNoId) throw RError("id", "every id is taken");
     Core(*body).m_id = id;
+    Core(*body).m_definition.Bump();
   }
   // Waking a (IgnoreCollisionsWith) is enough: a sleeping pair that touches is one island.
   bodyA.IgnoreCollisionsWith(Core(bodyB).m_id);

@@ -52,6 +52,13 @@ std::atomic<std::uint64_t> s_serials{0};
 
 RBodyCore::RSerial::RSerial() : value(s_serials.fetch_add(1, std::memory_order_relaxed) + 1) {}
 
+namespace {
+std::atomic<std::uint64_t> s_definitions{0};
+}  // namespace
+
+RBodyCore::RDefinitionStamp::RDefinitionStamp() : value(s_definitions.fetch_add(1, std::memory_order_relaxed) + 1) {}
+void RBodyCore::RDefinitionStamp::Bump() { value = s_definitions.fetch_add(1, std::memory_order_relaxed) + 1; }
+
 RBodyCore::RSerial& RBodyCore::RSerial::operator=(const RSerial& other) {
   value = other.value;
   CountEdit();
@@ -270,6 +277,7 @@ void RBodyCore::WorldBox(RVec3& min_W, RVec3& max_W) const {
 
 void RBodyCore::NoteImmovableEdit() {
   if (!Immovable()) return;
+  m_definition.Bump();
   // Where it was at the last step: the poses it is given between two steps held nothing.
   if (m_slotWorld != 0 && !m_wakeFromSet) {
     WorldBox(m_wakeFromMin_W, m_wakeFromMax_W);
@@ -354,6 +362,7 @@ void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
   const auto it = std::lower_bound(m_ignore.begin(), m_ignore.end(), otherId);
   if (it == m_ignore.end() || *it != otherId) m_ignore.insert(it, otherId);
   m_ignores = true;
+  m_definition.Bump();
   // A sleeping pair is not looked at: it would never learn to ignore. A static body cannot
   // sleep: the sleepers about it wake, as if it had moved.
   Wake();
@@ -363,6 +372,7 @@ void RRigidBody::IgnoreCollisionsWith(std::uint32_t otherId) {
 void RRigidBody::SetCollisionFilter(std::uint32_t category, std::uint32_t mask) {
   if (category == m_category && mask == m_mask) return;
   m_category = category, m_mask = mask;
+  m_definition.Bump();
   CountEdit();  // queries cache the category beside the bounds
   Wake();
   NoteImmovableEdit();
@@ -387,18 +397,21 @@ void RRigidBody::SetAngularVelocity_W(const RVec3& w_W) {
 void RRigidBody::SetLinearDamping(RScalar c) {
   Require(std::isfinite(c) && c >= 0, "linear_damping", "must be a finite number >= 0");
   m_linearDamping = c;
+  m_definition.Bump();
   Wake();
 }
 
 void RRigidBody::SetAngularDamping(RScalar c) {
   Require(std::isfinite(c) && c >= 0, "angular_damping", "must be a finite number >= 0");
   m_angularDamping = c;
+  m_definition.Bump();
   Wake();
 }
 
 void RRigidBody::SetGravityScale(RScalar s) {
   Require(std::isfinite(s), "gravity_scale", "must be a finite number");
   m_gravityScale = s;
+  m_definition.Bump();
   Wake();
 }
 

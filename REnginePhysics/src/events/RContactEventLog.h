@@ -66,6 +66,11 @@ class RContactEventLog {
   // (a, b), are what carries to the next step; a load restores them and drops the last
   // step's events, which are not saved.
   const std::vector<RTouchingPair>& Touching() const { return m_touching; }
+  // A rollback snapshot's (RSnapshot.h): copied into the list's capacity.
+  void RestoreForSnapshot(RLoadKey, const std::vector<RTouchingPair>& touching) {
+    m_touching = touching;
+    m_events.clear(), m_eventsBySlot.clear(), m_eventsByBody.clear();
+  }
   void RestoreForLoad(RLoadKey, std::vector<RTouchingPair> touching) {
     m_touching = std::move(touching);
     m_events.clear(), m_eventsBySlot.clear(), m_eventsByBody.clear();

@@ -122,6 +122,7 @@ RJointHandle RBodies::AddJoint(const RJointDef& def) {
   j.relative0 = qA.conjugate() * qB;
 
   const RJointHandle h = m_jointSlots.Insert(j);
+  m_definitionStamp.Bump();
   if (B && !def.collideConnected) {
     const std::uint64_t key = SlotPair(def.a.index, def.b.index);
     m_noCollide.insert(std::upper_bound(m_noCollide.begin(), m_noCollide.end(), key), key);
@@ -138,6 +139,7 @@ void RBodies::RemoveJointAt(std::uint32_t dense) {
   // The last joint takes its place.
   m_jointSlots.SwapDense(dense, static_cast<std::uint32_t>(m_jointSlots.items.size() - 1));
   m_jointSlots.PopBack();
+  m_definitionStamp.Bump();
   if (def.b.IsValid() && !def.collideConnected) {
     const auto it = std::lower_bound(m_noCollide.begin(), m_noCollide.end(), SlotPair(def.a.index, def.b.index));
     if (it != m_noCollide.end()) m_noCollide.erase(it);
@@ -173,6 +175,7 @@ void RBodies::SetNoCollideFlags(RBodyHandle body) {
     any = any || static_cast<std::uint32_t>(key >> 32) == body.index || static_cast<std::uint32_t>(key) == body.index;
   }
   Core(*b).m_jointNoCollide = any;
+  m_definitionStamp.Bump();
 }
 
 void RBodies::SetJointMotor(RJointHandle h, const RJointMotor& motor) {
@@ -181,6 +184,7 @@ void RBodies::SetJointMotor(RJointHandle h, const RJointMotor& motor) {
           "only a hinge or a slider has a motor");
   if (motor.enabled) CheckMotor(motor);
   j.def.motor = motor;
+  m_definitionStamp.Bump();
   if (RRigidBody* A = Find(j.def.a)) A->Wake();
   if (RRigidBody* B = Find(j.def.b)) B->Wake();
 }

@@ -84,12 +84,16 @@ void BuildJointRows(const RJoint& J, const RJointPoseIn& pa, const RJointPoseIn&
     C[k] = 0;
   }
   const RVec3 u = g.pB - g.pA;
+  // (The lambdas take the arms, not g: a lambda of this template holding a reference to a
+  // type of this file's anonymous namespace is a -Wsubobject-linkage warning.)
+  const RVec3& armA = g.rA;
+  const RVec3& armB = g.rB;
   auto point = [&](int k, int axis) {
-    Linear(rows[k].dir, RVec3::Unit(axis), g.rA, g.rB);
+    Linear(rows[k].dir, RVec3::Unit(axis), armA, armB);
     rows[k].kind = Kind::kEquality;
   };
   auto across = [&](int k, const RVec3& d) {  // slider: a's arm reaches to b's anchor
-    Linear(rows[k].dir, d, g.rA + u, g.rB);
+    Linear(rows[k].dir, d, armA + u, armB);
     rows[k].kind = Kind::kEquality;
   };
   auto angular = [&](int k, const RVec3& axis) {

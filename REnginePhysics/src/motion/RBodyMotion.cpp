@@ -60,7 +60,8 @@ RMotion::RDragFlow RMotion::DragFlow(RScalar c, RScalar dt) {
   } else {
     G = (x + em1) / (x * x);
   }
-  return {em1 + 1, -em1 / x, G};
+  // (x is 0 where c dt underflows: the flow is then the identity, M = 1, not 0/0.)
+  return {em1 + 1, x == 0 ? RScalar(1) : -em1 / x, G};
 }
 
 RVec3 RMotion::MidStepSpin_W(const RBodyCore& b, const RMat3& R_WB, const RMat3& invI_W,

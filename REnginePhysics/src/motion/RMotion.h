@@ -154,6 +154,11 @@ class RMotion {
   const std::vector<RNonFiniteBody>& NonFiniteInLastStep() const { return m_nonFiniteLast; }
   // Save/load's (state/RWorldState.cpp; RStateStep.cpp writes NonFinite()): a load restores
   // the first body put back and forgets the last step's, which are not saved.
+  // A rollback snapshot's (RSnapshot.h): copied (NonFinite is empty in a healthy world).
+  void RestoreForSnapshot(RLoadKey, const std::optional<RNonFiniteBody>& nonFinite) {
+    if (nonFinite || m_nonFinite) m_nonFinite = nonFinite;
+    m_nonFiniteLast.clear();
+  }
   void RestoreForLoad(RLoadKey, std::optional<RNonFiniteBody> nonFinite) {
     m_nonFinite = std::move(nonFinite);
     m_nonFiniteLast.clear();

@@ -109,8 +109,16 @@ class RPairSweep {
   // step's contacts, their memory entries, the counts and the pair count (the broad
   // phase's cost estimate), which are not saved.
   const std::vector<RManifoldMemory>& Manifolds() const { return m_manifolds; }
-  void RestoreForLoad(RLoadKey, std::vector<RManifoldMemory> manifolds) {
+  void RestoreForLoad(RLoadKey key, std::vector<RManifoldMemory> manifolds) {
     m_manifolds = std::move(manifolds);
+    ForgetLastStep(key);
+  }
+  // A rollback snapshot's (RSnapshot.h): copied into the memory's capacity, no allocation.
+  void RestoreForSnapshot(RLoadKey key, const std::vector<RManifoldMemory>& manifolds) {
+    m_manifolds = manifolds;
+    ForgetLastStep(key);
+  }
+  void ForgetLastStep(RLoadKey) {
     m_contacts.clear(), m_contactMemory.clear();
     m_pairStats = RPairStats{};
     m_lastPairCount = 0;

@@ -69,6 +69,12 @@ class RSleeping {
   RSaved Saved() const { return {m_sleepBodyCount, m_wakeAll, m_sleepGravity_W}; }
   // Restores what Saved gave; from then on the bodies carry this integrator's own id (the
   // loaded bodies were given it), not an original's.
+  // A rollback snapshot's (RSnapshot.h), saved by this integrator: its identity stays.
+  void RestoreForSnapshot(RLoadKey, const RSaved& saved) {
+    m_sleepBodyCount = static_cast<std::size_t>(saved.bodyCount);
+    m_wakeAll = saved.wakeAll;
+    m_sleepGravity_W = saved.gravity_W;
+  }
   void RestoreForLoad(RLoadKey, const RSaved& saved) {
     m_sleepBodyCount = static_cast<std::size_t>(saved.bodyCount);
     m_wakeAll = saved.wakeAll;

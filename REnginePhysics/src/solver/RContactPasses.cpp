@@ -125,7 +125,7 @@ void RContactSolver::SolveIslandContacts(const RStepBodies& bodies, RScalar dt, 
     s.w += s.invI * RMotion::EndAngularKick_W(b, halfDt);
   }
   WarmStartIsland(RPhase::kEnd, first, last, 0);  // last step's end impulses, found with the rows
-  const bool settledAtEnd = SolveIslandBlocks(RPhase::kEnd, iterations, first, last);
+  const bool settledAtEnd = SolveIslandBlocks(RPhase::kEnd, iterations, first, last, nullptr, &sc);
   if (direct && !settledAtEnd) {
     PrepareIslandDirect(island, sc);
     SolveIslandDirect(RPhase::kEnd, sc);
@@ -256,20 +256,44 @@ void RContactSolver::JointRounds(const RJointIslandView& joints, RIslandScratch&
 bool RContactSolver::SolveIslandBlocks(RPhase phase, int iterations, std::uint32_t first, std::uint32_t last,
                                        const RJointIslandView* joints, RIslandScratch* sc) {
   constexpr RScalar kConverged = 1e-12;  // m/s
+  constexpr int kGroupSweeps = 4;  // (two suffice in seams_tests' crossings)
   const bool withJoints = joints && sc && phase == RPhase::kVelocity && m_joints.IslandHasJoints(joints->island);
   RScalar change = 0;
   for (int it = 0; it < iterations; ++it) {
     change = withJoints ? m_joints.SolveJointsPass(*joints, *sc) : 0;
+    const bool forward = it % 2 == 0;
     for (std::uint32_t k = first; k < last; ++k) {
-      RBlock& blk = m_blocks[(it % 2 == 0) ? k : last - 1 - (k - first)];
+      RBlock& blk = m_blocks[forward ? k : last - 1 - (k - first)];
       RContactRow* rows = &m_rows[blk.first];
+      // A patch shared by a group of manifolds (RPatchGroups.cpp) is solved after the
+      // group's last normal block in the sweep's direction, as a manifold's after its own.
+      // A group whose normal rows are one block has them solved there too, as one manifold.
+      const bool patchDue = forward ? blk.nextInPatch == kNoBlock : &m_blocks[blk.patch] == &blk;
+      RBlock& patch = m_blocks[blk.patch];
+      if (patch.groupRows && sc) {  // (an island with groups is solved with its scratch)
+        if (!patchDue) continue;
+        // The group's normal block and patch in turn until they agree (kGroupSweeps at most):
+        // friction at the line of contact, below the centre, tilts the body about the line and
+        // the normal rows stop the tilt, which slides the line again. A manifold's points stay
+        // put from step to step and its warm start leaves nothing to converge there; a group's
+        // points move with the seams, and the island's passes alone left 1e-9 m/s.
+        const RPhase normals = phase == RPhase::kVelocity ? RPhase::kVelocity : RPhase::kEnd;
+        for (int sweep = 0; sweep < kGroupSweeps; ++sweep) {
+          const RScalar normalChange = SolveGroupNormals(patch, normals, *sc);  // (first, then the patch)
+          const RScalar groupChange = std::max(normalChange, SolvePatch(patch, false, normals));
+          change = std::max(change, groupChange);
+          if (!(groupChange > kConverged)) break;
+        }
+        if (phase == RPhase::kVelocity) change = std::max(change, SolveGroupNormals(patch, RPhase::kPosition, *sc));
+        continue;
+      }
       if (phase == RPhase::kVelocity) {
         change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kVelocity));
-        change = std::max(change, SolvePatch(blk, false, RPhase::kVelocity));
+        if (patchDue) change = std::max(change, SolvePatch(patch, false, RPhase::kVelocity));
         change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kPosition));
       } else {
         change = std::max(change, SolveNormalBlock(blk, rows, RPhase::kEnd));
-        change = std::max(change, SolvePatch(blk, false, RPhase::kEnd));
+        if (patchDue) change = std::max(change, SolvePatch(patch, false, RPhase::kEnd));
       }
     }
     if (!(change > kConverged)) break;
@@ -401,14 +425,22 @@ void RContactSolver::ApplyPatch(const RBlock& blk, RScalar d1, RScalar d2, RScal
 // point's impulse slightly off the sliding direction, which loses about 1% of the friction
 // of a box sliding down an incline. clampOnly: only bring the impulses back inside limits
 // that the normal impulses changed.
+//
+// A group of manifolds on flush immovable bodies (RPatchGroups.cpp) has one patch, its
+// first block's: the limits sum all the group's rows, the others' patches are empty.
 RScalar RContactSolver::SolvePatch(RBlock& blk, bool clampOnly, RPhase phase) {
+  if (&m_blocks[blk.patch] != &blk) return 0;  // its group's patch is another block's
   const int ph = phase == RPhase::kEnd ? 1 : 0;
   RContactRow* rows = &m_rows[blk.first];
   RScalar normal = 0, twistArm = 0, reach = 0;
-  for (int i = 0; i < blk.count; ++i) {
-    const RScalar l = Lambda(rows[i], phase);
-    normal += l, twistArm += l * rows[i].lever;
-    reach = std::max(reach, rows[i].lever);
+  for (const RBlock* g = &blk;; g = &m_blocks[g->nextInPatch]) {
+    RContactRow* gRows = &m_rows[g->first];
+    for (int i = 0; i < g->count; ++i) {
+      const RScalar l = Lambda(gRows[i], phase);
+      normal += l, twistArm += l * gRows[i].lever;
+      reach = std::max(reach, gRows[i].lever);
+    }
+    if (g->nextInPatch == kNoBlock) break;
   }
   const RSolverBody& sa = m_solverBodies[rows[0].a];
   const RSolverBody& sb = m_solverBodies[rows[0].b];

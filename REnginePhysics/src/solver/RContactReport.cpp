@@ -79,12 +79,19 @@ void RContactSolver::ReportIsland(const RStepBodies& bodies, RScalar dt, std::si
     tally.reusedInverses += blk.inverse == 2;
     tally.computedInverses += blk.inverse == 1;
     RWarmStart* warm = &m_warmNext[warmBase + m_rowStart[m_blockContact[k]].warm];
-    // The manifold's friction, which each of its points remembers.
+    // The manifold's friction, which each of its points remembers: its part of its group's
+    // patch (RPatchGroups.cpp), when it shares one.
     RVec3 tangentImpulse[2];
+    RScalar twistImpulse[2];
     bool patchFinite = true;
     for (int ph = 0; ph < 2; ++ph) {
-      tangentImpulse[ph] = blk.lambdaT1[ph] * blk.t[0].d + blk.lambdaT2[ph] * blk.t[1].d;
-      patchFinite = patchFinite && AllFinite(tangentImpulse[ph]) && std::isfinite(blk.lambdaTwist[ph]);
+      if (Grouped(blk)) {
+        PatchShare(k, ph, tangentImpulse[ph], twistImpulse[ph]);
+      } else {
+        tangentImpulse[ph] = blk.lambdaT1[ph] * blk.t[0].d + blk.lambdaT2[ph] * blk.t[1].d;
+        twistImpulse[ph] = blk.lambdaTwist[ph];
+      }
+      patchFinite = patchFinite && AllFinite(tangentImpulse[ph]) && std::isfinite(twistImpulse[ph]);
     }
     const std::uint64_t pair = PairKey(c.handleA.index, c.handleB.index);
     for (int i = 0; i < blk.count; ++i) {
@@ -100,7 +107,7 @@ void RContactSolver::ReportIsland(const RStepBodies& bodies, RScalar dt, std::si
       w.point_A = m_rowPoint_A[blk.first + i];
       w.lambdaN = r.lambdaN;
       w.lambdaE = r.lambdaE;
-      for (int ph = 0; ph < 2; ++ph) w.tangentImpulse[ph] = tangentImpulse[ph], w.twistImpulse[ph] = blk.lambdaTwist[ph];
+      for (int ph = 0; ph < 2; ++ph) w.tangentImpulse[ph] = tangentImpulse[ph], w.twistImpulse[ph] = twistImpulse[ph];
       // A step that overflowed must not seed the next one (its bodies are put back).
       if (!(patchFinite && std::isfinite(w.lambdaN) && std::isfinite(w.lambdaE) && AllFinite(w.point_A))) {
         w.pair = kDroppedWarm, tally.dropped = true;
@@ -110,10 +117,20 @@ void RContactSolver::ReportIsland(const RStepBodies& bodies, RScalar dt, std::si
   for (std::uint32_t k = first; k < last; ++k) {
     const RBlock& blk = m_blocks[k];
     const RContactRow& r = m_rows[blk.first];
+    if (Grouped(blk)) {
+      // Each pair reports its part of its group's patch; the group's first block applies it.
+      RVec3 part[2];
+      RScalar twist;
+      for (int ph = 0; ph < 2; ++ph) PatchShare(k, ph, part[ph], twist);
+      m_in->sweep.SolverContact(r.contact).frictionImpulse_W = part[0] + part[1];
+      if (blk.patch != k) continue;
+    }
     accumulate(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[0] * blk.t[0].d + blk.lambdaT2[0] * blk.t[1].d);
     accumulateEnd(r.a, r.b, blk.rA, blk.rB, blk.lambdaT1[1] * blk.t[0].d + blk.lambdaT2[1] * blk.t[1].d);
-    m_in->sweep.SolverContact(r.contact).frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
-                                                         (blk.lambdaT2[0] + blk.lambdaT2[1]) * blk.t[1].d;
+    if (!Grouped(blk)) {
+      m_in->sweep.SolverContact(r.contact).frictionImpulse_W = (blk.lambdaT1[0] + blk.lambdaT1[1]) * blk.t[0].d +
+                                                           (blk.lambdaT2[0] + blk.lambdaT2[1]) * blk.t[1].d;
+    }
     // The twist: a pure torque about the normal.
     RSolverBody& sa = m_solverBodies[r.a];
     RSolverBody& sb = m_solverBodies[r.b];

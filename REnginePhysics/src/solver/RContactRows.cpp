@@ -191,6 +191,7 @@ std::uint32_t RContactSolver::BuildContactRows(const RStepBodies& bodies, std::u
   blk.count = c.manifold.pointCount;
   blk.useBlock = blk.count > 1;
   blk.inverse = 0;
+  blk.patch = blockIndex, blk.nextInPatch = blk.otherPatch = kNoBlock, blk.flipped = blk.groupRows = blk.groupInverse = false;  // (RPatchGroups.cpp)
   blk.pinv.setZero();  // filled when the passes first need it (SolveNormalBlock)
   RVec3 centroid = RVec3::Zero();
   for (int k = 0; k < c.manifold.pointCount; ++k) centroid += c.manifold.points[k].position;

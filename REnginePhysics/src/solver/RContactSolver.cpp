@@ -56,6 +56,7 @@ void RContactSolver::FindImpulses(const RStepBodies& bodies, RScalar dt, const R
   KeepSleepingWarmStarts(bodies);
   // One more solver body: the world's, what a joint to the world holds on to (never moved).
   m_solverBodies.resize(n + 1);
+  m_patchHead.resize(n);  // (each island sets its bodies' entries: GroupPatches)
   const RScalar halfDt = RScalar(0.5) * dt;
   m_joints.GatherJoints(bodies);
   m_in->welds.GatherWelds(bodies, m_joints.StepJoints());
@@ -186,8 +187,10 @@ void RContactSolver::SolveIsland(const RStepBodies& bodies, RScalar dt, std::siz
       tally.warmStarted += BuildContactRows(bodies, m_blockContact[k], dt);
     }
   }
-  WarmStartIslandVelocities(bodies, dt, island, sc);
   const bool joints = m_joints.IslandHasJoints(island);
+  // (An island with joints keeps a patch per manifold: the joints' end reads them one by one.)
+  if (!joints) GroupPatches(bodies, first, last, sc);
+  WarmStartIslandVelocities(bodies, dt, island, sc);
   const RJointIslandView jointView = JointView(bodies, dt, island);
   if (joints) m_joints.BuildIslandJoints(jointView, sc);
   // Most islands (a resting pile: every one) have no impact: their impact rows are not built.

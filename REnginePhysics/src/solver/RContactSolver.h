@@ -88,6 +88,12 @@ class RContactSolver {
   // (Solved() false), which is not saved.
   const std::vector<RWarmStart>& WarmStarts() const { return m_warm; }
   std::size_t WarmBodyCount() const { return m_warmBodyCount; }
+  // A rollback snapshot's (RSnapshot.h): copied into the memory's capacity.
+  void RestoreForSnapshot(RLoadKey, const std::vector<RWarmStart>& warm, std::size_t warmBodyCount) {
+    m_warm = warm;
+    m_warmBodyCount = warmBodyCount;
+    m_solved = false;
+  }
   void RestoreForLoad(RLoadKey, std::vector<RWarmStart> warm, std::size_t warmBodyCount) {
     m_warm = std::move(warm);
     m_warmBodyCount = warmBodyCount;
@@ -151,6 +157,18 @@ class RContactSolver {
   // island's kinetic energy (RContactPasses.cpp).
   void WarmStartIslandVelocities(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
   RScalar IslandKineticEnergy(const RStepBodies& bodies, std::size_t island) const;
+  // The island's friction patches shared by manifolds of one body on flush immovable bodies
+  // (RPatchGroups.cpp): grouped, and each group's patch set up as one manifold's.
+  void GroupPatches(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last, RIslandScratch& sc);
+  bool SharesPatch(std::uint32_t lead, std::uint32_t k) const;
+  void SetUpGroupPatch(const RStepBodies& bodies, std::uint32_t lead, std::uint32_t& slots);
+  // A group's normal rows as one block (groupRows), as SolveNormalBlock a manifold's.
+  RScalar SolveGroupNormals(RBlock& lead, RPhase phase, RIslandScratch& sc);
+  // Block k's part of its group's patch impulse in a phase (0 start, 1 end): the patch's
+  // tangential impulse (world, on the pair's b, N s) and twist (N m s) in proportion to
+  // its normal impulses; a patch alone, all of its own.
+  void PatchShare(std::uint32_t k, int ph, RVec3& tangent, RScalar& twist) const;
+  bool Grouped(const RBlock& blk) const { return blk.nextInPatch != kNoBlock || &m_blocks[blk.patch] != &blk; }
   // An island's contact phase after its impacts (RContactPasses.cpp): passes, direct solves,
   // the joints' rounds, and, when some row is closed at the end of the step, the end's.
   void SolveIslandContacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
@@ -206,6 +224,9 @@ class RContactSolver {
   std::vector<char> m_inRows;
   std::vector<std::uint32_t> m_islandBodies, m_islandBodyStart, m_islandBodyFill, m_islandOfRoot;
   std::vector<std::uint32_t> m_immovableRowBodies;
+  // Per body: the first of its friction patches against immovable bodies, while its island
+  // groups them (GroupPatches; a movable body's entry is only its island's).
+  std::vector<std::uint32_t> m_patchHead;
   std::vector<RVec3> m_rowPoint_A;  // per row: its point in body a's frame (next warm start)
   std::vector<RIslandTally> m_islandTallies;  // per task of the islands' solve
   // The resolved contacts' pair keys increase from one to the next (LayOutIslands): next

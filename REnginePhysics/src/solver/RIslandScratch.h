@@ -33,6 +33,9 @@ struct RIslandScratch {
   std::vector<char> active;
   std::vector<char> dropped;  // taken out of the active set for pulling, in this solve
   bool kReady = false;
+  // The island's friction patch groups' normal blocks: each group's minimum-norm inverse, at
+  // RBlock::groupSlot times kGroupRows^2 (RPatchGroups.cpp).
+  std::vector<RScalar> groupPinv;
   // The island's joints (RJoints.cpp): their equality rows (indices into the rows), the
   // group of them solved as one block ([first, last) of eq), its skyline factor, the end
   // of the step's rows and bodies.

@@ -398,8 +398,8 @@ bool RContactSolver::SolveIslandDirect(RPhase phase, RIslandScratch& sc) {
     // ridge (one of four coplanar points, under a 30 kg box a 2e5 N beam drives into a
     // station) misses by less than that without it, and taking it back on such a miss
     // cycles (drop, add, drop) until the rounds run out, when the island keeps its passes'
-    // answer: rounding then decided the outcome (the space game 1e6 m out parted 45 m from
-    // the game at the origin, a miss of 1.2e-9 m/s against a tolerance of 1e-9).
+    // answer: rounding would decide the outcome (the space game 1e6 m out would part 45 m
+    // from the game at the origin, on a miss of 1.2e-9 m/s against a tolerance of 1e-9).
     const RScalar droppedTolerance = std::max(kTolerance, ridge * most);
     for (int i = 0; i < m; ++i) {
       if (sc.active[i]) continue;

@@ -170,7 +170,21 @@ struct RBlock {
   // the start [0] and at the end [1] of the step: 0 but against a spinning kinematic body
   // (RMotion::KinematicDrift_W).
   RScalar targetT[2][2];
+  // Its friction patch's group (RPatchGroups.cpp): manifolds of one body on flush immovable
+  // bodies moving as one, sharing a normal, have one patch, this block's unless patch names
+  // another (the group's first block, which holds the group's patch). nextInPatch: the
+  // group's next block (kNoBlock at its end); flipped: its pair's bodies the other way
+  // round from the patch block's; otherPatch: the body's next patch (grouping only).
+  std::uint32_t patch, nextInPatch, otherPatch;
+  bool flipped;
+  // On a group's patch block: the group's normal rows are few enough (kGroupRows) to be
+  // solved as one block, as one manifold's, its inverse at groupSlot of the island's scratch
+  // (RPatchGroups.cpp, SolveGroupNormals).
+  bool groupRows, groupInverse;  // groupInverse: worked out this step
+  std::uint32_t groupSlot;
 };
+inline constexpr std::uint32_t kNoBlock = ~std::uint32_t{0};
+inline constexpr int kGroupRows = 16;
 // Row building (FindImpulses): where each resolved contact's rows and block go (its impact
 // row has its block's index), and where its rows' warm starts go in next step's memory.
 // Blocks and rows are laid out island by island (LayOutIslands): the whole contact phase

@@ -8,9 +8,11 @@
 namespace REngine {
 
 struct RStateAccess;
+struct RSnapshotAccess;
 
 class RLoadKey {
   friend struct RStateAccess;
+  friend struct RSnapshotAccess;  // rollback snapshots (RSnapshot.h), as checked when saved
   RLoadKey() {}  // (user-provided: RLoadKey{} is not an aggregate that bypasses it)
 };
 

@@ -10,6 +10,7 @@
 #include <REnginePhysics/RQueries.h>
 #include <REnginePhysics/RRigidBody.h>
 #include <REnginePhysics/RShape.h>
+#include <REnginePhysics/RSnapshot.h>
 #include <REnginePhysics/RTriangleMesh.h>
 #include <REnginePhysics/RWorldState.h>
 
@@ -35,6 +36,7 @@ const RAbiLayout* LibraryLayouts(std::size_t& count) {
       RENGINE_ABI_TYPES_QUERIES(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_RIGID_BODY(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_SHAPE(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_SNAPSHOT(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_TRIANGLE_MESH(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_WORLD_STATE(RENGINE_ABI_LAYOUT)
   };

@@ -131,9 +131,21 @@ struct alignas(64) RBodyCore {
   std::uintptr_t m_userData = 0;
   std::shared_ptr<const RPreparedShape> m_prepared;  // never null
   RFreeRotation m_rotation;
+  // Which version of the fields a step never changes (the definition, filter bits, drag,
+  // user data, an immovable body's pose): a number drawn from a process-wide counter by every
+  // constructor and by every edit of them between steps, kept by copies. A rollback snapshot
+  // (RSnapshot.h) shares those fields with earlier snapshots while the number is the one
+  // they were copied at, and saves only what a step changes.
+  struct RDefinitionStamp {
+    std::uint64_t value = 0;
+    RDefinitionStamp();
+    void Bump();
+  };
+  RDefinitionStamp m_definition;
 
   // An edit of a static or kinematic body: notes its box before the edit (a body never
   // stepped held no sleeper) and marks it moved.
+  // (Also a definition edit: see m_definition.)
   void NoteImmovableEdit();
   // A box about the body at its pose, world (its body-frame box turned: |R| h about R c).
   void WorldBox(RVec3& min_W, RVec3& max_W) const;
