@@ -1,5 +1,7 @@
 #include "Autoplay.h"
 
+#include <REngineMath/RFunctions.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -35,7 +37,7 @@ void Autoplay::Steer(const Game& game, const RVec3& dir_W, ShipInput& in) {
   // The turn that takes f onto d, in the ship's frame; aim for an angular velocity along
   // it that slows as the error shrinks, and let the thrusters chase that velocity.
   const RVec3 axis_S = q.conjugate() * f.cross(d);
-  const double angle = std::atan2(axis_S.norm(), f.dot(d));
+  const double angle = REngine::Atan2(axis_S.norm(), f.dot(d));
   const RVec3 want_S = axis_S.norm() > 1e-12
                            ? RVec3(std::min(0.8, 1.5 * angle) * axis_S.normalized())
                            : RVec3::Zero();
@@ -61,7 +63,8 @@ ShipInput Autoplay::Input(int frame, const Game& game) {
     m_lastTargetPosition = rock.Position_W();
     const RVec3 to = rock.Position_W() - ShipNose_W(world);
     Steer(game, to, in);
-    const double aim = std::acos(std::clamp(to.normalized().dot(q * RVec3::UnitZ()), -1.0, 1.0));
+    const double cosAim = std::clamp(to.normalized().dot(q * RVec3::UnitZ()), -1.0, 1.0);
+    const double aim = REngine::Atan2(std::sqrt((1 - cosAim) * (1 + cosAim)), cosAim);
     // Close to 80 m at no more than 12 m/s.
     const double closing = ship.Velocity_W().dot(to.normalized());
     const double want = std::clamp(0.1 * (to.norm() - 80), -12.0, 12.0);

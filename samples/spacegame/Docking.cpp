@@ -1,5 +1,7 @@
 #include "Docking.h"
 
+#include <REngineMath/RQuaternion.h>
+
 #include <limits>
 
 namespace spacegame {
@@ -18,11 +20,11 @@ Docking::Docking(SpaceWorld& world, const DockTuning& tuning) : m_world(world), 
   const double y = GameShapes::kStationRingHalfAxial + GameShapes::kShipHalfHeight + 0.1;
   for (int side = 0; side < 2; ++side) {
     const double a = side * kPi;
-    const RQuat around(Eigen::AngleAxis<double>(-a, RVec3::UnitY()));
+    const RQuat around = REngine::QuatAxisAngle(RVec3::UnitY(), -a);
     DockPort ring;
     ring.p_SP = around * RVec3(R, y, 0);
     // At +x the ring moves towards -z for a spin about +y: the ship's nose (+z) along that.
-    ring.q_SP = around * RQuat(Eigen::AngleAxis<double>(kPi, RVec3::UnitY()));
+    ring.q_SP = around * REngine::QuatAxisAngle(RVec3::UnitY(), kPi);
     m_ports.push_back(ring);
   }
 }

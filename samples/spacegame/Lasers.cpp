@@ -48,7 +48,10 @@ std::optional<LaserHit> Lasers::Fire(const RVec3& origin_W, const RVec3& directi
     m_heatGeneration[slot] = ray->body.generation;
     m_heat[slot] = 0;
   }
-  m_heat[slot] += hit.impulse_W.norm();
+  // The beam's dose, force dt a step: as a number, not the norm of the impulse along the
+  // beam, whose last bits follow the beam's direction (the split would then come a step
+  // early or late as the rock's 45th dose lands a rounding under or over splitImpulse).
+  m_heat[slot] += m_tuning.force * m_world.StepDt();
   if (m_heat[slot] >= m_tuning.splitImpulse) {
     Split(ray->body, dir);
     hit.split = true;

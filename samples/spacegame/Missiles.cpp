@@ -1,5 +1,7 @@
 #include "Missiles.h"
 
+#include <REngineMath/RFunctions.h>
+#include <REngineMath/RQuaternion.h>
 #include <REnginePhysics/RContactEvents.h>
 
 #include <algorithm>
@@ -97,7 +99,7 @@ void Missiles::BeforeStep() {
       // Nose along the velocity: a spin about axis x v at the rate that turns it in a step.
       const RVec3 turn = axis.cross(v.normalized());
       m_world.NoteDespawn(m);  // the ledger takes the spin the game sets
-      m.SetAngularVelocity_W(std::asin(std::min(1.0, turn.norm())) / m_world.StepDt() *
+      m.SetAngularVelocity_W(REngine::Asin(std::min(1.0, turn.norm())) / m_world.StepDt() *
                              (turn.norm() > 1e-9 ? RVec3(turn.normalized()) : RVec3::Zero()));
       m_world.NoteSpawn(m);
     }
@@ -170,7 +172,7 @@ void Missiles::SpawnDebris(const RVec3& at_W, const RVec3& velocity_W, const RVe
   for (int k = 0; k < m_tuning.debrisPerBlast; ++k) {
     // A fan about the outward normal, one piece every 2 pi / n, each a metre apart.
     const double a = 2 * kPi * k / m_tuning.debrisPerBlast;
-    const RVec3 spread = std::cos(a) * u + std::sin(a) * v;
+    const RVec3 spread = REngine::Cos(a) * u + REngine::Sin(a) * v;
     const RVec3 dir = (outward_W + 0.8 * spread).normalized();
     const RBodyHandle h = m_debris[m_nextDebris];
     m_nextDebris = (m_nextDebris + 1) % m_debris.size();  // the oldest piece is reused
@@ -181,7 +183,7 @@ void Missiles::SpawnDebris(const RVec3& at_W, const RVec3& velocity_W, const RVe
     }
     RRigidBody& d = bodies[h];
     const RVec3 p = at_W + 1.2 * spread;
-    d.SetShapePose(p, RQuat(Eigen::AngleAxis<double>(a, dir)));
+    d.SetShapePose(p, REngine::QuatAxisAngle(dir, a));
     d.SetVelocity_W(velocity_W + m_tuning.debrisSpeed * dir);
     d.SetAngularVelocity_W(2.0 * spread.cross(dir));
     d.SetGravityScale(m_world.InBay(p) ? 1 : 0);

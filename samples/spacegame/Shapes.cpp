@@ -1,5 +1,8 @@
 #include "Shapes.h"
 
+#include <REngineMath/RFunctions.h>
+#include <REngineMath/RQuaternion.h>
+
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -23,7 +26,7 @@ RShape Rock(double radius, int variant, Rng& rng) {
   for (int i = 0; i < kPoints; ++i) {
     const double y = 1 - 2 * (i + 0.5) / kPoints;
     const double r = std::sqrt(1 - y * y), phi = golden * i;
-    const RVec3 unit(r * std::cos(phi), y, r * std::sin(phi));
+    const RVec3 unit(r * REngine::Cos(phi), y, r * REngine::Sin(phi));
     points.push_back(radius * rng.Uniform(0.75, 1.15) * unit.cwiseProduct(squash));
   }
   return RShape::Hull(std::move(points));
@@ -95,13 +98,13 @@ RShape Station() {
   const double halfChord = R * std::tan(kPi / kSegments) + 0.4;  // overlap the joints
   for (int k = 0; k < kSegments; ++k) {
     const double a = 2 * kPi * k / kSegments;
-    const RQuat q(Eigen::AngleAxis<double>(-a, RVec3::UnitY()));
+    const RQuat q = REngine::QuatAxisAngle(RVec3::UnitY(), -a);
     add(RShape::Box(RVec3(2.5, GameShapes::kStationRingHalfAxial, halfChord)), q * RVec3(R, 0, 0), q);
   }
   const double spokeInner = 6, spokeOuter = R - 2.5;
   for (int k = 0; k < 4; ++k) {
     const double a = 2 * kPi * k / 4 + kPi / kSegments;
-    const RQuat q(Eigen::AngleAxis<double>(-a, RVec3::UnitY()));
+    const RQuat q = REngine::QuatAxisAngle(RVec3::UnitY(), -a);
     const double mid = 0.5 * (spokeInner + spokeOuter);
     add(RShape::Box(RVec3(0.5 * (spokeOuter - spokeInner), 1.2, 1.2)), q * RVec3(mid, 0, 0), q);
   }

@@ -1,5 +1,7 @@
 #include "World.h"
 
+#include <REngineMath/RQuaternion.h>
+
 #include <cmath>
 
 namespace spacegame {
@@ -80,7 +82,7 @@ void SpaceWorld::BuildScene() {
   ship.prepared = m_shapes.ship;
   ship.mass = 20000;
   ship.position_W = O + RVec3(70, 15, 40);
-  ship.q_WS = RQuat(Eigen::AngleAxis<double>(0.35, RVec3::UnitY()));
+  ship.q_WS = REngine::QuatAxisAngle(RVec3::UnitY(), 0.35);
   ship.restitution = 0.2;
   ship.gravityScale = 0;
   ship.category = category::kShip;
@@ -90,14 +92,21 @@ void SpaceWorld::BuildScene() {
   // The asteroid field: a slab ahead of the ship, rocks drifting and tumbling slowly.
   Rng rng(m_config.seed * 7919 + 1);
   const RVec3 field = O + RVec3(110, 0, 230);
+  // A point in the box of half-extents h about the origin, x drawn first: one statement
+  // each, as the order a constructor's arguments are evaluated in is the compiler's choice
+  // (gcc goes right to left, clang left to right) and the field must be the same for both.
+  auto inBox = [&rng](double hx, double hy, double hz) {
+    const double x = rng.Uniform(-hx, hx);
+    const double y = rng.Uniform(-hy, hy);
+    const double z = rng.Uniform(-hz, hz);
+    return RVec3(x, y, z);
+  };
   for (int k = 0; k < m_config.asteroids; ++k) {
     const int size = k % 7 == 0 ? 2 : k % 3 == 0 ? 1 : 0;
-    const RVec3 p =
-        field + RVec3(rng.Uniform(-130, 130), rng.Uniform(-45, 45), rng.Uniform(-90, 90));
-    const RVec3 axis =
-        RVec3(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(-1, 1)).normalized();
-    const RQuat q(Eigen::AngleAxis<double>(rng.Uniform(0, 2 * kPi), axis));
-    const RVec3 v(rng.Uniform(-1, 1), rng.Uniform(-0.5, 0.5), rng.Uniform(-1, 1));
+    const RVec3 p = field + inBox(130, 45, 90);
+    const RVec3 axis = inBox(1, 1, 1).normalized();
+    const RQuat q = REngine::QuatAxisAngle(axis, rng.Uniform(0, 2 * kPi));
+    const RVec3 v = inBox(1, 0.5, 1);
     const RVec3 w = rng.Uniform(0.05, 0.4) * axis.cross(RVec3(0.3, 1, 0.2)).normalized();
     AddAsteroid(size, int(rng.Next() % kRockVariants), p, q, v, w);
   }

@@ -299,7 +299,9 @@ TEST(SpaceGame, TheLoopStepsAtTheFixedDtAndDrawsBetweenSteps) {
   EXPECT_GT(checked, 50);
 }
 
-// The autoplay twice in one process: the same hash, and the state did change.
+// The autoplay twice in one process: the same hash, and the state did change; and the hash
+// gcc and clang both give (the world is drawn in a fixed order and the game's angles go
+// through the engine's own functions), pinned as the scenes' are in cli_test.cpp.
 TEST(SpaceGame, TheAutoplayRepeatsToTheBit) {
   std::uint64_t hashes[2];
   std::uint64_t start = 0;
@@ -317,6 +319,7 @@ TEST(SpaceGame, TheAutoplayRepeatsToTheBit) {
   }
   EXPECT_EQ(hashes[0], hashes[1]);
   EXPECT_NE(hashes[0], start);
+  EXPECT_EQ(HashHex(hashes[0]), "537402df6135218f");
 }
 
 // The engine's promise through the game: the same autoplay on two threads ends on the same
@@ -383,8 +386,9 @@ TEST(SpaceGame, TheLoopAllocatesOnlyWhileItsContainersGrow) {
   }
   std::printf("frames 60 to 240: %d of 180 allocated, %ld allocations in all (%s)\n",
               allocatingFrames, total, which.c_str());
-  // Measured: 11 frames, most about the missile going off (frames 121 to 126: the blast, the
+  // Measured: 15 frames, most about the missile going off (frames 106 to 114: the blast, the
   // debris enabled, their first contacts), the second launch (150) and debris reaching rocks
-  // (215 to 220).
-  EXPECT_LE(allocatingFrames, 16);
+  // (201 to 222).
+  EXPECT_LE(allocatingFrames, 20);
 }
+

@@ -252,9 +252,9 @@ TEST_F(Cli, ReferenceScenesKeepTheirPinnedHashes) {
     const char* scene;
     const char* hash;
   } pins[] = {
-      {"asteroid_field_500", "befd91384bfacbd2"}, {"box_pile_1000", "53f176ac143e2b28"},
+      {"asteroid_field_500", "6838cf8a41a323df"}, {"box_pile_1000", "98b9de0293971f56"},
       {"box_stack_10", "15c7e33cb50b3227"},       {"box_stack_20", "f5ff07194df8205d"},
-      {"debris_cloud_1000", "f674d81f780d1237"},  {"dzhanibekov", "b63229bbe454cb51"},
+      {"debris_cloud_1000", "4795c2fcfe674f96"},  {"dzhanibekov", "b63229bbe454cb51"},
       {"head_on_elastic", "0faffadb61f4169c"},    {"newtons_cradle", "35de15fdaada2f98"},
   };
   for (const auto& pin : pins) {

@@ -84,12 +84,19 @@ class RFreeRotation : private RFreeRotationCore {
   // Advances (w_B, q_WB) by h seconds of torque-free motion. w_B: angular velocity, body
   // frame, rad/s; q_WB: body-to-world rotation. h may be negative (runs time backwards).
   void Advance(RScalar h, RVec3& w_B, RQuat& q_WB);
+  // The same flow without touching the cache: where (w_B, q_WB) is h seconds on. The
+  // spherical and symmetric closed forms are Advance's own; a general body's works out its
+  // constants on a copy. (The impact phase asks where a body has turned to at an impact's
+  // time, and the motion then continues from there with Advance.)
+  void Flow(RScalar h, RVec3& w_B, RQuat& q_WB) const;
 
   // Quadrature panels the last general-case step integrated (its cost): at most
   // 2 x 4096 however fast the body spins (see m_periods).
   int QuadraturePanels() const { return m_panels + (m_periods > 0 ? m_periodPanels : 0); }
 
  private:
+  // The spherical and symmetric closed forms; false for a general body, which they leave as it was.
+  bool AdvanceClosedForm(RScalar h, RVec3& w_B, RQuat& q_WB) const;
   // Fills the polhode's constants for (h, w_B); false for a steady spin (omega constant).
   bool ComputeConstants(RScalar h, const RVec3& w_B);
   // The body axis the polhode circles, signed to the side the angular momentum is on.

@@ -91,16 +91,27 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
         const RDragFlow d = DragFlow(b.m_angularDamping, dt);
         return d.E / d.M;
       }() : RScalar(1);
+      const RSolverBody* out = in.solved && in.inRows[i] ? &solverBodies[i] : nullptr;
       if (b.m_angularLocked) {
         TurnLocked(b, dt);
       } else {
         if (b.m_angularDamping != 0) b.m_w_B *= DragFlow(b.m_angularDamping, dt).M;
         const bool torque = !b.m_torque_W.isZero(0);
-        const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
-        if (!kick0_W.isZero(0)) {
-          b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
+        if (out && out->turned) {
+          // An impact within the step changed how it turns: it turned on the free flow from
+          // the start to its last impact (the impact phase's path, which found its contacts
+          // there), and goes on from its orientation then with its spin after the contact
+          // phase, which its start's kicks and every impulse since are in.
+          b.m_q_WB = out->turnQ;
+          b.m_w_B = out->turnQ.conjugate() * out->turnW_W;
+          b.m_rotation.Advance(dt - out->turnTau, b.m_w_B, b.m_q_WB);
+        } else {
+          const RVec3 kick0_W = StartAngularKick_W(b, halfDt);
+          if (!kick0_W.isZero(0)) {
+            b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * kick0_W);
+          }
+          b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
         }
-        b.m_rotation.Advance(dt, b.m_w_B, b.m_q_WB);
         if (torque) {
           b.m_w_B += b.m_invI_B.cwiseProduct(b.m_q_WB.conjugate() * EndAngularKick_W(b, halfDt));
         }
@@ -109,7 +120,6 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
       // Position correction: displacement without velocity (split impulses). A body it moves
       // faster than the sleep speed is not at rest.
       RScalar pseudoSpeed = 0;
-      const RSolverBody* out = in.solved && in.inRows[i] ? &solverBodies[i] : nullptr;
       if (out && (!out->vp.isZero(0) || !out->wp.isZero(0))) {
         pseudoSpeed = out->vp.norm() + out->wp.norm() * b.m_boundingRadius;
         b.m_x_W += out->vp * dt;

@@ -171,7 +171,8 @@ void RContactSolver::ReportIsland(const RStepBodies& bodies, RScalar dt, std::si
       // moves deferV dt less than its final velocity would take it: the spin that keeps
       // angular momentum exact (the orbital term x x m v misses dt deferV x J_contact). It
       // is the moment of the lever arms' shift that the contact phase was solved with (see
-      // ShiftArmsAfterImpacts), so it costs no energy the solve did not see.
+      // ShiftArmsAfterImpacts), so it costs no energy the solve did not see. (A body that
+      // turned at an impact takes the solve's spin itself, turnW_W, which has it.)
       s.angularImpulse += dt * s.deferV.cross(s.contactDeltaV / b.m_invMass);
     }
     b.m_linearImpulse_W = s.impulse, b.m_angularImpulse_W = s.angularImpulse;

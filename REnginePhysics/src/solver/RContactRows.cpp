@@ -85,6 +85,7 @@ void RContactSolver::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci,
   r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
   r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
   r.miss = false, r.joined = false;
+  r.sweptA = r.sweptB = ~std::uint32_t{0};  // (never swept)
 }
 
 // Asks for what BuildContactRows reads of contact ci: the contact and its pair's warm starts

@@ -89,6 +89,7 @@ void RContactSolver::FindImpulses(const RStepBodies& bodies, RScalar dt, const R
     RMotion::InitSolverBody(s, bodies[i], m_in->sweep.MoveV(i), halfDt, m_in->settings.gravity_W);
     s.moved.setZero(), s.tau = 0, s.deferV.setZero();
     s.vImpacts = s.v, s.contactDeltaV.setZero(), s.vMid = s.v;
+    s.turns = s.turned = false, s.impacts = 0;
   }
   // Next step's warm starts: those kept for sleeping pairs, then each contact's rows in the
   // contacts' order (RContactSlots::warm), written by the islands.
@@ -189,7 +190,7 @@ void RContactSolver::SolveIsland(const RStepBodies& bodies, RScalar dt, std::siz
   const bool joints = m_joints.IslandHasJoints(island);
   // (An island with joints keeps a patch per manifold: the joints' end reads them one by one.)
   if (!joints) GroupPatches(bodies, first, last, sc);
-  WarmStartIsland(RPhase::kVelocity, first, last);
+  WarmStartIslandVelocities(bodies, dt, island, sc);
   const RJointIslandView jointView = JointView(bodies, dt, island);
   if (joints) m_joints.BuildIslandJoints(jointView, sc);
   // Most islands (a resting pile: every one) have no impact: their impact rows are not built.
@@ -385,7 +386,9 @@ void RContactSolver::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
     dir.rBxd = sb.linLocked ? RVec3(rB.cross(d) + shiftB.cross(d.cwiseProduct(sb.linMask))) : RVec3((rB + shiftB).cross(d));
     SetEffectiveMass(dir, sa, sb);
   };
-  auto deferred = [this](std::uint32_t i) { return !m_solverBodies[i].deferV.isZero(0); };
+  // A body that turned at an impact within the step has the inverse inertia of its
+  // orientation then (TurnTo), which the contact phase's impulses act with.
+  auto deferred = [this](std::uint32_t i) { return !m_solverBodies[i].deferV.isZero(0) || m_solverBodies[i].turned; };
   for (std::uint32_t i = rowsFirst; i < rowsLast; ++i) {
     RContactRow& r = m_rows[i];
     if (!deferred(r.a) && !deferred(r.b)) continue;
@@ -397,6 +400,10 @@ void RContactSolver::ShiftArmsAfterImpacts(RScalar dt, std::size_t island) {
     const std::uint32_t a = m_rows[blk.first].a, b = m_rows[blk.first].b;
     if (!deferred(a) && !deferred(b)) continue;
     for (RDirection& t : blk.t) shiftArms(t, blk.rA, blk.rB, a, b);
+    if (m_solverBodies[a].turned || m_solverBodies[b].turned) {
+      blk.twistIA = m_solverBodies[a].invI * blk.normal, blk.twistIB = m_solverBodies[b].invI * blk.normal;
+      blk.kTwist = blk.normal.dot(blk.twistIA) + blk.normal.dot(blk.twistIB);
+    }
   }
 }
 

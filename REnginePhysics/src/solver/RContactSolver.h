@@ -130,11 +130,33 @@ class RContactSolver {
   void SolveIslandImpacts(const RStepBodies& bodies, RScalar dt, std::size_t island,
                           const RJointIslandView& jointView, RIslandScratch& sc);
   void ShiftArmsAfterImpacts(RScalar dt, std::size_t island);
-  template <class Advance>
-  bool ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa, RSolverBody& sb,
-                      const Advance& advance, RScalar& t, RScalar dt, RVec3& rA, RVec3& rB,
-                      RDirection* dir, std::uint32_t childA, std::uint32_t childB) const;
-  void WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last);
+  // The phase's parts (RImpactPhase.cpp): which of the island's bodies turn on their paths;
+  // one row's impact in a pass (returns whether it pushed), and its impact at a time; the
+  // geometry of an impact at its time; and (RImpactSweep.cpp) the time from t0 on at which a pair whose turning
+  // changed at an impact next closes (infinity: not within the step).
+  void BeginTurns(const RStepBodies& bodies, std::size_t island, bool joints);
+  bool ImpactRow(const RStepBodies& bodies, RImpactRow& r, RScalar dt, bool joints, const RJointIslandView& jointView,
+                 RIslandScratch& sc);
+  bool ImpactAt(const RStepBodies& bodies, RImpactRow& r, RSolverBody& sa, RSolverBody& sb, RScalar t, RScalar dt,
+                bool swept, bool joints, const RJointIslandView& jointView, RIslandScratch& sc);
+  bool ImpactGeometry(const RBodyCore& A, const RBodyCore& B, RSolverBody& sa, RSolverBody& sb, RScalar& t,
+                      RScalar dt, RVec3& rA, RVec3& rB, RDirection* dir, std::uint32_t childA, std::uint32_t childB,
+                      bool whole) const;
+  RScalar SweepImpact(const RBodyCore& A, const RBodyCore& B, const RSolverBody& sa, const RSolverBody& sb,
+                      RScalar t0, RScalar dt, std::uint32_t childA, std::uint32_t childB,
+                      bool pastTouching) const;
+  // With dt > 0, returns sum |lambda| ((|a_A| + |a_B|) dt + kWarmRounding |v|) over the
+  // impulses it applied, v the speed of each one's direction just before it (J): what a
+  // guess of resting contacts can put in, and the rounding of what it exchanges
+  // (WarmStartIslandVelocities).
+  RScalar WarmStartIsland(RPhase phase, std::uint32_t first, std::uint32_t last, RScalar dt);
+  // 1e4 times the rounding of the energy an impulse exchanges (some 1e3 operations of 1.1e-16
+  // each), and far below any gain that matters.
+  static constexpr RScalar kWarmRounding = 1e-9;
+  // The velocity phase's warm start of an island, kept only when it does not raise the
+  // island's kinetic energy (RContactPasses.cpp).
+  void WarmStartIslandVelocities(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
+  RScalar IslandKineticEnergy(const RStepBodies& bodies, std::size_t island) const;
   // The island's friction patches shared by manifolds of one body on flush immovable bodies
   // (RPatchGroups.cpp): grouped, and each group's patch set up as one manifold's.
   void GroupPatches(const RStepBodies& bodies, std::uint32_t first, std::uint32_t last, RIslandScratch& sc);

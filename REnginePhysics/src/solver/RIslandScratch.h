@@ -21,6 +21,9 @@
 namespace REngine {
 
 struct RIslandScratch {
+  // The island's bodies' velocities before its warm start (m/s, rad/s, world), put back
+  // when the warm start would raise their kinetic energy.
+  std::vector<RVec3> warmV, warmW;
   // One island's direct solve: its rows and the dense scratch (RContactSolver::kDirectRows^2
   // at most).
   std::vector<std::uint32_t> index;  // the island's rows

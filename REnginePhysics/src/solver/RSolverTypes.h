@@ -77,6 +77,10 @@ struct RImpactRow {
   RVec3 point_W, normal_W;
   bool miss;                 // found, along the motion, not to meet within the step
   bool joined;               // a weld's contacts joined in it: its point whenever it meets
+  // The bodies' impact counts (RSolverBody::impacts) when the row was last swept for a
+  // contact along their turning paths (SweepImpact): swept again only once either has
+  // taken another impulse.
+  std::uint32_t sweptA, sweptB;
 };
 // Working state of a body during the solve: velocities that include every pending change.
 struct RSolverBody {
@@ -111,6 +115,21 @@ struct RSolverBody {
   // The body's impulses (world, N s and N m s about its centre): its own, then the
   // contacts' added (FindImpulses), written back to the body at the end of the solve.
   RVec3 impulse, angularImpulse;
+  // The impact phase's rotation (SolveIslandImpacts, solver/RImpactPath.h). A body that
+  // turns on its path (turns: a dynamic body whose contacts move as it turns, without
+  // angular locks, drag, welds or joints) is at orientation turnQ at time turnTau of the
+  // step, with body spin turnW_B, and turns on the torque-free flow from there; its w and
+  // invI are those of turnTau, or of the time atTau its geometry is being worked out at
+  // (qAt its orientation then); turning: its spin turns it far enough within the step for
+  // that geometry to follow it (TurnsFar; else it keeps turnQ). impacts: the impulses it took
+  // in the phase. turned: one of them, after the start, found it turning or set it turning:
+  // the motion turns it from turnQ at turnTau with turnW_W, its spin after the contact
+  // phase (world), and not from its start (RMotion::Integrate).
+  RQuat turnQ, qAt;
+  RVec3 turnW_B, turnW_W;
+  RScalar turnTau, atTau;
+  std::uint32_t impacts;
+  bool turns, turning, turned;
 };
 // Warm-start memory: last step's impulses by (slot a, slot b, feature id), a the lower
 // slot; the generations tell a body that took over a freed slot from its former holder.
