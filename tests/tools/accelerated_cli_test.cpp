@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -71,4 +73,45 @@ TEST_F(Cli, DampedFallFollowsTheExactFlow) {
     worst = std::max(worst, std::abs(row.state[1] - y) / (1 + std::abs(y - 100)));
   }
   EXPECT_LT(worst, 1e-12);
+}
+
+// A crate resting on the inside of a spinning station's rim (a kinematic compound ring of
+// radius R = 39.24 m turning at w about z, zero gravity: 1 g at 0.5 rad/s, 4 g at 1): the
+// deck holds it on its circle with m w^2 R alone. Read from the trajectory: its bottom face
+// never beyond the deck by more than the contact slop (0.5 mm, the engine's default), and
+// after the first second its velocity relative to the deck's surface under it has no
+// normal part (to 1e-9 m/s).
+TEST_F(Cli, ACrateRestsOnASpinningDeckWithoutSinking) {
+  const double R = 39.24, half = 0.5, slop = 5e-4, dt = 1.0 / 60;
+  for (const double w : {0.5, 1.0}) {
+    char station[600], crate[400];
+    std::snprintf(station, sizeof station,
+                  R"("kind": "kinematic", "friction": 0.5, "angular_velocity": [0, 0, %g], "shape": {"type": "compound",
+                     "children": [{"shape": {"type": "box", "half_extents": [4, 0.5, 4]}, "position": [0, %.17g, 0]},
+                                  {"shape": {"type": "box", "half_extents": [4, 0.5, 4]}, "position": [0, %.17g, 0]}]})",
+                  w, -R - 0.5, R + 0.5);
+    std::snprintf(crate, sizeof crate,
+                  R"("shape": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}, "mass": 2, "friction": 0.5,
+                     "position": [0, %.17g, 0], "velocity": [%.17g, 0, 0], "angular_velocity": [0, 0, %g])",
+                  -R + half, w * (R - half), w);
+    const std::string scene = SceneOf({{"station", station}, {"crate", crate}},
+                                      R"("dt": 0.016666666666666666, "steps": 600, "gravity": [0, 0, 0])");
+    const std::string name = w == 0.5 ? "deck_1g" : "deck_4g";
+    const Result r = Run(Quote(Write(name + ".json", scene)) + " --out " + Quote(Path(name + ".csv")));
+    ASSERT_EQ(r.code, 0) << r.err;
+    double sink = 0, normal = 0;
+    for (const Row& row : RowsOf(ParseCsv(ReadFile(Path(name + ".csv"))), "crate")) {
+      const double x = row.state[0], y = row.state[1], rho = std::hypot(x, y);
+      sink = std::max(sink, rho + half - R);
+      // The deck's velocity at the crate, w x (x, y, 0), against the crate's, along the radius.
+      const double deckX = -w * y, deckY = w * x;
+      if (static_cast<double>(row.step) * dt > 1) {
+        normal = std::max(normal, std::abs(((row.state[7] - deckX) * x + (row.state[8] - deckY) * y) / rho));
+      }
+    }
+    std::printf("deck at %g rad/s through rengine-sim: sunk up to %.3g m, normal velocity up to %.3g m/s\n", w, sink,
+                normal);
+    EXPECT_LE(sink, slop * (1 + 1e-9)) << "w " << w;
+    EXPECT_LT(normal, 1e-9) << "w " << w;
+  }
 }
