@@ -41,9 +41,10 @@ enum class Tiles : std::uint8_t {
   kMeshes,      // one mesh body per tile: a flat quad of two triangles
   kKinematic,   // the boxes, kinematic and still
   kOneFloor,    // the reference: one box under the whole row
+  kCompound,    // one compound body whose children are the box tiles
 };
 inline const char* Name(Tiles t) {
-  static const char* const names[] = {"boxes", "hulls", "meshes", "kinematic boxes", "one floor"};
+  static const char* const names[] = {"boxes", "hulls", "meshes", "kinematic boxes", "one floor", "compound"};
   return names[static_cast<int>(t)];
 }
 
@@ -185,6 +186,17 @@ inline std::vector<RRigidBody> SeamScene(const Crossing& c, RScalar startX, RSca
     RBodyDef d;
     d.shape = RShape::Box(RVec3(0.5 * c.tileCount, 0.1, 2));
     d.position_W = c.frame.R * RVec3(0.5 * c.tileCount, -0.1, 0) + c.frame.origin;
+    d.q_WS = RQuat(c.frame.R);
+    bodies.emplace_back(Immovable(d, c));
+  } else if (c.tiles == Tiles::kCompound) {
+    std::vector<RCompoundChild> children;
+    for (int k = 0; k < c.tileCount; ++k) {
+      const RScalar x0 = k + (c.gapAt >= 0 && k >= c.gapAt ? c.gap : 0) + (k % 2 ? c.jitter : 0);
+      children.push_back({RShape::Box(RVec3(0.5, 0.1, 2)), RVec3(x0 + 0.5, (k == c.raised ? c.rise : 0) - 0.1, 0)});
+    }
+    RBodyDef d;
+    d.shape = RShape::Compound(std::move(children));
+    d.position_W = c.frame.origin;
     d.q_WS = RQuat(c.frame.R);
     bodies.emplace_back(Immovable(d, c));
   } else if (c.grid) {

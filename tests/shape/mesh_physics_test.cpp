@@ -190,6 +190,7 @@ namespace {
 // bounce): the largest upward speed, and the velocity and spin at the end.
 struct Roll {
   RScalar hop = 0;
+  RScalar drift = 0;  // m, off the line it started on (where a test measures it)
   RVec3 v = RVec3::Zero(), w = RVec3::Zero();
   int begins = 0, ends = 0;
 };
@@ -264,4 +265,58 @@ TEST(MeshPhysics, AFrictionlessBallDroppedBesideAnEdgeDoesNotSpin) {
     EXPECT_LT(std::hypot(bodies[1].Velocity_W().x(), bodies[1].Velocity_W().z()), 1e-9) << speed;
     EXPECT_NEAR(bodies[1].Velocity_W().y(), 0.5 * speed, 1e-9 * speed) << speed;
   }
+}
+
+namespace {
+
+// A closed mesh box of half extents h about the origin: 8 corners, 12 triangles wound
+// outward, each side face split by one diagonal (an edge inside a flat face, so inactive).
+RShape ClosedBoxMesh(const RVec3& h) {
+  RShape s;
+  s.type = RShapeType::kMesh;
+  for (int i = 0; i < 8; ++i) s.points.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
+  s.triangles = {{0, 3, 1}, {0, 2, 3}, {4, 7, 6}, {4, 5, 7}, {0, 5, 4}, {0, 1, 5},
+                 {2, 7, 3}, {2, 6, 7}, {0, 6, 2}, {0, 4, 6}, {1, 7, 5}, {1, 3, 7}};
+  return s;
+}
+
+}  // namespace
+
+// A ball rolling along the edge of a platform that is a closed mesh (a box of 12
+// triangles), its contact 0.1 m inside the edge and its body overhanging it by 0.15 m:
+// within the speculative margin of the side face's inner diagonal, whose face normal once
+// took the overhang for an overlap and pushed the ball 0.15 m in from its line. It rolls
+// straight on as along the edge of a box platform: the same line, velocity and spin, no hop.
+TEST(MeshPhysics, ABallRollingAlongTheEdgeOfAClosedMeshRollsStraight) {
+  const RVec3 half(6, 0.1, 6);
+  auto roll = [&](const RShape& platform) {
+    RBodyDef floor = StaticBody(platform, RVec3(0, -0.1, 0));
+    floor.friction = 0.5, floor.restitution = 0.5;
+    std::vector<RRigidBody> bodies{RRigidBody(floor)};
+    RBodyDef ball;
+    ball.shape = Sphere(0.25);
+    ball.position_W = RVec3(-1, 0.25, 5.9);
+    ball.velocity_W = RVec3(5, 0, 0), ball.angularVelocity_W = RVec3(0, 0, -20);
+    ball.friction = 0.5, ball.restitution = 0.5;
+    bodies.emplace_back(ball);
+    RIntegrator integrator;
+    integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
+    integrator.Settings().shortcuts.sleeping = false;
+    Roll r;
+    for (int k = 0; k < 60; ++k) {
+      integrator.Update(bodies, 1.0 / 60);
+      r.hop = std::max(r.hop, bodies[1].Velocity_W().y());
+      r.drift = std::max(r.drift, std::abs(bodies[1].Position_W().z() - 5.9));
+    }
+    r.v = bodies[1].Velocity_W(), r.w = bodies[1].AngularVelocity_W();
+    return r;
+  };
+  const Roll onMesh = roll(ClosedBoxMesh(half)), onBox = roll(Box(half));
+  std::printf("along a closed mesh's edge: v (%.9f, %.9f, %.9f), along a box's (%.9f, %.9f, %.9f); off its line by "
+              "%.2e m; largest upward speed %.2e\n",
+              onMesh.v.x(), onMesh.v.y(), onMesh.v.z(), onBox.v.x(), onBox.v.y(), onBox.v.z(), onMesh.drift, onMesh.hop);
+  EXPECT_LT(onMesh.hop, 1e-9);
+  EXPECT_LT(onMesh.drift, 1e-9);
+  EXPECT_LT((onMesh.v - onBox.v).norm(), 1e-9);
+  EXPECT_LT((onMesh.w - onBox.w).norm(), 1e-8);
 }

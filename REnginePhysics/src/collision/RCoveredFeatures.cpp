@@ -157,12 +157,13 @@ bool ContinuesPlane(const RCoverSurface& a, const RVec3& probe_W, const RVec3& n
   return continues;
 }
 
-// The other immovable bodies' answers for one point: some body but B itself, moving with it.
+// The other immovable surfaces' answers for one point: any but B itself (another body, or
+// another child of B's compound), moving with it.
 struct Coverers {
   const RCoverSurface* s;
   int count;
   const RCoverSurface& self;
-  bool Other(int k) const { return s[k].id != self.id && s[k].Takes() && s[k].MovesWith(self); }
+  bool Other(int k) const { return !s[k].Same(self) && s[k].Takes() && s[k].MovesWith(self); }
   bool Pressed(const RVec3& q_W, const RVec3& n_W, const RCoverTolerances& tol, CoverPolygon* face = nullptr) const {
     for (int k = 0; k < count; ++k) {
       if (Other(k) && PressedAgainst(s[k], q_W, n_W, tol, face)) return true;

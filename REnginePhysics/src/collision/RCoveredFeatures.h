@@ -40,6 +40,12 @@ struct RCoverSurface {
   RVec3 x_W = RVec3::Zero();
   RVec3 boxMin_W = RVec3::Zero(), boxMax_W = RVec3::Zero();
   std::uint32_t id = 0;  // which body (the caller's index): a body does not cover itself
+  // Which of the body's compound children this is (kWhole: the body's own shape). A
+  // compound's children are surfaces of their own: a deck built of boxes in one body has
+  // its seams between children, and its children cover each other as separate bodies do.
+  static constexpr std::uint32_t kWhole = 0xffffffffu;
+  std::uint32_t child = kWhole;
+  bool Same(const RCoverSurface& o) const { return id == o.id && child == o.child; }
   // Its motion, world, m/s and rad/s: bodies cover each other only while they move as one,
   // without turning (static ones; kinematic ones still, or translating at one velocity): a
   // kinematic paddle sweeping over the ground covers nothing of it.

@@ -82,6 +82,21 @@ bool OnActiveFeature(const RTriangleMesh& mesh, std::uint32_t t, const RConvexPo
   return true;
 }
 
+// Whether q (the triangle's frame) lies on the triangle: within 1e-6 of its size of its
+// plane, and inside it or within 1e-6 of its size outside (a point on an edge two triangles
+// share is on both, to rounding).
+bool OverTriangle(const RConvexPolyhedron& tri, const RVec3& q) {
+  const auto& v = tri.Vertices();
+  const RVec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
+  const RScalar area = n.squaredNorm();
+  constexpr RScalar kOn = 1e-6;
+  if (std::abs(n.dot(q - v[0])) > kOn * std::sqrt(area) * std::sqrt(std::sqrt(area))) return false;
+  for (int k = 0; k < 3; ++k) {
+    if ((v[(k + 1) % 3] - q).cross(v[(k + 2) % 3] - q).dot(n) / area < -kOn) return false;
+  }
+  return true;
+}
+
 // The manifolds of one convex child against a mesh, gathered by normal.
 struct MeshGroups {
   static constexpr int kPoints = 16;  // reduced to four whenever full
@@ -208,6 +223,19 @@ int MeshChildManifolds(const RTriangleMesh& mesh, bool meshIsA, const RShapeChil
         const RVec3 n_face = side >= 0 ? face : RVec3(-face);
         const RVec3 n = meshIsA ? n_face : RVec3(-(Xc.R_AB * n_face));
         m = ManifoldAlong(ca.shape, cb.shape, Xc, n, meshIsA, margin);
+        // Only the points over the triangle are its face's: a shape beside the triangle,
+        // within the margin of its inactive edge but past its plane (a ball rolling over
+        // the top of a closed mesh's side, near the diagonal that splits it), overlaps the
+        // plane, not the face, and the face's normal would throw it off (the other
+        // triangles' own contacts hold it).
+        int kept = 0;
+        for (int k = 0; k < m.pointCount; ++k) {
+          const RContactPoint& p = m.points[k];
+          const RVec3 q_A = p.position + RScalar(meshIsA ? -0.5 : 0.5) * p.separation * m.normal;
+          const RVec3 q_T = meshIsA ? q_A : RVec3(Xc.R_AB.transpose() * (q_A - Xc.t_AB));
+          if (OverTriangle(*tri.shape.polyhedron, q_T)) m.points[kept++] = p;
+        }
+        m.pointCount = kept;
         if (m.pointCount == 0) return;
       }
     }

@@ -18,6 +18,24 @@
 
 namespace REngine {
 
+namespace {
+
+// A compound child's world box (m): its polyhedron's corners posed, or its bounding sphere.
+void ChildBox(RCoverSurface& s) {
+  if (s.shape.polyhedron) {
+    s.boxMin_W = s.boxMax_W = s.R_WB * s.shape.polyhedron->Vertices()[0] + s.x_W;
+    for (const RVec3& v : s.shape.polyhedron->Vertices()) {
+      const RVec3 p_W = s.R_WB * v + s.x_W;
+      s.boxMin_W = s.boxMin_W.cwiseMin(p_W), s.boxMax_W = s.boxMax_W.cwiseMax(p_W);
+    }
+    return;
+  }
+  s.boxMin_W = s.x_W.array() - s.shape.boundingRadius;
+  s.boxMax_W = s.x_W.array() + s.shape.boundingRadius;
+}
+
+}  // namespace
+
 void RPairSweep::CoveredFeatures(const RStepBodies& bodies, RScalar dt, RScalar allowance, std::size_t pairTasks,
                                  const RStepInputs& in) {
   // Which moving bodies touch several immovable ones: each body's first such contact in
@@ -83,22 +101,42 @@ void RPairSweep::CoveredFeatures(const RStepBodies& bodies, RScalar dt, RScalar 
 
 bool RPairSweep::CoverBody(const RStepBodies& bodies, RScalar dt, RScalar allowance, RScalar slop, std::size_t first,
                            std::size_t last, std::uint64_t cacheStamp) {
-  // The immovable bodies this one touches, once each (a body's contacts with one of them
-  // follow one another: a compound's children, a mesh's groups).
+  // The immovable surfaces this body touches, once each: a body's shape, or each child of a
+  // compound that a contact names (a body's contacts with one of them follow one another:
+  // a compound's children, a mesh's groups).
   m_coverSurfaces.clear();
+  auto childOf = [&](const RContact& c, const RConvexShape& shapeB) {
+    return shapeB.children ? (ImmovableAt(c.a) ? c.manifold.childA : c.manifold.childB) : RCoverSurface::kWhole;
+  };
+  auto find = [&](std::uint32_t id, std::uint32_t child) {
+    std::size_t s = 0;
+    while (s < m_coverSurfaces.size() && !(m_coverSurfaces[s].id == id && m_coverSurfaces[s].child == child)) ++s;
+    return s;
+  };
   for (std::size_t k = first; k < last; ++k) {
     const RContact& c = m_contacts[m_coverContacts[k].second];
     const std::uint32_t immovable = ImmovableAt(c.a) ? c.a : c.b;
-    if (!m_coverSurfaces.empty() && m_coverSurfaces.back().id == immovable) continue;
     const RBodyCore& B = bodies[immovable];
-    const RWorldForm& form = Body(B).WorldForm(cacheStamp);
+    const RConvexShape shapeB = ShapeOf(Body(B));
+    const std::uint32_t child = childOf(c, shapeB);
+    if (find(immovable, child) < m_coverSurfaces.size()) continue;
     RCoverSurface s;
-    s.shape = ShapeOf(Body(B));
+    s.shape = shapeB;
     s.R_WB = B.m_q_WB.toRotationMatrix();
     s.x_W = B.m_x_W;
-    s.boxMin_W = form.aabbMin_W, s.boxMax_W = form.aabbMax_W;
-    s.id = immovable;
+    s.id = immovable, s.child = child;
     s.v_W = B.m_v_W, s.w_W = B.m_w_W;
+    if (child == RCoverSurface::kWhole) {
+      const RWorldForm& form = Body(B).WorldForm(cacheStamp);
+      s.boxMin_W = form.aabbMin_W, s.boxMax_W = form.aabbMax_W;
+    } else {
+      if (child >= shapeB.childCount) continue;
+      const RShapeChild& ch = shapeB.children[child];
+      s.shape = ch.shape;
+      s.x_W = s.x_W + s.R_WB * ch.p_BC;
+      s.R_WB = s.R_WB * ch.R_BC;
+      ChildBox(s);
+    }
     m_coverSurfaces.push_back(s);
   }
   if (m_coverSurfaces.size() < 2) return false;
@@ -107,13 +145,13 @@ bool RPairSweep::CoverBody(const RStepBodies& bodies, RScalar dt, RScalar allowa
   const RConvexShape shapeM = ShapeOf(Body(M));
   const RMat3 R_WM = M.m_q_WB.toRotationMatrix();
   bool dropped = false;
-  std::size_t surface = 0;
   for (std::size_t k = first; k < last; ++k) {
     const std::uint32_t ci = m_coverContacts[k].second;
     RContact& c = m_contacts[ci];
     const bool bIsA = ImmovableAt(c.a);
     const std::uint32_t immovable = bIsA ? c.a : c.b;
-    while (m_coverSurfaces[surface].id != immovable) ++surface;
+    const std::size_t surface = find(immovable, childOf(c, ShapeOf(Body(bodies[immovable]))));
+    if (surface == m_coverSurfaces.size()) continue;
     // M's piece in the contact: its shape, or the compound's child that touches.
     RPosedShape piece;
     piece.shape = shapeM, piece.R_W = R_WM, piece.x_W = M.m_x_W;
