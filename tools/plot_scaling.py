@@ -5,9 +5,11 @@
 
 One colour per series (debris, pile awake, pile sleeping, sparse), one line style per engine:
 REngine (solid; with the broad phase, the default), REngine's all-pairs reference loop
-(dotted; rows with broadphase=off), Bullet of the same run (dash-dot), and Jolt 5.5's figures
-from the reference table in tools/rengine-bench/scaling_scenes.cpp (dashed, open markers:
-measured in another run).
+(dotted; rows with broadphase=off), REngine on more threads (dashed), Bullet of the same run
+(dash-dot, one thread), and Jolt of the same run (open markers, one line style per thread
+count: the jolt_ms_per_step column, present when rengine-bench was built with
+REngine_JOLT_DIR). CSVs written before the Jolt series (their Jolt column was an estimate)
+give no Jolt points.
 Where several files hold the same point (series, engine, body count), the first file's is
 drawn: give the main run first.
 
@@ -36,8 +38,9 @@ ENGINES = {  # engine -> (label, line style, marker, filled)
     "REngine": ("REngine", "-", "o", True),
     "REngine all pairs": ("REngine, all-pairs loop (broad phase off)", ":", "x", True),
     "REngine 2 threads": ("REngine, 2 threads", (0, (5, 1)), "D", True),
-    "Bullet": ("Bullet 3.24, this run", "-.", "s", True),
-    "Jolt": ("Jolt 5.5, the reference table", "--", "^", False),
+    "Bullet": ("Bullet 3.24, one thread", "-.", "s", True),
+    "Jolt": ("Jolt 5.5", "--", "^", False),
+    "Jolt 2 threads": ("Jolt 5.5, 2 threads", (0, (1, 1)), "v", False),
 }
 
 
@@ -58,10 +61,12 @@ def read_points(paths):
                 if threads != 1:
                     engine = f"REngine {threads} threads"
                     ENGINES.setdefault(engine, (f"REngine, {threads} threads", (0, (5, 1)), "D", True))
-                values = {
-                    engine: number(row["rengine_ms_per_step"]),
-                    "Jolt": number(row["jolt_table_ms_per_step"]),
-                }
+                jolt = "Jolt" if threads == 1 else f"Jolt {threads} threads"
+                if threads not in (1, 2):
+                    ENGINES.setdefault(jolt, (f"Jolt 5.5, {threads} threads", (0, (1, 1)), "v", False))
+                values = {engine: number(row["rengine_ms_per_step"])}
+                if broadphase:  # Jolt does not depend on REngine's setting: once per thread count
+                    values[jolt] = number(row.get("jolt_ms_per_step"))
                 first = broadphase and threads == 1
                 if first:  # Bullet does not depend on REngine's setting: once per run
                     values["Bullet"] = number(row["bullet_ms_per_step"])
@@ -89,13 +94,13 @@ def cell(text, fmt):
 
 def print_results(rows):
     print("| scene | bodies | steps | sleeping | broad phase | threads | REngine ms/step "
-          "| Bullet ms/step | Jolt estimate ms/step | REngine / Jolt estimate |")
+          "| Bullet ms/step (1 thread) | Jolt ms/step | REngine / Jolt |")
     print("| --- | ---: | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: |")
     for r in rows:
         print(f"| {r['scene']} | {r['bodies']} | {r['steps']} | {r['sleeping']} "
               f"| {r['broadphase']} | {r.get('threads') or 1} | {cell(r['rengine_ms_per_step'], '%.3g')} "
               f"| {cell(r['bullet_ms_per_step'], '%.3g')} "
-              f"| {cell(r['jolt_estimate_ms_per_step'], '%.3g')} | {cell(r['vs_jolt'], '%.2f')} |")
+              f"| {cell(r.get('jolt_ms_per_step'), '%.3g')} | {cell(r.get('rengine_over_jolt'), '%.2f')} |")
 
 
 def print_exponents(points):
@@ -123,7 +128,7 @@ def plot(points, out_path):
         xs = sorted(curve)
         ax.plot(xs, [curve[x] for x in xs], linestyle=style, marker=marker, color=colour,
                 markerfacecolor=colour if filled else "none", markersize=6, linewidth=1.4,
-                alpha=0.75 if engine == "Jolt" else 1.0)
+                alpha=0.75 if engine.startswith("Jolt") else 1.0)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("bodies (dynamic)")

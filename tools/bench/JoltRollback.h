@@ -1,7 +1,7 @@
 // Jolt Physics' side of bench_rollback: the same rocks as a JPH::PhysicsSystem (double
 // precision, one thread: JobSystemSingleThreaded), saved and restored with
 // PhysicsSystem::SaveState / RestoreState through a StateRecorderImpl per frame. Built only
-// when CMake is given -DREngine_JOLT_DIR=<Jolt's install prefix> (tools/bench/CMakeLists.txt).
+// when CMake is given -DREngine_JOLT_DIR=<Jolt's install prefix> (found in tools/CMakeLists.txt).
 #pragma once
 
 #include <Jolt/Jolt.h>

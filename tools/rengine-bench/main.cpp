@@ -4,7 +4,8 @@
 //   rengine-bench --shortcuts [--csv FILE] [--repeats N] [--quick]   (see shortcuts.h)
 //   rengine-bench --scaling [--scenes a,b,...] [--steps N] [--broadphase on|off|both]
 //                 [--scene-dir DIR] [--generate-scenes] [--csv FILE] [--repeats N] [--quick]
-//                 (ms/step against body count, REngine and Bullet: see scaling.h)
+//                 [--threads 1,2]
+//                 (ms/step against body count, REngine, Bullet and Jolt: see scaling.h)
 //
 // Runs reference scenes whose answer is known in closed form (or whose conserved quantities
 // are) over a grid of step sizes (and, for contact scenes, solver iterations), and writes one
@@ -294,16 +295,16 @@ int Run(int argc, char** argv) {
       "and error; CSV default build/bench/shortcuts.csv)");
   CLI::Option* scalingFlag = app.add_flag(
       "--scaling", scaling,
-      "Instead of the grid: ms/step against body count on the scaling scenes, REngine and "
-      "Bullet interleaved, the reference table's Jolt figures scaled to this run (CSV default "
+      "Instead of the grid: ms/step against body count on the scaling scenes, REngine, Bullet "
+      "and Jolt interleaved, Bullet and Jolt where built with them (CSV default "
       "build/bench/scaling.csv, repeats default 3; --quick: the 1000-body scenes, 10 steps)");
   scalingFlag->excludes(shortcutsFlag);
   app.add_option("--steps", stepsText, "--scaling: steps per run (default each scene's own, 300)")
       ->needs(scalingFlag);
   std::string threadsText = "1";
   app.add_option("--threads", threadsText,
-                 "--scaling: REngine's thread counts, comma-separated (default 1, as the reference "
-                 "table's figures; 0: what the machine has)");
+                 "--scaling: REngine's and Jolt's thread counts, comma-separated (default 1; 0: "
+                 "what the machine has)");
   app.add_option("--broadphase", broadPhaseText,
                  "--scaling: REngine's broad phase on, off (the all-pairs reference loop) or both")
       ->needs(scalingFlag)

@@ -1,6 +1,6 @@
-// rengine-bench --scaling: ms/step against body count for REngine and Bullet in the same
-// run, on the scaling scenes (scaling_scenes.h), with the reference table's Jolt figures
-// scaled to this run. tools/plot_scaling.py draws the CSV.
+// rengine-bench --scaling: ms/step against body count for REngine, Bullet and Jolt in the
+// same run, on the scaling scenes (scaling_scenes.h); Bullet where it was found at build time,
+// Jolt where CMake was given REngine_JOLT_DIR. tools/plot_scaling.py draws the CSV.
 #pragma once
 
 #include <cstdint>
@@ -18,16 +18,18 @@ struct ScalingOptions {
   // REngine's broad phase (the scene key solver.broadphase): on, off (the all-pairs reference
   // loop), or both (two REngine rows per scene, timed in the same interleaving).
   enum class BroadPhase { kOn, kOff, kBoth } broadPhase = BroadPhase::kOn;
-  // REngine's thread counts (RWorldSettings::threads): one row per count and broad-phase
-  // setting, timed in the same interleaving. The reference table's figures are single-threaded.
+  // REngine's and Jolt's thread counts (RWorldSettings::threads; Jolt's job system with one
+  // worker fewer, the caller being the other): one row per count and broad-phase setting,
+  // timed in the same interleaving. Bullet runs on one thread whatever this says.
   std::vector<int> threads = {1};
   bool quick = false;          // smoke test: the smallest scenes, 10 steps, 1 run
   bool generateOnly = false;   // make the missing scene files, run nothing
 };
 
 // Runs the scaling series, prints the table and writes the CSV. Returns the exit code: 0,
-// 1 when a run failed (a body became non-finite, REngine's repeats disagree), 2 bad input
-// (an unknown scene, a scene file that cannot be made or read, the CSV path).
+// 1 when a run failed (a body became non-finite, REngine's repeats disagree, Jolt dropped
+// contacts), 2 bad input (an unknown scene, a scene file that cannot be made or read, the
+// CSV path).
 int RunScaling(const ScalingOptions& options);
 
 // The scene names, comma-separated, for --help and error messages.

@@ -1,7 +1,6 @@
 // rengine-bench --scaling's scenes: the files tools/make_scaling_scenes.py writes (debris
 // clouds, box piles with sleeping off and on, sparse asteroid fields, each at several body
-// counts), the reference table's figures for them, and
-// the generation of the files where they are missing. The files are ~55 MB and are never
+// counts) and the generation of the files where they are missing. The files are ~55 MB and are never
 // committed: they are made in the build directory on first use.
 #pragma once
 
@@ -15,11 +14,6 @@ struct ScalingScene {
   const char* name;    // file stem: debris_1000 is debris_1000.json
   const char* series;  // debris, pile_awake, pile_sleep, sparse: one line of the plot per series
   bool quick;          // one of the smallest sizes, which --quick runs
-  // The reference table (measured together in another run, single thread, ms/step; the
-  // midpoint where it gives a range; NaN where it has no row): REngine before the broad
-  // phase, Bullet 3.24, Jolt 5.5.
-  // Jolt is not in Debian: Jolt / Bullet from the table scales this run's Bullet figure.
-  double rengineTable, bulletTable, joltTable;
 };
 
 // Every scaling scene, in table order (series, then body count): the order of the runs and
