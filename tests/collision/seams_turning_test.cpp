@@ -44,8 +44,8 @@ RBodyDef Turntable(const SceneFrame& frame, RScalar w, bool oneChild = false) {
 // A turntable turning at 0.3 rad/s about its vertical axis. A frictionless body sliding across
 // it at 5 m/s under gravity feels nothing from the turning (the deck's velocity and
 // acceleration under it lie in its plane): it keeps its velocity along the deck and its
-// height to 1e-9, the seams passing under it turned up to 0.36 rad from square, in every
-// frame. (As in the crossings above, the velocity across the deck at a step's end is not
+// height to 1e-9 (1e-15 m/s and 6e-12 m measured, the latter 1e5 m out), the seams passing
+// under it turned up to 0.36 rad from square, in every frame. (As in the crossings above, the velocity across the deck at a step's end is not
 // asked: on a turning deck, tiled or not, some steps end with the support's g dt / 2 still
 // to come, the height staying exact.)
 TEST(Seams, TheChildrenOfATurningKinematicCompoundAreOneFloor) {
@@ -84,11 +84,11 @@ TEST(Seams, TheChildrenOfATurningKinematicCompoundAreOneFloor) {
 // A box and a cylinder on its end resting across a seam of the turntable (2 m from the axis,
 // friction 0.5: the deck's 0.18 m/s^2 towards the axis is far inside the friction's reach)
 // turn with it as one rigid body: over 5 s each stays where the deck's point it started on
-// is, x0 turned by w t, to 1e-9 m, or to what the same rest on the untiled top (one child)
-// keeps where that is larger (the untiled top carries a resting body to 7e-8 to 4e-6 m; 1e5
-// m out, where the turning pose rounds, the tiles keep the cylinder to 7.6e-8 m). Friction
-// solved per child under it left them 3e-7 and 1.4e-6 m off at the origin (each child's
-// patch at its own centroid).
+// is, x0 turned by w t, to 1e-9 m (4e-12 measured). 1e5 m out a pose rounds to 1.5e-11 m,
+// and the turning deck's 300 steps leave the cylinder's octagon of points up to 7.6e-8 m off
+// there (the box 8e-11): asked 1e-7. Friction solved per child under it left them 3e-7 and
+// 1.4e-6 m off at the origin (each child's patch at its own centroid). The same rest on the
+// untiled top (one child) is printed beside: it creeps, 7e-8 to 4e-6 m in 5 s (left open).
 TEST(Seams, ABodyAcrossASeamOfATurningDeckTurnsWithIt) {
   const RScalar w = 0.3;
   // The farthest the body gets from the deck's point over 5 s (m).
@@ -119,7 +119,8 @@ TEST(Seams, ABodyAcrossASeamOfATurningDeckTurnsWithIt) {
       const RScalar tiled = run(frame, box, false), untiled = run(frame, box, true);
       std::printf("%-8s across a seam of a turning deck (%s): off the deck's point by up to %.2e m (untiled %.2e)\n",
                   box ? "box" : "cylinder", frame.name, tiled, untiled);
-      EXPECT_LT(tiled, std::max(1e-9, untiled)) << (box ? "box " : "cylinder ") << frame.name;
+      const bool far = frame.origin.norm() > 0;
+      EXPECT_LT(tiled, far ? 1e-7 : 1e-9) << (box ? "box " : "cylinder ") << frame.name;
     }
   }
 }
