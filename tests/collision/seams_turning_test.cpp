@@ -124,3 +124,36 @@ TEST(Seams, ABodyAcrossASeamOfATurningDeckTurnsWithIt) {
     }
   }
 }
+
+// Found by review: the rule's tolerances for a compound's child are the child's size, not
+// the compound's. A 5 mm ball rests in the corner where a wall child stands on a floor child
+// of a static compound that a child 50 or 150 m away makes large: it stays at its radius, as
+// beside the same parts as separate bodies. (With the compound's radius, 2e-4 of it took the
+// ball's contact for covered by the wall's foot, and the ball sank 1.5 cm into the floor.)
+TEST(Seams, ASmallBallInTheCornerOfALargeCompoundRestsOnItsFloor) {
+  const RScalar r = 0.005;
+  for (const RScalar far : {0.0, 50.0, 150.0}) {
+    std::vector<RCompoundChild> children{{RShape::Box(RVec3(1, 0.1, 1)), RVec3(0, -0.1, 0)},     // floor, top at 0
+                                         {RShape::Box(RVec3(0.1, 0.5, 1)), RVec3(0.1, 0.5, 0)}};  // wall on it
+    if (far > 0) children.push_back({RShape::Box(RVec3(0.5, 0.5, 0.5)), RVec3(far, 0.5, 0)});
+    RBodyDef level;
+    level.kind = RBodyKind::kStatic;
+    level.shape = RShape::Compound(std::move(children));
+    level.friction = 0.5;
+    RBodyDef ball;
+    ball.shape = RShape::Sphere(r);
+    ball.friction = 0.5, ball.restitution = 0;
+    ball.position_W = RVec3(-r, r, 0.3);  // touching the wall's foot
+    std::vector<RRigidBody> bodies{RRigidBody(level), RRigidBody(ball)};
+    RIntegrator integrator;
+    integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
+    integrator.Settings().shortcuts.sleeping = false;
+    RScalar lowest = r;
+    for (int s = 0; s < 60; ++s) {
+      integrator.Update(bodies, kDt);
+      lowest = std::min(lowest, bodies[1].Position_W().y());
+    }
+    std::printf("5 mm ball in a compound's corner, a far child at %g m (0: none): lowest centre %.6f m\n", far, lowest);
+    EXPECT_NEAR(lowest, r, 1e-9) << far;
+  }
+}
