@@ -95,7 +95,7 @@ RShape Station() {
   add(RShape::Cylinder(6, GameShapes::kStationHubHalfHeight), RVec3::Zero(), RQuat::Identity());
   const double R = GameShapes::kStationRingRadius;
   constexpr int kSegments = 12;
-  const double halfChord = R * std::tan(kPi / kSegments) + 0.4;  // overlap the joints
+  const double halfChord = R * REngine::Sin(kPi / kSegments) / REngine::Cos(kPi / kSegments) + 0.4;  // overlap the joints
   for (int k = 0; k < kSegments; ++k) {
     const double a = 2 * kPi * k / kSegments;
     const RQuat q = REngine::QuatAxisAngle(RVec3::UnitY(), -a);

@@ -48,10 +48,13 @@ struct RCoverSurface {
   bool Same(const RCoverSurface& o) const { return id == o.id && child == o.child; }
   // Its motion, world, m/s and rad/s: bodies cover each other only while they move as one,
   // without turning (static ones; kinematic ones still, or translating at one velocity): a
-  // kinematic paddle sweeping over the ground covers nothing of it.
+  // kinematic paddle sweeping over the ground covers nothing of it. The children of one
+  // body always move as one, however it turns (a spinning station's deck of boxes).
   RVec3 v_W = RVec3::Zero(), w_W = RVec3::Zero();
   bool Takes() const { return (shape.polyhedron != nullptr || shape.mesh != nullptr) && shape.children == nullptr; }
-  bool MovesWith(const RCoverSurface& o) const { return w_W.isZero(0) && o.w_W.isZero(0) && v_W == o.v_W; }
+  bool MovesWith(const RCoverSurface& o) const {
+    return id == o.id || (w_W.isZero(0) && o.w_W.isZero(0) && v_W == o.v_W);
+  }
 };
 
 // The moving body's convex piece in the contact (the body's shape, or a compound's child),

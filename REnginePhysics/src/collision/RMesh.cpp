@@ -82,17 +82,21 @@ bool OnActiveFeature(const RTriangleMesh& mesh, std::uint32_t t, const RConvexPo
   return true;
 }
 
-// Whether q (the triangle's frame) lies on the triangle: within 1e-6 of its size of its
-// plane, and inside it or within 1e-6 of its size outside (a point on an edge two triangles
-// share is on both, to rounding).
+// Whether q (the triangle's frame) lies on the triangle, as ManifoldAlong's clipping puts a
+// point on it: within twice kClipTolerance of the triangle's longest edge of its plane and
+// of the inside of each edge (the clipping pushes its side planes out by kClipTolerance of
+// the face's size, so a point clipped at an edge lies that far outside it).
 bool OverTriangle(const RConvexPolyhedron& tri, const RVec3& q) {
   const auto& v = tri.Vertices();
-  const RVec3 n = (v[1] - v[0]).cross(v[2] - v[0]);
-  const RScalar area = n.squaredNorm();
-  constexpr RScalar kOn = 1e-6;
-  if (std::abs(n.dot(q - v[0])) > kOn * std::sqrt(area) * std::sqrt(std::sqrt(area))) return false;
+  const RVec3 n = (v[1] - v[0]).cross(v[2] - v[0]).normalized();
+  RScalar longest = 0;
+  for (int k = 0; k < 3; ++k) longest = std::max(longest, (v[(k + 1) % 3] - v[k]).norm());
+  const RScalar tolerance = 2 * kClipTolerance * longest;
+  if (std::abs(n.dot(q - v[0])) > tolerance) return false;
   for (int k = 0; k < 3; ++k) {
-    if ((v[(k + 1) % 3] - q).cross(v[(k + 2) % 3] - q).dot(n) / area < -kOn) return false;
+    // The distance of q inside edge k (from corner k to k + 1), in the plane.
+    const RVec3 edge = v[(k + 1) % 3] - v[k];
+    if (n.dot(edge.cross(q - v[k])) / edge.norm() < -tolerance) return false;
   }
   return true;
 }

@@ -161,7 +161,12 @@ bool RPairSweep::CoverBody(const RStepBodies& bodies, RScalar dt, RScalar allowa
       piece.R_W = R_WM * child.R_BC, piece.x_W = M.m_x_W + R_WM * child.p_BC;
     }
     const RBodyCore& B = bodies[immovable];
-    const RCoverTolerances tol = CoverTolerances(slop, B.m_boundingRadius, M.m_boundingRadius);
+    // (A compound's child by its own size: the whole compound's would widen the tolerances
+    // with the level it belongs to, and a small body at the foot of a child standing on
+    // another would be taken for covered there and fall through.)
+    const RCoverSurface& on = m_coverSurfaces[surface];
+    const RScalar radiusB = on.child == RCoverSurface::kWhole ? B.m_boundingRadius : on.shape.boundingRadius;
+    const RCoverTolerances tol = CoverTolerances(slop, radiusB, M.m_boundingRadius);
     // The margin the narrow phase used (CheckCollisionInA's: the pair's, plus its band).
     const RScalar margin =
         PairMargin(bodies, immovable, moving, dt, allowance) + Band(shapeM, m_coverSurfaces[surface].shape);

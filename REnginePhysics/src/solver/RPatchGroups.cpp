@@ -49,10 +49,12 @@ bool RContactSolver::SharesPatch(std::uint32_t lead, std::uint32_t k) const {
   const RBlock& bk = m_blocks[k];
   if (bl.friction != bk.friction) return false;
   const bool leadA = m_in->sweep.ImmovableAt(cl.a), kA = m_in->sweep.ImmovableAt(ck.a);
-  const RSolverBody& sl = m_solverBodies[leadA ? cl.a : cl.b];
-  const RSolverBody& sk = m_solverBodies[kA ? ck.a : ck.b];
-  // Moving as one (RCoverSurface::MovesWith).
-  if (!sl.w.isZero(0) || !sk.w.isZero(0) || sl.v != sk.v) return false;
+  const std::uint32_t il = leadA ? cl.a : cl.b, ik = kA ? ck.a : ck.b;
+  const RSolverBody& sl = m_solverBodies[il];
+  const RSolverBody& sk = m_solverBodies[ik];
+  // Moving as one (RCoverSurface::MovesWith): one body's children, however it turns, or
+  // bodies neither of which turns, at one velocity.
+  if (il != ik && (!sl.w.isZero(0) || !sk.w.isZero(0) || sl.v != sk.v)) return false;
   // Both normals out of the immovable body.
   const RVec3 nl = leadA ? cl.manifold.normal : RVec3(-cl.manifold.normal);
   const RVec3 nk = kA ? ck.manifold.normal : RVec3(-ck.manifold.normal);
