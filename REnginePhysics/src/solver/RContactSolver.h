@@ -13,7 +13,8 @@
 // come in as an RSolverInputs. Every vector keeps its capacity between steps. Definitions:
 // RContactSolver.cpp (FindImpulses, SolveIsland, impacts joined, the normal blocks),
 // RIslandSolver.cpp (the layout, the direct solve), RContactRows.cpp, RImpactPhase.cpp,
-// RContactPasses.cpp (the passes, patches, the end, the joints' rounds) and
+// RContactPasses.cpp (the passes, patches, the end, the joints' rounds), RContactWarmStart.cpp
+// (the warm starts and their energy rule), RImpactSweep.cpp, RPatchGroups.cpp and
 // RContactReport.cpp.
 #pragma once
 
@@ -154,7 +155,7 @@ class RContactSolver {
   // each), and far below any gain that matters.
   static constexpr RScalar kWarmRounding = 1e-9;
   // The velocity phase's warm start of an island, kept only when it does not raise the
-  // island's kinetic energy (RContactPasses.cpp).
+  // island's kinetic energy (RContactWarmStart.cpp).
   void WarmStartIslandVelocities(const RStepBodies& bodies, RScalar dt, std::size_t island, RIslandScratch& sc);
   RScalar IslandKineticEnergy(const RStepBodies& bodies, std::size_t island) const;
   // The island's friction patches shared by manifolds of one body on flush immovable bodies
