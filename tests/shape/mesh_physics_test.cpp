@@ -188,36 +188,40 @@ TEST(MeshPhysics, AKinematicMeshCarriesWhatRestsOnIt) {
 namespace {
 
 // A ball rolling without slipping (v = w r) over a floor, restitution 0.5 (a hop would
-// bounce): the largest upward speed, and the velocity and spin at the end.
+// bounce): the largest upward speed, how far it strays sideways from the line it started on,
+// and the velocity and spin at the end.
 struct Roll {
   RScalar hop = 0;
-  RScalar drift = 0;  // m, off the line it started on (where a test measures it)
+  RScalar drift = 0;  // m, horizontally off the line of its starting velocity
   RVec3 v = RVec3::Zero(), w = RVec3::Zero();
   int begins = 0, ends = 0;
 };
 
-Roll RollOn(const RBodyDef& floor) {
+// The ball of radius r at x rolling at v (horizontal), for `steps` steps of 1/60 s.
+Roll RollOn(const RBodyDef& floor, RScalar r = 0.5, const RVec3& x = RVec3(-5.13, 0.5, -4.07),
+            const RVec3& v = RVec3(1.4, 0, 0.9), int steps = 300) {
   std::vector<RRigidBody> bodies{RRigidBody(floor)};
   RBodyDef ball;
-  ball.shape = Sphere(0.5);
-  ball.position_W = RVec3(-5.13, 0.5, -4.07);
-  const RVec3 v(1.4, 0, 0.9);
-  ball.velocity_W = v, ball.angularVelocity_W = RVec3::UnitY().cross(v) / 0.5;
+  ball.shape = Sphere(r);
+  ball.position_W = x;
+  ball.velocity_W = v, ball.angularVelocity_W = RVec3::UnitY().cross(v) / r;
   ball.friction = 0.5, ball.restitution = 0.5;
   bodies.emplace_back(ball);
   RIntegrator integrator;
   integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
   integrator.Settings().shortcuts.sleeping = false;
-  Roll r;
-  for (int k = 0; k < 300; ++k) {
+  const RVec3 across = RVec3::UnitY().cross(v).normalized();
+  Roll result;
+  for (int k = 0; k < steps; ++k) {
     integrator.Update(bodies, 1.0 / 60);
-    r.hop = std::max(r.hop, bodies[1].Velocity_W().y());
+    result.hop = std::max(result.hop, bodies[1].Velocity_W().y());
+    result.drift = std::max(result.drift, std::abs(across.dot(bodies[1].Position_W() - x)));
     for (const RContactEvent& e : integrator.Events()) {
-      r.begins += e.type == RContactEventType::kBegin, r.ends += e.type == RContactEventType::kEnd;
+      result.begins += e.type == RContactEventType::kBegin, result.ends += e.type == RContactEventType::kEnd;
     }
   }
-  r.v = bodies[1].Velocity_W(), r.w = bodies[1].AngularVelocity_W();
-  return r;
+  result.v = bodies[1].Velocity_W(), result.w = bodies[1].AngularVelocity_W();
+  return result;
 }
 
 }  // namespace
@@ -293,24 +297,7 @@ TEST(MeshPhysics, ABallRollingAlongTheEdgeOfAClosedMeshRollsStraight) {
   auto roll = [&](const RShape& platform) {
     RBodyDef floor = StaticBody(platform, RVec3(0, -0.1, 0));
     floor.friction = 0.5, floor.restitution = 0.5;
-    std::vector<RRigidBody> bodies{RRigidBody(floor)};
-    RBodyDef ball;
-    ball.shape = Sphere(0.25);
-    ball.position_W = RVec3(-1, 0.25, 5.9);
-    ball.velocity_W = RVec3(5, 0, 0), ball.angularVelocity_W = RVec3(0, 0, -20);
-    ball.friction = 0.5, ball.restitution = 0.5;
-    bodies.emplace_back(ball);
-    RIntegrator integrator;
-    integrator.Settings().gravity_W = RVec3(0, -9.81, 0);
-    integrator.Settings().shortcuts.sleeping = false;
-    Roll r;
-    for (int k = 0; k < 60; ++k) {
-      integrator.Update(bodies, 1.0 / 60);
-      r.hop = std::max(r.hop, bodies[1].Velocity_W().y());
-      r.drift = std::max(r.drift, std::abs(bodies[1].Position_W().z() - 5.9));
-    }
-    r.v = bodies[1].Velocity_W(), r.w = bodies[1].AngularVelocity_W();
-    return r;
+    return RollOn(floor, 0.25, RVec3(-1, 0.25, 5.9), RVec3(5, 0, 0), 60);
   };
   const Roll onMesh = roll(ClosedBoxMesh(half)), onBox = roll(Box(half));
   std::printf("along a closed mesh's edge: v (%.9f, %.9f, %.9f), along a box's (%.9f, %.9f, %.9f); off its line by "
