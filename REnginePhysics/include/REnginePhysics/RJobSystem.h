@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -35,7 +36,10 @@ class RJobSystem {
 };
 
 // The engine's job system: threads - 1 workers started once and kept, plus the caller. Run
-// hands out tasks through one atomic counter; the workers sleep between Runs.
+// publishes the stage in one atomic word (which Run it is, and the next task to take) that
+// every thread claims tasks from. A worker that finished a stage spins a short while for
+// the next (a step's stages follow each other within microseconds, and waking a sleeping
+// thread costs tens of them), then sleeps until a Run wakes it.
 class RThreadPool final : public RJobSystem {
  public:
   // threads <= 0: std::thread::hardware_concurrency() (at least 1). When a worker cannot
@@ -56,19 +60,28 @@ class RThreadPool final : public RJobSystem {
  private:
   void WorkerLoop();
   void StopWorkers();  // wakes every worker to return, and joins them
-  void Drain();  // takes tasks of the current Run until none is left
+  // Takes tasks of Run `run` (a generation) until none is left or another Run began.
+  void Drain(std::uint32_t run);
+  // Whether the word's Run is no longer `seen` (or the pool stops): a worker's wake-up.
+  bool NewRun(std::uint32_t seen) const;
 
   std::vector<std::thread> m_workers;
-  std::mutex m_mutex;
-  std::condition_variable m_wake, m_done;
-  std::uint64_t m_generation = 0;  // bumped by each Run (guarded by m_mutex)
-  bool m_stop = false;
-  // The current Run (written under m_mutex before the generation changes).
+  // The current Run: its generation in the high 32 bits, the next task to take in the low
+  // 32; and its generation and task count the same way. A thread claims task k of Run g by
+  // moving the word from (g, k) to (g, k + 1), and only then reads m_task and m_context:
+  // Run g cannot return, nor the next Run write them, before task k has finished.
+  std::atomic<std::uint64_t> m_word{0};
+  std::atomic<std::uint64_t> m_countWord{0};
+  std::atomic<std::size_t> m_finished{0};  // tasks of the current Run finished
   RTask m_task = nullptr;
   void* m_context = nullptr;
-  std::size_t m_count = 0;
-  std::size_t m_next = 0;      // next task to take (guarded by m_mutex)
-  std::size_t m_finished = 0;  // tasks finished (guarded by m_mutex)
+  std::uint32_t m_run = 0;  // the generation of the last Run (the caller's thread only)
+  // Sleeping workers: they wait on m_wake under m_mutex, counted in m_sleepers so that a
+  // Run takes the lock and notifies only when one sleeps.
+  std::mutex m_mutex;
+  std::condition_variable m_wake;
+  std::atomic<int> m_sleepers{0};
+  std::atomic<bool> m_stop{false};
 };
 
 // Runs body(begin, end, task) over [0, count) cut into contiguous ranges, at most `tasks`

@@ -59,11 +59,6 @@ bool Contains(const RBoundsTree::RBox& outer, const RBoundsTree::RBox& inner) {
          inner.hi[0] <= outer.hi[0] && inner.hi[1] <= outer.hi[1] && inner.hi[2] <= outer.hi[2];
 }
 
-bool Overlap(const RBoundsTree::RBox& a, const RBoundsTree::RBox& b) {
-  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
-         a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
-}
-
 // A box that overlaps nothing: the fat box of a body whose sweep box is not a number (game
 // code set a NaN), which the all-pairs loop pairs with nothing.
 constexpr RBoundsTree::RBox kEmpty = {
@@ -214,7 +209,13 @@ void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<RSwee
         __builtin_prefetch(&passive[ahead]);
       }
       const auto [i, j] = m_fatPairs[k];
-      if ((passive[i] && passive[j]) || !Overlap(m_sweepBoxes[i], m_sweepBoxes[j])) continue;
+      // Without branches until the one that rejects most pairs (about 7 in 8 of a debris
+      // cloud's listed pairs): six short-circuit tests mispredict often.
+      const RBoundsTree::RBox& a = m_sweepBoxes[i];
+      const RBoundsTree::RBox& b = m_sweepBoxes[j];
+      const bool overlap = (a.lo[0] <= b.hi[0]) & (b.lo[0] <= a.hi[0]) & (a.lo[1] <= b.hi[1]) &
+                           (b.lo[1] <= a.hi[1]) & (a.lo[2] <= b.hi[2]) & (b.lo[2] <= a.hi[2]);
+      if ((!overlap) | ((passive[i] != 0) & (passive[j] != 0))) continue;
       ++st.sphereTests;
       const RScalar dx = cx[j] - cx[i], dy = cy[j] - cy[i], dz = cz[j] - cz[i];
       const RScalar lim = (reach[i] + reach[j]) * grow;

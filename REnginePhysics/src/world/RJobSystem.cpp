@@ -2,6 +2,7 @@
 #include <REnginePhysics/RJobSystem.h>
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 #include <system_error>
 
@@ -33,6 +34,29 @@ RThreadPool::RThreadPool(int threads) {
 
 RThreadPool::~RThreadPool() { StopWorkers(); }
 
+namespace {
+
+// One spin-wait iteration: tells the core this thread is waiting (x86 pause, Arm yield),
+// which frees the pipeline for the other hardware thread and saves power.
+inline void CpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__) || defined(__arm__)
+  asm volatile("yield");
+#endif
+}
+
+// How long a worker spins for the next Run before it sleeps, and how long the caller spins
+// for the last tasks before it yields its core. A step's stages come tens of microseconds
+// apart; a game's frame leaves milliseconds between steps, which the workers sleep through.
+constexpr auto kWorkerSpin = std::chrono::microseconds(100);
+constexpr auto kCallerSpin = std::chrono::microseconds(50);
+
+constexpr std::uint32_t Generation(std::uint64_t word) { return static_cast<std::uint32_t>(word >> 32); }
+constexpr std::uint32_t Low(std::uint64_t word) { return static_cast<std::uint32_t>(word); }
+
+}  // namespace
+
 void RThreadPool::StopWorkers() {
   {
     std::lock_guard<std::mutex> lock(m_mutex);
@@ -43,31 +67,47 @@ void RThreadPool::StopWorkers() {
   m_workers.clear();
 }
 
-void RThreadPool::Drain() {
-  // Tasks are handed out one at a time under the lock: a stage is cut into a few tasks per
-  // thread, each of many bodies or pairs, so the lock is taken a few dozen times per stage.
-  std::unique_lock<std::mutex> lock(m_mutex);
-  while (m_next < m_count) {
-    const std::size_t k = m_next++;
-    const RTask task = m_task;
-    void* context = m_context;
-    lock.unlock();
-    task(context, k);
-    lock.lock();
-    if (++m_finished == m_count) m_done.notify_all();
+bool RThreadPool::NewRun(std::uint32_t seen) const {
+  return m_stop.load() || Generation(m_word.load()) != seen;
+}
+
+void RThreadPool::Drain(std::uint32_t run) {
+  std::uint64_t word = m_word.load(std::memory_order_acquire);
+  for (;;) {
+    if (Generation(word) != run) return;
+    // The count is read under the same generation: a stale one (the word moved on to the
+    // next Run) is never used.
+    const std::uint64_t countWord = m_countWord.load(std::memory_order_acquire);
+    if (Generation(countWord) != run || Low(word) >= Low(countWord)) return;
+    if (!m_word.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+    // Task Low(word) of this Run is ours: the Run waits for it, so m_task and m_context
+    // stay this Run's until it finishes.
+    m_task(m_context, Low(word));
+    m_finished.fetch_add(1, std::memory_order_acq_rel);
+    word = m_word.load(std::memory_order_acquire);
   }
 }
 
 void RThreadPool::WorkerLoop() {
-  std::uint64_t seen = 0;
+  std::uint32_t seen = 0;
   for (;;) {
-    {
-      std::unique_lock<std::mutex> lock(m_mutex);
-      m_wake.wait(lock, [&] { return m_stop || m_generation != seen; });
-      if (m_stop) return;
-      seen = m_generation;
+    // Spin a while for the next Run, then sleep until one wakes this worker.
+    const auto until = std::chrono::steady_clock::now() + kWorkerSpin;
+    for (int k = 1; !NewRun(seen); ++k) {
+      CpuRelax();
+      if (k % 64 == 0 && std::chrono::steady_clock::now() > until) break;
     }
-    Drain();
+    if (!NewRun(seen)) {
+      std::unique_lock<std::mutex> lock(m_mutex);
+      // Counted before the test under the lock: a Run that publishes after the test sees
+      // the sleeper and notifies under the same lock, so no wake-up is lost.
+      m_sleepers.fetch_add(1);
+      m_wake.wait(lock, [&] { return NewRun(seen); });
+      m_sleepers.fetch_sub(1);
+    }
+    if (m_stop.load()) return;
+    seen = Generation(m_word.load(std::memory_order_acquire));
+    Drain(seen);
   }
 }
 
@@ -77,17 +117,42 @@ void RThreadPool::Run(std::size_t count, RTask task, void* context) {
     for (std::size_t k = 0; k < count; ++k) task(context, k);
     return;
   }
-  {
-    std::lock_guard<std::mutex> lock(m_mutex);
-    m_task = task, m_context = context;
-    m_count = count, m_next = 0, m_finished = 0;
-    ++m_generation;
+  if (count > 0xffffffffu) {  // more tasks than the word counts: in Runs of 2^32 - 1
+    struct Part {
+      RTask task;
+      void* context;
+      std::size_t offset;
+    };
+    for (std::size_t first = 0; first < count; first += 0xffffffffu) {
+      Part part{task, context, first};
+      Run(std::min<std::size_t>(count - first, 0xffffffffu), [](void* p, std::size_t k) {
+        const Part& q = *static_cast<const Part*>(p);
+        q.task(q.context, q.offset + k);
+      }, &part);
+    }
+    return;
   }
-  m_wake.notify_all();
-  Drain();
-  std::unique_lock<std::mutex> lock(m_mutex);
-  m_done.wait(lock, [&] { return m_finished == m_count; });
-  // Nothing of this Run is left for a late worker: m_next == m_count.
+  // Every task of the previous Run has finished: nobody reads m_task or m_context now.
+  const std::uint32_t run = ++m_run;
+  m_task = task, m_context = context;
+  m_finished.store(0, std::memory_order_relaxed);
+  m_countWord.store(std::uint64_t{run} << 32 | count, std::memory_order_release);
+  m_word.store(std::uint64_t{run} << 32);  // sequentially consistent: see WorkerLoop
+  if (m_sleepers.load() > 0) {
+    { std::lock_guard<std::mutex> lock(m_mutex); }
+    m_wake.notify_all();
+  }
+  Drain(run);
+  // The last tasks, on other threads, end soon: spin, then yield the core to them (they
+  // may be waiting for it when there are more threads than cores).
+  const auto until = std::chrono::steady_clock::now() + kCallerSpin;
+  for (int k = 1; m_finished.load(std::memory_order_acquire) != count; ++k) {
+    if (k % 64 != 0 || std::chrono::steady_clock::now() < until) {
+      CpuRelax();
+    } else {
+      std::this_thread::yield();
+    }
+  }
 }
 
 }  // namespace REngine
