@@ -103,22 +103,33 @@ void RBoundsTree::Refit(const RBox* byId) {
 
 void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,
                         std::vector<std::uint32_t>& stack) const {
-  if (m_nodes.empty()) return;
+  if (m_nodes.empty() || !Overlap(m_nodes[0].box, box)) return;
+  // Every node on the stack overlaps the box: a child is tested before it is pushed, so
+  // the nodes that miss cost a test and no round trip through the stack.
   stack.clear();
-  stack.push_back(0);
-  while (!stack.empty()) {
-    const RNode& node = m_nodes[stack.back()];
-    const std::uint32_t self = stack.back();
-    stack.pop_back();
-    if (!Overlap(node.box, box)) continue;
+  std::uint32_t index = 0;
+  for (;;) {
+    const RNode& node = m_nodes[index];
     if (node.count > 0) {
       for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
         if (Overlap(m_boxes[k], box)) out.push_back(m_items[k]);
       }
     } else {
-      stack.push_back(node.first);  // right
-      stack.push_back(self + 1);    // left, visited first
+      const std::uint32_t left = index + 1, right = node.first;
+      const bool inLeft = Overlap(m_nodes[left].box, box), inRight = Overlap(m_nodes[right].box, box);
+      if (inLeft) {
+        if (inRight) stack.push_back(right);  // after the left subtree, as before
+        index = left;
+        continue;
+      }
+      if (inRight) {
+        index = right;
+        continue;
+      }
     }
+    if (stack.empty()) return;
+    index = stack.back();
+    stack.pop_back();
   }
 }
 
