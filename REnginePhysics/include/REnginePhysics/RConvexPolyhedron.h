@@ -82,6 +82,11 @@ class RConvexPolyhedron {
   const std::vector<std::uint32_t>& AdjacencyStart() const { return m_adjStart; }
   const std::vector<std::uint32_t>& AdjacencyVertices() const { return m_adj; }
 
+  // A box made by Box() (and not moved since): its half extents (m), the box axis-aligned
+  // about the frame origin. Null for any other polyhedron. The narrow phase proves two boxes
+  // apart in closed form with it.
+  const RVec3* BoxHalfExtents() const { return m_isBox ? &m_boxHalf : nullptr; }
+
   // Largest distance of a vertex from the frame origin, m: the bounding sphere about it.
   RScalar MaxRadius() const { return m_maxRadius; }
 
@@ -121,6 +126,8 @@ class RConvexPolyhedron {
   std::vector<std::uint32_t> m_adjStart;
   std::vector<std::uint32_t> m_adj;
   RScalar m_maxRadius = 0;
+  RVec3 m_boxHalf = RVec3::Zero();  // Box()'s half extents (m) while m_isBox
+  bool m_isBox = false;
 };
 
 }  // namespace REngine

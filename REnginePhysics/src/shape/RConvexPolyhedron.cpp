@@ -60,6 +60,7 @@ struct QhullRun {
 
 RConvexPolyhedron RConvexPolyhedron::Box(const RVec3& e) {
   RConvexPolyhedron p;
+  p.m_boxHalf = e, p.m_isBox = true;
   for (int i = 0; i < 8; ++i) {
     p.m_vertices.emplace_back((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(),
                               (i & 4) ? e.z() : -e.z());
@@ -84,6 +85,7 @@ RConvexPolyhedron RConvexPolyhedron::Box(const RVec3& e) {
 }
 
 void RConvexPolyhedron::SetTriangle(const RVec3& a, const RVec3& b, const RVec3& c) {
+  m_isBox = false;
   m_vertices.resize(3);
   m_vertices[0] = a, m_vertices[1] = b, m_vertices[2] = c;
   const RVec3 n = (b - a).cross(c - a).normalized();
@@ -330,6 +332,8 @@ void RConvexPolyhedron::Validate(RScalar extent) const {
 
 RConvexPolyhedron RConvexPolyhedron::Transformed(const RMat3& R, const RVec3& t) const {
   RConvexPolyhedron p = *this;
+  // Still Box()'s box only where nothing moved.
+  p.m_isBox = m_isBox && R == RMat3::Identity() && t.isZero(0);
   for (RVec3& v : p.m_vertices) v = R * v + t;
   for (RFace& f : p.m_faces) {
     f.plane.normal = R * f.plane.normal;
