@@ -314,6 +314,14 @@ int Run(int argc, char** argv) {
                  "tools/make_scaling_scenes.py when missing")
       ->needs(scalingFlag)
       ->capture_default_str();
+  std::string modelThreadsText, modelCsvPath = "build/bench/thread_model.csv";
+  app.add_option("--model-threads", modelThreadsText,
+                 "--scaling: also model REngine's step on these thread counts (comma-separated, 1 to "
+                 "1024) from one thread's task times: tools/rengine-bench/thread_model.h")
+      ->needs(scalingFlag);
+  app.add_option("--model-csv", modelCsvPath, "--scaling --model-threads: its CSV")
+      ->needs(scalingFlag)
+      ->capture_default_str();
   app.add_flag("--generate-scenes", generateScenes,
                "--scaling: make the missing scene files, then exit")
       ->needs(scalingFlag);
@@ -341,6 +349,16 @@ int Run(int argc, char** argv) {
         }
         opt.threads.push_back(static_cast<int>(value));
       }
+      if (!modelThreadsText.empty()) {
+        for (const std::string& t : SplitList(modelThreadsText)) {
+          char* end = nullptr;
+          const long value = std::strtol(t.c_str(), &end, 10);
+          if (t.empty() || *end != '\0' || value < 1 || value > 1024) {
+            throw UsageError{"--model-threads: a comma-separated list of counts 1 to 1024 (got \"" + modelThreadsText + "\")"};
+          }
+          opt.modelThreads.push_back(static_cast<int>(value));
+        }
+      }
     } catch (const UsageError& e) {
       std::fprintf(stderr, "error: %s\n", e.message.c_str());
       return kExitBadInput;
@@ -349,7 +367,9 @@ int Run(int argc, char** argv) {
     opt.csvPath = app.count("--csv") ? csvPath : "build/bench/scaling.csv";
     opt.quick = quick;
     opt.generateOnly = generateScenes;
+    opt.modelCsvPath = modelCsvPath;
     if (!opt.generateOnly && !ProbeCsv(opt.csvPath)) return kExitBadInput;
+    if (!opt.generateOnly && !opt.modelThreads.empty() && !ProbeCsv(opt.modelCsvPath)) return kExitBadInput;
     return RunScaling(opt);
   }
   if (shortcuts && app.count("--csv") == 0) csvPath = "build/bench/shortcuts.csv";

@@ -22,6 +22,10 @@ struct ScalingOptions {
   // worker fewer, the caller being the other): one row per count and broad-phase setting,
   // timed in the same interleaving. Bullet runs on one thread whatever this says.
   std::vector<int> threads = {1};
+  // --model-threads: REngine's step modelled on these thread counts from one thread's task
+  // timings (thread_model.h), per scene, medians of `repeats` runs; written to modelCsvPath.
+  std::vector<int> modelThreads;
+  std::string modelCsvPath;
   bool quick = false;          // smoke test: the smallest scenes, 10 steps, 1 run
   bool generateOnly = false;   // make the missing scene files, run nothing
 };

@@ -1,0 +1,34 @@
+// rengine-bench --scaling --model-threads: REngine's step on thread counts this machine may
+// not have, modelled from one thread's timings. The step runs on one thread with its parallel
+// stages cut as they are for P threads (RJobSystem::ThreadCount() says P), every task timed;
+// each stage's tasks are then dealt as RThreadPool deals them (the next task to the thread
+// that is free first) onto P modelled threads. The step's modelled time is its time outside
+// the stages plus every stage's span on P threads.
+//
+// What it leaves out: a thread's wake-up and the claim of a task (about a microsecond a
+// stage on RThreadPool, spinning), and the memory the threads share (caches, bandwidth), which
+// make real threads slower than their tasks timed alone. Where the machine has the threads,
+// the measured rows beside it show how far apart the two are.
+#pragma once
+
+#include <REnginePhysics/RScene.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace rbench {
+
+struct ThreadModel {
+  int threads = 1;
+  double stepMs = 0;        // modelled ms per step on `threads` threads
+  double serialMs = 0;      // of which outside the parallel stages (the same on any count)
+  double workMs = 0;        // the stages' tasks, summed (one thread's time in them)
+  double stagesPerStep = 0; // parallel stages (RJobSystem::Run calls) a step
+  std::uint64_t hash = 0;   // the final state's, by the caller's hash: the same as the pool's
+};
+
+// One run of the scene (its steps, its settings but the thread count), timed as above.
+ThreadModel ModelThreads(const REngine::RScene& scene, int threads,
+                         std::uint64_t (*hash)(const REngine::RSceneWorld& world));
+
+}  // namespace rbench
