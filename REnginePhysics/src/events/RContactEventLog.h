@@ -44,7 +44,8 @@ class RContactEventLog {
   };
 
   // Before the motion: every body's pose (when enabled, RWorldSettings::contactEvents).
-  void KeepStartPoses(const RStepBodies& bodies, bool enabled);
+  // (On the step's job system: a pass over every body, split into ranges.)
+  void KeepStartPoses(const RStepBodies& bodies, bool enabled, RJobSystem* jobs, std::size_t tasks);
   // After the motion: this step's events (Events()) and the pairs touching at its end.
   // impacts: the contact solver's impact rows, by block (see RStepInputs).
   void FindContactEvents(const RStepBodies& bodies, const RStepInputs& in, const std::vector<RImpactRow>& impacts);

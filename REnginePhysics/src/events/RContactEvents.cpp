@@ -8,6 +8,7 @@
 
 #include "collision/RGjkEpa.h"
 
+#include <REnginePhysics/RJobSystem.h>
 #include <REnginePhysics/RQueries.h>
 
 #include <algorithm>
@@ -54,13 +55,15 @@ std::size_t DenseOf(const RStepBodies& bodies, RBodyHandle h) {
 // The poses the contacts' manifolds were computed at: after the motion they say how far
 // each pair moved (whether its end needs the narrow phase again) and along which path (the
 // shape cast of a body that does not respond). Copied for every body: 56 bytes each.
-void RContactEventLog::KeepStartPoses(const RStepBodies& bodies, bool enabled) {
+void RContactEventLog::KeepStartPoses(const RStepBodies& bodies, bool enabled, RJobSystem* jobs, std::size_t tasks) {
   if (!enabled) return;
   m_startPoses.resize(bodies.size());
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    m_startPoses[i].x_W = bodies[i].m_x_W;
-    m_startPoses[i].q_WB = bodies[i].m_q_WB;
-  }
+  ParallelRanges(jobs, bodies.size(), tasks, 1024, [&](std::size_t i0, std::size_t i1, std::size_t) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      m_startPoses[i].x_W = bodies[i].m_x_W;
+      m_startPoses[i].q_WB = bodies[i].m_q_WB;
+    }
+  });
 }
 
 void RContactEventLog::FindContactEvents(const RStepBodies& bodies, const RStepInputs& in,

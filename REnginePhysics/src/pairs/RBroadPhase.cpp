@@ -93,11 +93,17 @@ void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& swee
   m_moved.clear();
   const bool rebuild = !m_fatValid || m_fatBoxes.size() != n || m_fatRefits >= kFatRefits;
   if (!rebuild) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const RBoundsTree::RBox& box = m_sweepBoxes[i];
-      const RBoundsTree::RBox& fat = m_fatBoxes[i];
-      if (Valid(box) ? !Contains(fat, box) : !IsEmpty(fat)) m_moved.push_back(static_cast<std::uint32_t>(i));
-    }
+    // Ranges of bodies, their lists joined in order: index order.
+    const std::size_t used = ParallelRanges(sweep.jobs, n, sweep.tasks, 2048, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+      std::vector<std::uint32_t>& moved = tasks[task].moved;
+      moved.clear();
+      for (std::size_t i = i0; i < i1; ++i) {
+        const RBoundsTree::RBox& box = m_sweepBoxes[i];
+        const RBoundsTree::RBox& fat = m_fatBoxes[i];
+        if (Valid(box) ? !Contains(fat, box) : !IsEmpty(fat)) moved.push_back(static_cast<std::uint32_t>(i));
+      }
+    });
+    for (std::size_t t = 0; t < used; ++t) m_moved.insert(m_moved.end(), tasks[t].moved.begin(), tasks[t].moved.end());
   }
   // Many moved (bodies added or removed shift the indices): a new tree and list, O(n log n
   // + pairs); otherwise the moved bodies' pairs are replaced, O(moved log n + pairs).
@@ -130,17 +136,68 @@ void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& swee
     m_fatScratch.insert(m_fatScratch.end(), tasks[t].pairs.begin(), tasks[t].pairs.end());
   }
   std::sort(m_fatScratch.begin(), m_fatScratch.end());
-  // The unmoved pairs, kept in order, merged with the new ones (std::merge into a list kept
-  // between steps: inplace_merge would allocate its buffer every time).
-  const std::size_t fresh = m_fatScratch.size();
-  for (const auto& pair : m_fatPairs) {
-    if (!m_movedMark[pair.first] && !m_movedMark[pair.second]) m_fatScratch.push_back(pair);
-  }
-  m_fatMerged.resize(m_fatScratch.size());
-  std::merge(m_fatScratch.begin(), m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh),
-             m_fatScratch.begin() + static_cast<std::ptrdiff_t>(fresh), m_fatScratch.end(), m_fatMerged.begin());
-  std::swap(m_fatPairs, m_fatMerged);
+  MergeFresh(sweep);
   for (std::uint32_t i : m_moved) m_movedMark[i] = 0;
+}
+
+// The list's pairs of unmoved bodies, kept in order, merged with the new ones (sorted, in
+// m_fatScratch) into the next list. Cut by the first body's index into ranges, whose pairs
+// and new pairs are both contiguous: each range counts what it keeps, then writes its merge
+// at its place.
+void RBroadPhase::MergeFresh(const RSweep& sweep) {
+  const std::size_t listed = m_fatPairs.size();
+  const std::size_t ranges = RangeCount(listed, sweep.tasks, 4096);
+  if (ranges == 0) {  // nothing listed: the new pairs are the list
+    m_fatPairs.assign(m_fatScratch.begin(), m_fatScratch.end());
+    return;
+  }
+  const auto kept = [this](const RPair& pair) { return !m_movedMark[pair.first] && !m_movedMark[pair.second]; };
+  // Range t covers the pairs whose first body is in [bodyStart[t], bodyStart[t + 1]).
+  m_rangeStart.resize(3 * (ranges + 1));
+  std::uint32_t* bodyStart = m_rangeStart.data();
+  std::uint32_t* listStart = bodyStart + ranges + 1;
+  std::uint32_t* freshStart = listStart + ranges + 1;
+  const auto byFirst = [](const RPair& pair, std::uint32_t i) { return pair.first < i; };
+  for (std::size_t t = 0; t <= ranges; ++t) {
+    const std::size_t at = listed * t / ranges;
+    bodyStart[t] = t == 0 ? 0 : t == ranges ? std::numeric_limits<std::uint32_t>::max() : m_fatPairs[at].first;
+    listStart[t] = static_cast<std::uint32_t>(
+        std::lower_bound(m_fatPairs.begin(), m_fatPairs.end(), bodyStart[t], byFirst) - m_fatPairs.begin());
+    freshStart[t] = static_cast<std::uint32_t>(
+        std::lower_bound(m_fatScratch.begin(), m_fatScratch.end(), bodyStart[t], byFirst) - m_fatScratch.begin());
+  }
+  m_rangeCount.assign(ranges + 1, 0);
+  ParallelRanges(sweep.jobs, ranges, ranges, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+    for (std::size_t t = t0; t < t1; ++t) {
+      m_rangeCount[t + 1] = static_cast<std::size_t>(std::count_if(m_fatPairs.begin() + listStart[t], m_fatPairs.begin() + listStart[t + 1], kept)) +
+                            (freshStart[t + 1] - freshStart[t]);
+    }
+  });
+  for (std::size_t t = 0; t < ranges; ++t) m_rangeCount[t + 1] += m_rangeCount[t];
+  m_fatMerged.resize(m_rangeCount[ranges]);
+  ParallelRanges(sweep.jobs, ranges, ranges, 1, [&](std::size_t t0, std::size_t t1, std::size_t) {
+    for (std::size_t t = t0; t < t1; ++t) {
+      // std::merge of the kept pairs and the new ones (the kept first of equals: none are).
+      const RPair* a = m_fatPairs.data() + listStart[t];
+      const RPair* aEnd = m_fatPairs.data() + listStart[t + 1];
+      const RPair* b = m_fatScratch.data() + freshStart[t];
+      const RPair* bEnd = m_fatScratch.data() + freshStart[t + 1];
+      RPair* out = m_fatMerged.data() + m_rangeCount[t];
+      for (;;) {
+        while (a != aEnd && !kept(*a)) ++a;
+        if (a == aEnd) {
+          out = std::copy(b, bEnd, out);
+          break;
+        }
+        if (b != bEnd && *b < *a) {
+          *out++ = *b++;
+        } else {
+          *out++ = *a++;
+        }
+      }
+    }
+  });
+  std::swap(m_fatPairs, m_fatMerged);
 }
 
 // Every body's fat box anew, its tree built, and every pair of overlapping fat boxes

@@ -83,6 +83,7 @@ class RBroadPhase {
   // Body i's fat box around its sweep box; reach is its reach this sweep (m).
   RBoundsTree::RBox FatBox(const RBodyCore& b, std::size_t i, RScalar reach) const;
   void RebuildFatPairs(const RStepBodies& bodies, const RSweep& sweep, std::vector<RSweepTask>& tasks);
+  void MergeFresh(const RSweep& sweep);
 
   std::vector<RBoundsTree::RBox> m_sweepBoxes;  // per body, this sweep
   std::vector<RBoundsTree::RBox> m_fatBoxes;    // per body
@@ -95,6 +96,8 @@ class RBroadPhase {
   static constexpr int kFatRefits = 64;
   std::vector<RBoundsTree::RNodePair> m_seeds, m_seedScratch;  // RebuildFatPairs
   std::vector<std::uint32_t> m_pairStart;  // RebuildFatPairs: counting sort by i
+  std::vector<std::uint32_t> m_rangeStart;  // MergeFresh: each range's first body, pair and new pair
+  std::vector<std::size_t> m_rangeCount;    // MergeFresh: where each range's merge goes
 };
 
 }  // namespace REngine

@@ -41,6 +41,7 @@ struct RSweepTask {
   std::vector<std::uint32_t> candidates;   // those with lim^2 - d^2 >= 0
   std::vector<RBoundsTree::RNodePair> nodeStack;  // the tree's pair search
   std::vector<std::uint32_t> query, queryStack;   // the tree's queries
+  std::vector<std::uint32_t> moved;               // the broad phase: bodies that left their fat boxes
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // stage 1: spheres touch (i < j)
   std::vector<RContact> contacts;          // stage 2: contacts, in pair order
   std::size_t contactsAt = 0;              // where they go in the step's contacts (and contact memory)

@@ -211,7 +211,7 @@ void RIntegrator::Step(const RStepBodies& bodies, RScalar dt) {
   CollisionDetection(bodies, dt);
   const auto t1 = Clock::now();
   // The contact events compare the poses before and after.
-  w.m_eventLog.KeepStartPoses(bodies, w.m_settings.contactEvents);
+  w.m_eventLog.KeepStartPoses(bodies, w.m_settings.contactEvents, w.m_jobs, w.m_tasks);
   UpdateObjects(bodies, dt);
   const auto t2 = Clock::now();
   // Contact events: begin, persist, end, from the contacts and the motion (RContactEvents.h).
