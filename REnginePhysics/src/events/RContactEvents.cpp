@@ -58,7 +58,7 @@ std::size_t DenseOf(const RStepBodies& bodies, RBodyHandle h) {
 void RContactEventLog::KeepStartPoses(const RStepBodies& bodies, bool enabled, RJobSystem* jobs, std::size_t tasks) {
   if (!enabled) return;
   m_startPoses.resize(bodies.size());
-  ParallelRanges(jobs, bodies.size(), tasks, 1024, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(jobs, bodies.size(), tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       m_startPoses[i].x_W = bodies[i].m_x_W;
       m_startPoses[i].q_WB = bodies[i].m_q_WB;

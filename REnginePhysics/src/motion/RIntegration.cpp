@@ -30,7 +30,7 @@ void RMotion::Integrate(const RStepBodies& bodies, RScalar dt, const RStepInputs
   // Every body moves on its own: the bodies are cut into ranges, one task each; the bodies
   // put back are listed afterwards, in index order.
   m_putBack.assign(bodies.size(), 0);
-  ParallelRanges(in.jobs, bodies.size(), in.tasks, 256, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(in.jobs, bodies.size(), in.tasks, 128, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       // What the motion reads of the body six ahead: its first seven lines (state,
       // accumulators, inverse inertia, drag, masks) and the rotation's cache, not the

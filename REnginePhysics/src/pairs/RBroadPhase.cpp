@@ -94,7 +94,7 @@ void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& swee
   const bool rebuild = !m_fatValid || m_fatBoxes.size() != n || m_fatRefits >= kFatRefits;
   if (!rebuild) {
     // Ranges of bodies, their lists joined in order: index order.
-    const std::size_t used = ParallelRanges(sweep.jobs, n, sweep.tasks, 2048, [&](std::size_t i0, std::size_t i1, std::size_t task) {
+    const std::size_t used = ParallelRanges(sweep.jobs, n, sweep.tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t task) {
       std::vector<std::uint32_t>& moved = tasks[task].moved;
       moved.clear();
       for (std::size_t i = i0; i < i1; ++i) {
@@ -146,7 +146,7 @@ void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& swee
 // at its place.
 void RBroadPhase::MergeFresh(const RSweep& sweep) {
   const std::size_t listed = m_fatPairs.size();
-  const std::size_t ranges = RangeCount(listed, sweep.tasks, 4096);
+  const std::size_t ranges = RangeCount(listed, sweep.tasks, 1024);
   if (ranges == 0) {  // nothing listed: the new pairs are the list
     m_fatPairs.assign(m_fatScratch.begin(), m_fatScratch.end());
     return;
@@ -253,7 +253,7 @@ void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<RSwee
   const std::vector<RScalar>& cy = sweep.cy;
   const std::vector<RScalar>& cz = sweep.cz;
   const std::vector<RScalar>& reach = sweep.reach;
-  const std::size_t used = ParallelRanges(sweep.jobs, m_fatPairs.size(), sweep.tasks, 4096, [&](std::size_t k0, std::size_t k1, std::size_t task) {
+  const std::size_t used = ParallelRanges(sweep.jobs, m_fatPairs.size(), sweep.tasks, 1024, [&](std::size_t k0, std::size_t k1, std::size_t task) {
     RSweepTask& st = tasks[task];
     st.pairs.clear();
     st.sphereTests = 0;

@@ -109,7 +109,7 @@ void RPairSweep::SweepMotion(const RStepBodies& bodies, RScalar dt, RScalar allo
   const RWorldSettings& settings = in.settings;
   const RWorldSettings::RShortcuts& shortcuts = settings.shortcuts;
   const RScalar halfDt = RScalar(0.5) * dt;
-  ParallelRanges(in.jobs, n, in.tasks, 512, [&](std::size_t i0, std::size_t i1, std::size_t) {
+  ParallelRanges(in.jobs, n, in.tasks, 128, [&](std::size_t i0, std::size_t i1, std::size_t) {
     for (std::size_t i = i0; i < i1; ++i) {
       if (i + 6 < i1) PrefetchBody(bodies[i + 6], 7 * 64);  // flags, state, accumulators, masks, box
       RBodyCore& b = bodies[i];
