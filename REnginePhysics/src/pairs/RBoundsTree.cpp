@@ -24,6 +24,23 @@ void RBoundsTree::Build(const RBox* boxes, const std::uint32_t* ids, std::size_t
   m_nodes.reserve(2 * (count / kLeafSize + 1));
   m_items.reserve(count), m_boxes.reserve(count);
   BuildNode(0, static_cast<std::uint32_t>(count));
+  // RefitItems' maps.
+  m_parent.assign(m_nodes.size(), kNoNode);
+  m_leafOf.resize(m_items.size());
+  std::uint32_t largestId = 0;
+  for (std::uint32_t id : m_items) largestId = std::max(largestId, id);
+  m_placeOf.assign(static_cast<std::size_t>(largestId) + 1, kNoNode);
+  for (std::uint32_t k = 0; k < m_nodes.size(); ++k) {
+    const RNode& node = m_nodes[k];
+    if (node.count == 0) {
+      m_parent[k + 1] = k, m_parent[node.first] = k;
+      continue;
+    }
+    for (std::uint32_t place = node.first; place < node.first + node.count; ++place) {
+      m_leafOf[place] = k, m_placeOf[m_items[place]] = place;
+    }
+  }
+  m_dirtyMark.assign(m_nodes.size(), 0);
 }
 
 std::uint32_t RBoundsTree::BuildNode(std::uint32_t begin, std::uint32_t end) {
@@ -85,20 +102,50 @@ void RBoundsTree::PairSeeds(const RBoundsTree& other, std::size_t want,
   }
 }
 
+void RBoundsTree::FitNode(std::uint32_t index) {
+  RNode& node = m_nodes[index];
+  if (node.count > 0) {
+    node.box = m_boxes[node.first];
+    for (std::uint32_t k = 1; k < node.count; ++k) Merge(node.box, m_boxes[node.first + k]);
+  } else {
+    node.box = m_nodes[index + 1].box;
+    Merge(node.box, m_nodes[node.first].box);
+  }
+}
+
 void RBoundsTree::Refit(const RBox* byId) {
   for (std::size_t k = 0; k < m_items.size(); ++k) m_boxes[k] = byId[m_items[k]];
   // Depth-first order puts both children after their parent: back to front, every node
   // meets its children already refitted.
-  for (std::size_t index = m_nodes.size(); index-- > 0;) {
-    RNode& node = m_nodes[index];
-    if (node.count > 0) {
-      node.box = m_boxes[node.first];
-      for (std::uint32_t k = 1; k < node.count; ++k) Merge(node.box, m_boxes[node.first + k]);
-    } else {
-      node.box = m_nodes[index + 1].box;
-      Merge(node.box, m_nodes[node.first].box);
+  for (std::size_t index = m_nodes.size(); index-- > 0;) FitNode(static_cast<std::uint32_t>(index));
+}
+
+void RBoundsTree::RefitItems(const RBox* byId, const std::uint32_t* ids, std::size_t count) {
+  if (m_nodes.empty()) return;
+  // The changed items' leaves and every node above them are marked, then refitted children
+  // first by a walk from the root through the marked nodes alone. The other nodes' boxes
+  // are what Refit would give them again: nothing below them changed.
+  for (std::size_t k = 0; k < count; ++k) {
+    // (An id the tree does not hold has no box in it to refit.)
+    const std::uint32_t place = ids[k] < m_placeOf.size() ? m_placeOf[ids[k]] : kNoNode;
+    if (place == kNoNode) continue;
+    m_boxes[place] = byId[ids[k]];
+    for (std::uint32_t node = m_leafOf[place]; node != kNoNode && !m_dirtyMark[node]; node = m_parent[node]) {
+      m_dirtyMark[node] = 1;
     }
   }
+  if (m_dirtyMark[0]) FitMarked(0);
+}
+
+void RBoundsTree::FitMarked(std::uint32_t index) {
+  // A median-split tree is at most 30 levels deep: so is this recursion.
+  const RNode& node = m_nodes[index];
+  if (node.count == 0) {
+    if (m_dirtyMark[index + 1]) FitMarked(index + 1);
+    if (m_dirtyMark[node.first]) FitMarked(node.first);
+  }
+  FitNode(index);
+  m_dirtyMark[index] = 0;
 }
 
 void RBoundsTree::Query(const RBox& box, std::vector<std::uint32_t>& out,

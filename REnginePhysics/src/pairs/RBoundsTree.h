@@ -44,6 +44,10 @@ class RBoundsTree {
              const Found& found) const;
   // New boxes for the same items, the tree's shape kept: byId[id] is item id's box. O(n).
   void Refit(const RBox* byId);
+  // The same for a few items whose boxes changed, ids[0 .. count), every other item's box
+  // as it was: only their leaves and the nodes above them are refitted, in the order Refit
+  // takes them, so the tree is Refit's to the bit. O(count log n).
+  void RefitItems(const RBox* byId, const std::uint32_t* ids, std::size_t count);
 
   // Appends to `out` the id of every item whose box overlaps `box` (closed intervals), in
   // the tree's order; `stack` is the caller's traversal scratch (queries from several
@@ -87,6 +91,10 @@ class RBoundsTree {
     }
   }
   std::uint32_t BuildNode(std::uint32_t begin, std::uint32_t end);
+  // A node's box from its items' (a leaf) or its children's boxes (an inner node).
+  void FitNode(std::uint32_t index);
+  // RefitItems' walk: the marked nodes below and at `index` (marked), children first.
+  void FitMarked(std::uint32_t index);
   struct RRayEntry {  // Ray's stack: a node and where the segment enters its box
     std::uint32_t node;
     RScalar tEnter;
@@ -122,6 +130,11 @@ class RBoundsTree {
   std::vector<RNode> m_nodes;
   std::vector<std::uint32_t> m_items;  // ids, in leaf order
   std::vector<RBox> m_boxes;           // the items' boxes, in leaf order
+  // For RefitItems: each node's parent (the root's: kNoNode), each item's leaf (in leaf
+  // order), each id's place in leaf order (kNoNode for ids not in the tree); and its scratch.
+  static constexpr std::uint32_t kNoNode = 0xffffffffu;
+  std::vector<std::uint32_t> m_parent, m_leafOf, m_placeOf;
+  std::vector<char> m_dirtyMark;
   // Build scratch: item order and box centres (twice: sums of lo and hi).
   std::vector<std::uint32_t> m_order;
   std::vector<RScalar> m_centre;

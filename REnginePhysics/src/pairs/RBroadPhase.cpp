@@ -115,7 +115,7 @@ void RBroadPhase::UpdateBroadPhase(const RStepBodies& bodies, const RSweep& swee
   if (m_moved.empty()) return;
   m_movedMark.resize(n, 0);  // all 0 between steps: cleared below after use
   for (std::uint32_t i : m_moved) m_fatBoxes[i] = FatBox(bodies[i], i, sweep.reach[i]), m_movedMark[i] = 1;
-  m_fatTree.Refit(m_fatBoxes.data());
+  m_fatTree.RefitItems(m_fatBoxes.data(), m_moved.data(), m_moved.size());
   // Each moved body's new partners, from the tree; a pair of two moved bodies is taken by
   // the first of them.
   const std::size_t used = ParallelRanges(sweep.jobs, m_moved.size(), sweep.tasks, 64, [&](std::size_t k0, std::size_t k1, std::size_t task) {
