@@ -287,3 +287,49 @@ TEST(BroadPhase, ARunawayBodyMeetsEveryBodyAsInTheLoop) {
   EXPECT_EQ(narrow[0], 10u) << "the loop pairs the runaway with every sphere";
   EXPECT_EQ(narrow[1], narrow[0]);
 }
+
+// A refit of a few moved items (RefitItems, the broad phase's each step) against brute force
+// and against refitting every node (Refit): the queries find exactly the boxes that overlap
+// at their new places, and the two refits leave the same tree to the bit (the same inner
+// areas, the same answers in the same order).
+TEST(BoundsTree, RefitOfMovedItemsIsTheFullRefit) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<RScalar> coordinate(-50, 50), size(0.1, 3);
+  for (std::size_t n : {1u, 3u, 17u, 2000u}) {
+    std::vector<RBoundsTree::RBox> boxes(n);
+    auto place = [&](RBoundsTree::RBox& b) {
+      for (int a = 0; a < 3; ++a) b.lo[a] = coordinate(rng), b.hi[a] = b.lo[a] + size(rng);
+    };
+    for (RBoundsTree::RBox& b : boxes) place(b);
+    std::vector<std::uint32_t> ids(n);
+    for (std::size_t k = 0; k < n; ++k) ids[k] = static_cast<std::uint32_t>(k);
+    RBoundsTree some, all;
+    some.Build(boxes.data(), ids.data(), n);
+    all.Build(boxes.data(), ids.data(), n);
+    for (int round = 0; round < 5; ++round) {
+      // A tenth of the items (at least one) move anywhere, each listed once.
+      std::vector<std::uint32_t> moved;
+      for (std::uint32_t k = 0; k < n; ++k) {
+        if (rng() % 10 == 0 || (moved.empty() && k + 1 == n)) moved.push_back(k), place(boxes[k]);
+      }
+      some.RefitItems(boxes.data(), moved.data(), moved.size());
+      all.Refit(boxes.data());
+      EXPECT_EQ(some.InnerArea(), all.InnerArea()) << n << " boxes, round " << round;
+      for (std::size_t q = 0; q < std::min<std::size_t>(n, 200); ++q) {
+        RBoundsTree::RBox probe;
+        place(probe);
+        std::vector<std::uint32_t> hitsSome, hitsAll, expected, stack;
+        some.Query(probe, hitsSome, stack);
+        all.Query(probe, hitsAll, stack);
+        EXPECT_EQ(hitsSome, hitsAll);
+        for (std::uint32_t k = 0; k < n; ++k) {
+          bool overlap = true;
+          for (int a = 0; a < 3; ++a) overlap = overlap && boxes[k].lo[a] <= probe.hi[a] && probe.lo[a] <= boxes[k].hi[a];
+          if (overlap) expected.push_back(k);
+        }
+        std::sort(hitsSome.begin(), hitsSome.end());
+        EXPECT_EQ(hitsSome, expected) << n << " boxes, round " << round;
+      }
+    }
+  }
+}
