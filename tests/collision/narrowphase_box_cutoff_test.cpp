@@ -100,3 +100,34 @@ TEST(BoxPairs, ProvenApartOnlyBeyondTheCutoff) {
 
 }  // namespace
 }  // namespace REngine::test
+
+namespace REngine::test {
+namespace {
+
+// What the proof assumes, checked rather than trusted: a box given negative half extents has
+// the corners of the positive one, and a pose whose matrix is not a rotation (scaled) gets
+// GJK's answer for the shape it describes, never a proof made for a rotation. The overlap
+// below (R = 2I puts B's corners 20 m out: its x reaches from 12 - 20 to 12 + 20) is what
+// GJK computes.
+TEST(BoxPairs, ProofTrustsNoNegativeExtentsNorScaledPoses) {
+  const RConvexPolyhedron unit = RConvexPolyhedron::Box(RVec3(1, 1, 1));
+  const RConvexPolyhedron negative = RConvexPolyhedron::Box(RVec3(-1, -1, -1));
+  ASSERT_NE(negative.BoxHalfExtents(), nullptr);
+  EXPECT_EQ(*negative.BoxHalfExtents(), RVec3(1, 1, 1));
+  RRelativePose X;
+  X.t_AB = RVec3(1.5, 0, 0);  // overlapping unit boxes, 0.5 m deep
+  const RDistanceResult a = RCollisionSolver::DistanceWithin(ShapeOf(negative), ShapeOf(negative), X, 0.1);
+  const RDistanceResult b = RCollisionSolver::DistanceWithin(ShapeOf(unit), ShapeOf(unit), X, 0.1);
+  EXPECT_NEAR(a.separation, -0.5, 1e-12);
+  EXPECT_EQ(a.separation, b.separation);
+
+  const RConvexPolyhedron small = RConvexPolyhedron::Box(RVec3(1, 1, 1)), large = RConvexPolyhedron::Box(RVec3(10, 10, 10));
+  RRelativePose scaled;
+  scaled.R_AB = 2 * RMat3::Identity();
+  scaled.t_AB = RVec3(12, 0, 0);
+  const RDistanceResult r = RCollisionSolver::DistanceWithin(ShapeOf(small), ShapeOf(large), scaled, 1);
+  EXPECT_LE(r.separation, 1) << "proven apart through a matrix that is not a rotation";
+}
+
+}  // namespace
+}  // namespace REngine::test

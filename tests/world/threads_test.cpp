@@ -12,6 +12,9 @@
 #include "support/TestBodies.h"
 
 #include <gtest/gtest.h>
+#include <thread>
+#include <stdexcept>
+#include <chrono>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -212,6 +215,50 @@ TEST(Threads, PoolRunsEveryTaskOnceAndReturnsWhenAllAreDone) {
         ASSERT_EQ(runs[k].load(), 1) << threads << " threads, task " << k << " of " << count;
       }
     }
+  }
+}
+
+// Many short stages back to back (a step's pattern: the workers spin between them) and stages
+// with slow tasks that outlast the caller's spin (it then sleeps until the last one ends); a
+// task that throws: every other task still runs once, Run throws the first exception after
+// all have finished, and the pool runs the next stage as before.
+TEST(Threads, PoolKeepsCountUnderBurstsSlowTasksAndExceptions) {
+  for (int threads : {1, 2, 4}) {
+    RThreadPool pool(threads);
+    std::vector<std::atomic<int>> runs(64);
+    auto count = [](void* p, std::size_t k) { (*static_cast<std::vector<std::atomic<int>>*>(p))[k]++; };
+    for (int stage = 0; stage < 20000; ++stage) pool.Run(1 + stage % 64, count, &runs);
+    long total = 0;
+    for (auto& r : runs) total += r.load();
+    long expected = 0;
+    for (int stage = 0; stage < 20000; ++stage) expected += 1 + stage % 64;
+    EXPECT_EQ(total, expected) << threads << " threads";
+
+    struct Slow {
+      std::vector<std::atomic<int>> runs = std::vector<std::atomic<int>>(8);
+    } slow;
+    pool.Run(8, [](void* p, std::size_t k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(k % 2 ? 3 : 0));
+      static_cast<Slow*>(p)->runs[k]++;
+    }, &slow);
+    for (auto& r : slow.runs) EXPECT_EQ(r.load(), 1) << threads << " threads";
+
+    std::vector<std::atomic<int>> thrown(16);
+    for (auto& r : thrown) r = 0;
+    try {
+      pool.Run(16, [](void* p, std::size_t k) {
+        (*static_cast<std::vector<std::atomic<int>>*>(p))[k]++;
+        if (k == 3 || k == 11) throw std::runtime_error("task " + std::to_string(k));
+      }, &thrown);
+      ADD_FAILURE() << "Run did not throw, " << threads << " threads";
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_TRUE(what == "task 3" || what == "task 11") << what;
+    }
+    for (std::size_t k = 0; k < thrown.size(); ++k) EXPECT_EQ(thrown[k].load(), 1) << threads << " threads, task " << k;
+    for (auto& r : runs) r = 0;
+    pool.Run(64, count, &runs);
+    for (auto& r : runs) EXPECT_EQ(r.load(), 1) << threads << " threads, after the exception";
   }
 }
 

@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -31,7 +32,8 @@ class RJobSystem {
   virtual int ThreadCount() const = 0;
   // Runs task(context, k) for every k in [0, count), each exactly once, on any of its
   // threads (the caller's included), and returns when all have finished. Tasks of one Run
-  // never share outputs; they may run in any order.
+  // never share outputs; they may run in any order. A task that throws: RThreadPool still
+  // runs the others, and Run throws the first exception once every task has finished.
   virtual void Run(std::size_t count, RTask task, void* context) = 0;
 };
 
@@ -73,14 +75,17 @@ class RThreadPool final : public RJobSystem {
   std::atomic<std::uint64_t> m_word{0};
   std::atomic<std::uint64_t> m_countWord{0};
   std::atomic<std::size_t> m_finished{0};  // tasks of the current Run finished
+  std::exception_ptr m_error;              // the current Run's first exception (under m_mutex)
   RTask m_task = nullptr;
   void* m_context = nullptr;
   std::uint32_t m_run = 0;  // the generation of the last Run (the caller's thread only)
   // Sleeping workers: they wait on m_wake under m_mutex, counted in m_sleepers so that a
-  // Run takes the lock and notifies only when one sleeps.
+  // Run takes the lock and notifies only when one sleeps. The caller, once its spin for the
+  // last tasks is over, waits on m_done the same way (m_callerWaits).
   std::mutex m_mutex;
-  std::condition_variable m_wake;
+  std::condition_variable m_wake, m_done;
   std::atomic<int> m_sleepers{0};
+  std::atomic<bool> m_callerWaits{false};
   std::atomic<bool> m_stop{false};
 };
 

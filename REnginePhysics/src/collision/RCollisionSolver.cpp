@@ -81,6 +81,9 @@ bool BoxesApart(const RVec3& ha, const RVec3& hb, const RRelativePose& X, RScala
                 RVec3& axis) {
   const RMat3& R = X.R_AB;  // column j: B's axis j in A's frame
   const RVec3& t = X.t_AB;
+  // The bounds below hold for a rotation; a pose given through the API that is not one
+  // (a scaled or sheared matrix) gets GJK's answer for what it describes instead.
+  if (!((R.transpose() * R - RMat3::Identity()).cwiseAbs().maxCoeff() <= 1e-9)) return false;
   RMat3 absR;
   for (int k = 0; k < 3; ++k) {
     for (int j = 0; j < 3; ++j) absR(k, j) = std::abs(R(k, j));

@@ -60,7 +60,7 @@ struct QhullRun {
 
 RConvexPolyhedron RConvexPolyhedron::Box(const RVec3& e) {
   RConvexPolyhedron p;
-  p.m_boxHalf = e, p.m_isBox = true;
+  p.m_boxHalf = e.cwiseAbs(), p.m_isBox = true;  // (the corners of -e are those of e)
   for (int i = 0; i < 8; ++i) {
     p.m_vertices.emplace_back((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(),
                               (i & 4) ? e.z() : -e.z());

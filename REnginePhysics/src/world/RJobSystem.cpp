@@ -81,9 +81,20 @@ void RThreadPool::Drain(std::uint32_t run) {
     if (Generation(countWord) != run || Low(word) >= Low(countWord)) return;
     if (!m_word.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
     // Task Low(word) of this Run is ours: the Run waits for it, so m_task and m_context
-    // stay this Run's until it finishes.
-    m_task(m_context, Low(word));
-    m_finished.fetch_add(1, std::memory_order_acq_rel);
+    // stay this Run's until it finishes. An exception is kept for the caller (the first
+    // one); the task counts as finished either way, so the Run still ends.
+    try {
+      m_task(m_context, Low(word));
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      if (!m_error) m_error = std::current_exception();
+    }
+    const std::uint64_t count = Low(m_countWord.load(std::memory_order_relaxed));
+    if (m_finished.fetch_add(1) + 1 == count && m_callerWaits.load()) {
+      // The caller sleeps on m_done: notified under the lock it tests under.
+      { std::lock_guard<std::mutex> lock(m_mutex); }
+      m_done.notify_all();
+    }
     word = m_word.load(std::memory_order_acquire);
   }
 }
@@ -93,7 +104,7 @@ void RThreadPool::WorkerLoop() {
   for (;;) {
     // Spin a while for the next Run, then sleep until one wakes this worker.
     const auto until = std::chrono::steady_clock::now() + kWorkerSpin;
-    for (int k = 1; !NewRun(seen); ++k) {
+    for (std::uint32_t k = 1; !NewRun(seen); ++k) {
       CpuRelax();
       if (k % 64 == 0 && std::chrono::steady_clock::now() > until) break;
     }
@@ -113,8 +124,16 @@ void RThreadPool::WorkerLoop() {
 
 void RThreadPool::Run(std::size_t count, RTask task, void* context) {
   if (count == 0) return;
-  if (m_workers.empty()) {
-    for (std::size_t k = 0; k < count; ++k) task(context, k);
+  if (m_workers.empty()) {  // (as on several threads: every task runs, the first exception after)
+    std::exception_ptr error;
+    for (std::size_t k = 0; k < count; ++k) {
+      try {
+        task(context, k);
+      } catch (...) {
+        if (!error) error = std::current_exception();
+      }
+    }
+    if (error) std::rethrow_exception(error);
     return;
   }
   if (count > 0xffffffffu) {  // more tasks than the word counts: in Runs of 2^32 - 1
@@ -143,16 +162,27 @@ void RThreadPool::Run(std::size_t count, RTask task, void* context) {
     m_wake.notify_all();
   }
   Drain(run);
-  // The last tasks, on other threads, end soon: spin, then yield the core to them (they
-  // may be waiting for it when there are more threads than cores).
+  // The last tasks, on other threads, end soon: spin a while, then sleep until the thread
+  // that finishes the last one wakes this one.
   const auto until = std::chrono::steady_clock::now() + kCallerSpin;
-  for (int k = 1; m_finished.load(std::memory_order_acquire) != count; ++k) {
-    if (k % 64 != 0 || std::chrono::steady_clock::now() < until) {
-      CpuRelax();
-    } else {
-      std::this_thread::yield();
+  for (std::uint32_t k = 1; m_finished.load(std::memory_order_acquire) != count; ++k) {
+    CpuRelax();
+    if (k % 64 == 0 && std::chrono::steady_clock::now() > until) {
+      std::unique_lock<std::mutex> lock(m_mutex);
+      // Set before the test under the lock: a task that finishes after the test sees it and
+      // notifies under the same lock, so the wake-up is not lost.
+      m_callerWaits.store(true);
+      m_done.wait(lock, [&] { return m_finished.load() == count; });
+      m_callerWaits.store(false);
+      break;
     }
   }
+  std::exception_ptr error;
+  {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    std::swap(error, m_error);
+  }
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace REngine
