@@ -47,8 +47,8 @@ inline void CpuRelax() {
 }
 
 // How long a worker spins for the next Run before it sleeps, and how long the caller spins
-// for the last tasks before it yields its core. A step's stages come tens of microseconds
-// apart; a game's frame leaves milliseconds between steps, which the workers sleep through.
+// for the last tasks before it sleeps too. A step's stages come microseconds apart; a game's
+// frame leaves milliseconds between steps, which the workers sleep through.
 constexpr auto kWorkerSpin = std::chrono::microseconds(100);
 constexpr auto kCallerSpin = std::chrono::microseconds(50);
 
