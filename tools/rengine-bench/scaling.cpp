@@ -391,69 +391,14 @@ bool RunScene(const ScalingScene& def, const RScene& scene, const ScalingOptions
   return ok;
 }
 
-// --model-threads: one scene's modelled step on each thread count (medians of the repeats,
-// the counts interleaved), beside this run's measured REngine rows of the same counts.
-struct ModelRow {
-  const ScalingScene* scene = nullptr;
-  ThreadModel model;
-  double measuredMs = kNaN;  // this run's REngine row on as many threads (broad phase on)
-};
-
-// Returns false when a modelled run ended elsewhere than the measured ones (reported): its
-// stages ran on one thread, cut for more, and must give the same state to the bit.
-bool ModelScene(const ScalingScene& def, const RScene& scene, const ScalingOptions& opt,
-                const std::vector<ScalingRow>& rows, std::vector<ModelRow>& out) {
-  std::vector<std::vector<ThreadModel>> runs(opt.modelThreads.size());
-  bool ok = true;
-  for (int r = 0; r < opt.repeats; ++r) {
-    for (std::size_t k = 0; k < opt.modelThreads.size(); ++k) {
-      runs[k].push_back(ModelThreads(scene, opt.modelThreads[k], StateHash));
-      for (const ScalingRow& measured : rows) {
-        if (measured.scene == &def && measured.hash != runs[k].back().hash) {
-          std::printf("  error: %s: the run modelled on %d threads ended in another state (hash %016" PRIx64
-                      ", measured %016" PRIx64 ")\n",
-                      def.name, opt.modelThreads[k], runs[k].back().hash, measured.hash);
-          ok = false;
-        }
-      }
-    }
+// --model-threads: this run's measured REngine rows of the scene (broad phase on), for the
+// thread model (thread_model.h) to set beside its own.
+std::vector<MeasuredRow> Measured(const ScalingScene& def, const std::vector<ScalingRow>& rows) {
+  std::vector<MeasuredRow> measured;
+  for (const ScalingRow& row : rows) {
+    if (row.scene == &def && row.broadPhase) measured.push_back({row.threads, row.rengineMs, row.hash});
   }
-  for (std::size_t k = 0; k < runs.size(); ++k) {
-    std::sort(runs[k].begin(), runs[k].end(), [](const ThreadModel& a, const ThreadModel& b) { return a.stepMs < b.stepMs; });
-    ModelRow row;
-    row.scene = &def;
-    row.model = runs[k][runs[k].size() / 2];
-    for (const ScalingRow& measured : rows) {
-      if (measured.scene == &def && measured.broadPhase && measured.threads == opt.modelThreads[k]) {
-        row.measuredMs = measured.rengineMs;
-      }
-    }
-    out.push_back(row);
-  }
-  return ok;
-}
-
-// The modelled speed-ups: each scene's step on P threads against its step on the first
-// count given (1 when it is listed first).
-bool PrintAndWriteModel(const std::vector<ModelRow>& rows, const std::string& path) {
-  std::printf("\nthreads modelled from one thread's task times (thread_model.h): ms/step, speed-up over the first count, "
-              "and this run's measured REngine ms/step where the machine has the threads\n");
-  std::printf("%-17s %7s %10s %9s %9s %9s %7s %10s\n", "scene", "threads", "modelled", "speed-up", "serial",
-              "work", "stages", "measured");
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) return false;
-  std::fprintf(f, "scene,threads,modelled_ms,speedup,serial_ms,work_ms,stages_per_step,measured_ms\n");
-  double first = kNaN;
-  const ScalingScene* scene = nullptr;
-  for (const ModelRow& r : rows) {
-    if (r.scene != scene) scene = r.scene, first = r.model.stepMs;
-    const double speedup = first / r.model.stepMs;
-    std::printf("%-17s %7d %10.4g %9.3g %9.4g %9.4g %7.1f %10.4g\n", r.scene->name, r.model.threads, r.model.stepMs,
-                speedup, r.model.serialMs, r.model.workMs, r.model.stagesPerStep, r.measuredMs);
-    std::fprintf(f, "%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", r.scene->name, r.model.threads, r.model.stepMs, speedup,
-                 r.model.serialMs, r.model.workMs, r.model.stagesPerStep, r.measuredMs);
-  }
-  return std::fclose(f) == 0;
+  return measured;
 }
 
 }  // namespace
@@ -526,7 +471,9 @@ int RunScaling(const ScalingOptions& options) {
         throw RSceneError(scene.fileName, "actions", "--scaling times scenes without actions");
       }
       ok = RunScene(*def, scene, opt, rows) && ok;
-      if (!opt.modelThreads.empty()) ok = ModelScene(*def, scene, opt, rows, modelRows) && ok;
+      if (!opt.modelThreads.empty()) {
+        ok = ModelScene(def->name, scene, opt.modelThreads, opt.repeats, Measured(*def, rows), StateHash, modelRows) && ok;
+      }
     } catch (const RSceneError& e) {
       std::fprintf(stderr, "error: %s\n", e.what());
       return kExitBadInput;

@@ -5,6 +5,9 @@
 #include <REnginePhysics/RJobSystem.h>
 
 #include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+#include <limits>
 #include <chrono>
 #include <vector>
 
@@ -70,6 +73,59 @@ ThreadModel ModelThreads(const RScene& scene, int threads, std::uint64_t (*hash)
   m.stagesPerStep = static_cast<double>(recorder.stages) / steps;
   m.hash = hash(world);
   return m;
+}
+
+bool ModelScene(const char* name, const RScene& scene, const std::vector<int>& threads, int repeats,
+                const std::vector<MeasuredRow>& measured, std::uint64_t (*hash)(const RSceneWorld& world),
+                std::vector<ModelRow>& out) {
+  std::vector<std::vector<ThreadModel>> runs(threads.size());
+  bool ok = true;
+  for (int r = 0; r < repeats; ++r) {
+    for (std::size_t k = 0; k < threads.size(); ++k) {
+      runs[k].push_back(ModelThreads(scene, threads[k], hash));
+      for (const MeasuredRow& m : measured) {
+        if (m.hash != runs[k].back().hash) {
+          std::printf("  error: %s: the run modelled on %d threads ended in another state (hash %016" PRIx64
+                      ", measured %016" PRIx64 ")\n",
+                      name, threads[k], runs[k].back().hash, m.hash);
+          ok = false;
+        }
+      }
+    }
+  }
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    std::sort(runs[k].begin(), runs[k].end(), [](const ThreadModel& a, const ThreadModel& b) { return a.stepMs < b.stepMs; });
+    ModelRow row;
+    row.scene = name;
+    row.model = runs[k][runs[k].size() / 2];
+    row.measuredMs = std::numeric_limits<double>::quiet_NaN();
+    for (const MeasuredRow& m : measured) {
+      if (m.threads == threads[k]) row.measuredMs = m.ms;
+    }
+    out.push_back(row);
+  }
+  return ok;
+}
+
+bool PrintAndWriteModel(const std::vector<ModelRow>& rows, const std::string& path) {
+  std::printf("\nthreads modelled from one thread's task times (thread_model.h): ms/step, speed-up over the first count, "
+              "and this run's measured REngine ms/step where the machine has the threads\n");
+  std::printf("%-17s %7s %10s %9s %9s %9s %7s %10s\n", "scene", "threads", "modelled", "speed-up", "serial",
+              "work", "stages", "measured");
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return false;
+  std::fprintf(f, "scene,threads,modelled_ms,speedup,serial_ms,work_ms,stages_per_step,measured_ms\n");
+  double first = 0;
+  const char* scene = nullptr;
+  for (const ModelRow& r : rows) {
+    if (r.scene != scene) scene = r.scene, first = r.model.stepMs;
+    const double speedup = first / r.model.stepMs;
+    std::printf("%-17s %7d %10.4g %9.3g %9.4g %9.4g %7.1f %10.4g\n", r.scene, r.model.threads, r.model.stepMs,
+                speedup, r.model.serialMs, r.model.workMs, r.model.stagesPerStep, r.measuredMs);
+    std::fprintf(f, "%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", r.scene, r.model.threads, r.model.stepMs, speedup,
+                 r.model.serialMs, r.model.workMs, r.model.stagesPerStep, r.measuredMs);
+  }
+  return std::fclose(f) == 0;
 }
 
 }  // namespace rbench

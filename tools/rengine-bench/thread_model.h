@@ -15,6 +15,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace rbench {
 
@@ -30,5 +32,26 @@ struct ThreadModel {
 // One run of the scene (its steps, its settings but the thread count), timed as above.
 ThreadModel ModelThreads(const REngine::RScene& scene, int threads,
                          std::uint64_t (*hash)(const REngine::RSceneWorld& world));
+
+// --model-threads, per scene: the model on each thread count (medians of `repeats` runs,
+// the counts interleaved) beside the measured REngine rows of the same run. Returns false
+// when a modelled run ended in another state than the measured ones (reported): its stages
+// ran on one thread, cut for more, and must give the same state to the bit.
+struct MeasuredRow {
+  int threads = 1;
+  double ms = 0;  // per step
+  std::uint64_t hash = 0;
+};
+struct ModelRow {
+  const char* scene = nullptr;
+  ThreadModel model;
+  double measuredMs = 0;  // NaN where the run has no row on as many threads
+};
+bool ModelScene(const char* name, const REngine::RScene& scene, const std::vector<int>& threads, int repeats,
+                const std::vector<MeasuredRow>& measured, std::uint64_t (*hash)(const REngine::RSceneWorld& world),
+                std::vector<ModelRow>& out);
+// The table (printed) and the CSV at `path`: each scene's step on P threads, its speed-up
+// over the first count given (1 when it is listed first). False when the CSV cannot be written.
+bool PrintAndWriteModel(const std::vector<ModelRow>& rows, const std::string& path);
 
 }  // namespace rbench

@@ -2,6 +2,8 @@
 // sleep after it (RSleeping, sleep/RSleeping.h); see RIntegrator.h.
 #include "sleep/RSleeping.h"
 
+#include "pairs/RPairSweep.h"
+
 #include "world/RStepBodies.h"
 
 #include "solver/RSolverRows.h"
