@@ -211,6 +211,21 @@ std::vector<std::string> SplitList(const std::string& list) {
   return items;
 }
 
+// --threads and --model-threads: comma-separated counts from `least` to 1024.
+std::vector<int> ParseThreadCounts(const char* option, const std::string& text, long least) {
+  std::vector<int> counts;
+  for (const std::string& t : SplitList(text)) {
+    char* end = nullptr;
+    const long value = std::strtol(t.c_str(), &end, 10);
+    if (t.empty() || *end != '\0' || value < least || value > 1024) {
+      throw UsageError{std::string(option) + ": a comma-separated list of counts " + std::to_string(least) +
+                       " to 1024 (got \"" + text + "\")"};
+    }
+    counts.push_back(static_cast<int>(value));
+  }
+  return counts;
+}
+
 // The CSV's directory is created and the file opened before any run, so a bad path fails in
 // a second rather than after minutes.
 bool ProbeCsv(const std::string& csvPath) {
@@ -340,25 +355,8 @@ int Run(int argc, char** argv) {
       if (app.count("--repeats")) opt.repeats = ParseRepeats(repeatsText);
       if (!stepsText.empty()) opt.steps = ParseSteps(stepsText);
       opt.broadPhase = ParseBroadPhase(broadPhaseText);
-      opt.threads.clear();
-      for (const std::string& t : SplitList(threadsText)) {
-        char* end = nullptr;
-        const long value = std::strtol(t.c_str(), &end, 10);
-        if (t.empty() || *end != '\0' || value < 0 || value > 1024) {
-          throw UsageError{"--threads: a comma-separated list of counts 0 to 1024 (got \"" + threadsText + "\")"};
-        }
-        opt.threads.push_back(static_cast<int>(value));
-      }
-      if (!modelThreadsText.empty()) {
-        for (const std::string& t : SplitList(modelThreadsText)) {
-          char* end = nullptr;
-          const long value = std::strtol(t.c_str(), &end, 10);
-          if (t.empty() || *end != '\0' || value < 1 || value > 1024) {
-            throw UsageError{"--model-threads: a comma-separated list of counts 1 to 1024 (got \"" + modelThreadsText + "\")"};
-          }
-          opt.modelThreads.push_back(static_cast<int>(value));
-        }
-      }
+      opt.threads = ParseThreadCounts("--threads", threadsText, 0);
+      if (!modelThreadsText.empty()) opt.modelThreads = ParseThreadCounts("--model-threads", modelThreadsText, 1);
     } catch (const UsageError& e) {
       std::fprintf(stderr, "error: %s\n", e.message.c_str());
       return kExitBadInput;
