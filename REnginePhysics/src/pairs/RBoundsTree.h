@@ -23,6 +23,14 @@ class RBoundsTree {
     RScalar hi[3];
   };
 
+  // Whether two boxes overlap (closed intervals). All six comparisons, no short cut: a
+  // search's tests go either way unpredictably, and one branch mispredicted costs more than
+  // the six compares.
+  static bool Overlap(const RBox& a, const RBox& b) {
+    return (a.lo[0] <= b.hi[0]) & (b.lo[0] <= a.hi[0]) & (a.lo[1] <= b.hi[1]) & (b.lo[1] <= a.hi[1]) &
+           (a.lo[2] <= b.hi[2]) & (b.lo[2] <= a.hi[2]);
+  }
+
   // Builds the tree over `count` boxes; item k has id ids[k] (what queries report). Keeps
   // the arrays' capacity between builds.
   void Build(const RBox* boxes, const std::uint32_t* ids, std::size_t count);
@@ -78,12 +86,6 @@ class RBoundsTree {
     std::uint32_t first;  // leaf: first item; inner: index of the right child (left: next)
     std::uint32_t count;  // leaf: items (> 0); inner: 0
   };
-  // All six comparisons, no short cut: a search's tests go either way unpredictably, and
-  // one branch mispredicted costs more than the six compares.
-  static bool Overlap(const RBox& a, const RBox& b) {
-    return (a.lo[0] <= b.hi[0]) & (b.lo[0] <= a.hi[0]) & (a.lo[1] <= b.hi[1]) & (b.lo[1] <= a.hi[1]) &
-           (a.lo[2] <= b.hi[2]) & (b.lo[2] <= a.hi[2]);
-  }
   static void Merge(RBox& box, const RBox& other) {
     for (int a = 0; a < 3; ++a) {
       box.lo[a] = std::min(box.lo[a], other.lo[a]);

@@ -267,11 +267,8 @@ void RBroadPhase::TreePairs(RScalar grow, const RSweep& sweep, std::vector<RSwee
       }
       const auto [i, j] = m_fatPairs[k];
       // Without branches until the one that rejects most pairs (about 7 in 8 of a debris
-      // cloud's listed pairs): six short-circuit tests mispredict often.
-      const RBoundsTree::RBox& a = m_sweepBoxes[i];
-      const RBoundsTree::RBox& b = m_sweepBoxes[j];
-      const bool overlap = (a.lo[0] <= b.hi[0]) & (b.lo[0] <= a.hi[0]) & (a.lo[1] <= b.hi[1]) &
-                           (b.lo[1] <= a.hi[1]) & (a.lo[2] <= b.hi[2]) & (b.lo[2] <= a.hi[2]);
+      // cloud's listed pairs): short-circuit tests mispredict often.
+      const bool overlap = RBoundsTree::Overlap(m_sweepBoxes[i], m_sweepBoxes[j]);
       if ((!overlap) | ((passive[i] != 0) & (passive[j] != 0))) continue;
       ++st.sphereTests;
       const RScalar dx = cx[j] - cx[i], dy = cy[j] - cy[i], dz = cz[j] - cz[i];
