@@ -105,6 +105,10 @@ struct RBodyDef {
   RScalar restitution = 0;
   RScalar friction = RScalar(0.5);            // Coulomb coefficient, >= 0
   bool responds = true;  // false: collisions are reported, not resolved (missiles, sensors)
+  // A one-way platform ("one_way"): solid only to what comes down onto it from above (along
+  // a character's up; for bodies, opposite the world's gravity). What meets it from below or
+  // the side, or overlaps it, passes through (RCharacter.h; RIntegrator.h for bodies).
+  bool oneWay = false;
   // Drag rates c, 1/s, finite and >= 0 ("linear_damping", "angular_damping"): with no other
   // force or torque a dynamic body's speed decays exactly as v0 e^(-c t) and its angular
   // velocity (world frame) as w0 e^(-c t). 0: no drag, and no arithmetic.

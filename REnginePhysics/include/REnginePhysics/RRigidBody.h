@@ -47,6 +47,7 @@ class alignas(64) RRigidBody : private RBodyCore {
   RScalar GravityScale() const { return m_gravityScale; }
   const RBodyLocks& Locks() const { return m_locks; }
   bool Responds() const { return m_responds; }
+  bool OneWay() const { return m_oneWay; }
   RScalar Restitution() const { return m_restitution; }
   RScalar Friction() const { return m_friction; }
 
@@ -62,6 +63,8 @@ class alignas(64) RRigidBody : private RBodyCore {
   // Never collide with the bodies whose id is otherId (0 to 2^32 - 2; RBodyError "ignore"
   // otherwise). In an RBodies, RBodies::IgnoreCollisions(a, b) does this by handle.
   void IgnoreCollisionsWith(std::uint32_t otherId);
+  // The ids this body never collides with, sorted.
+  const std::vector<std::uint32_t>& IgnoredIds() const { return m_ignore; }
   // Collision filter bits (RBodyDef::category, mask). Setting them wakes the body, and a
   // static or kinematic body wakes the sleepers whose boxes touch it, as IgnoreCollisionsWith
   // does: a sleeping pair is not looked at, so it would never learn that it may now touch.

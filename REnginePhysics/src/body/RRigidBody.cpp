@@ -148,6 +148,7 @@ std::shared_ptr<const RPreparedShape> PrepareShape(const RShape& shape) {
 
 RRigidBody::RRigidBody(const RBodyDef& def) {
   m_responds = def.responds;
+  m_oneWay = def.oneWay;
   m_category = def.category, m_mask = def.mask;
   m_restitution = def.restitution, m_friction = def.friction;
   m_name = def.name;

@@ -20,7 +20,7 @@ namespace REngine::state {
 // payload checksum (u64). The magic's first byte is not ASCII and it holds a newline, so a
 // text file, or a state passed through a text-mode copy, is told apart at once (PNG's trick).
 inline constexpr unsigned char kMagic[8] = {0x89, 'R', 'S', 'T', 'A', 'T', 'E', '\n'};
-inline constexpr std::uint32_t kVersion = 2;  // 2: an RBodies' joints
+inline constexpr std::uint32_t kVersion = 3;  // 2: an RBodies' joints; 3: one-way bodies, characters
 inline constexpr std::size_t kVersionAt = 8, kReservedAt = 12, kLengthAt = 16, kChecksumAt = 24;
 inline constexpr std::size_t kHeaderBytes = 32;
 

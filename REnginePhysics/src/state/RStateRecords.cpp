@@ -117,6 +117,7 @@ void RStateAccess::WriteBody(RWriter& w, const RRigidBody& body, std::uint64_t s
   w.U64(shapeKey);
   w.U8(b.m_isStatic ? kStatic : b.m_isKinematic ? kKinematic : kDynamic);
   w.Bool(b.m_responds);
+  w.Bool(b.m_oneWay);
   std::uint8_t locks = 0;
   for (int a = 0; a < 3; ++a) locks |= static_cast<std::uint8_t>((b.m_locks.linear[a] ? 1 : 0) << a);
   for (int a = 0; a < 3; ++a) locks |= static_cast<std::uint8_t>((b.m_locks.angular[a] ? 1 : 0) << (3 + a));
@@ -162,6 +163,7 @@ RRigidBody RStateAccess::ReadBody(RReader& r, const RShapeCatalog& shapes, std::
   if (kind > kKinematic) r.Fail("kind", "must be 0 (dynamic), 1 (static) or 2 (kinematic)");
   def.kind = kind == kStatic ? RBodyKind::kStatic : kind == kKinematic ? RBodyKind::kKinematic : RBodyKind::kDynamic;
   def.responds = r.Bool("responds");
+  def.oneWay = r.Bool("one_way");
   const std::uint8_t locks = r.U8("locks");
   if (locks > 63) r.Fail("locks", "must be 6 bits");
   for (int a = 0; a < 3; ++a) def.locks.linear[a] = (locks >> a) & 1, def.locks.angular[a] = (locks >> (3 + a)) & 1;

@@ -1,6 +1,7 @@
 // The library's side of the layout check (RAbi.h): the layouts as the library was compiled.
 #include <REnginePhysics/RAbi.h>
 #include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RCharacter.h>
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RContactEvents.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
@@ -27,6 +28,7 @@ const RAbiLayout* LibraryLayouts(std::size_t& count) {
   static const RAbiLayout kLibrary[] = {
       RENGINE_ABI_EIGEN_LAYOUT
       RENGINE_ABI_TYPES_BODIES(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_CHARACTER(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_COLLISION(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_CONTACT_EVENTS(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_CONVEX_POLYHEDRON(RENGINE_ABI_LAYOUT)

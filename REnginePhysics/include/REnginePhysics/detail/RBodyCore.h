@@ -35,6 +35,7 @@ struct alignas(64) RBodyCore {
   bool m_isStatic = false;
   bool m_isKinematic = false;
   bool m_responds = true;
+  bool m_oneWay = false;  // RBodyDef::oneWay
   bool m_sleeping = false;
   // A static or kinematic body the game added, enabled, moved or refiltered since the last step.
   bool m_staticMoved = false;

@@ -1,0 +1,4 @@
+// The character in a moving world (RCharacter.h): placeholder filled below.
+#include <gtest/gtest.h>
+
+#include "character/CharacterWorld.h"
