@@ -41,9 +41,9 @@
 // is nothing for an internal edge to catch.
 //
 // Pushing. A dynamic body met along the motion gets the impulse that brings its surface
-// point to the character's speed along the contact normal, at most maxPushForce * dt per
-// Update (applied by the next RIntegrator::Update); a dynamic body stood on gets the
-// character's weight (mass times gravity along up). Dynamic bodies are not moved out of the
+// point to the character's speed along the contact normal's part across the plane of up, at
+// most maxPushForce * dt per Update (applied by the next RIntegrator::Update); a dynamic body
+// stood or landed on gets the character's weight (mass times gravity along up), not a blow. Dynamic bodies are not moved out of the
 // character by the solver: the character is not a body of the world (give it a kinematic
 // body of its own, moved to its pose each frame, for that).
 //

@@ -93,8 +93,14 @@ std::optional<RShapeCastHit> RCharacterMover::Cast(const RVec3& d) {
 void RCharacterMover::Push(RBodyHandle h, const RVec3& p, const RVec3& n, const RVec3& vChar) {
   RRigidBody& b = bodies[h];
   if (b.Kind() != RBodyKind::kDynamic || c.m_def.maxPushForce == 0 || Listed(c.m_pushed, h)) return;
-  const RVec3 u = -n;  // the way the character pushes it
-  const RScalar target = vChar.dot(u);
+  // Pushes act across the plane of up: what the character lands or stands on gets its
+  // weight (RCharacter::Update), not the speed of its fall, which on a light crate would be a
+  // blow far beyond any force the game set.
+  if (Walkable(n)) return;
+  const RVec3 level = Across(-n, c.m_up);
+  if (!(level.norm() > RScalar(1e-9))) return;
+  const RVec3 u = level.normalized();  // the way the character pushes it
+  const RScalar target = Across(vChar, c.m_up).dot(u);
   const RScalar now = SurfaceVelocity(b, p).dot(u);
   if (!(target > now)) return;
   // The body's effective mass at p along u: 1/m + (r x u) . I_W^-1 (r x u).

@@ -47,7 +47,8 @@ struct RCharacterMover {
   // Pushed out of what it overlaps (deeper than half the offset), up to 4 times.
   void Depenetrate();
   // The impulse that brings a dynamic body's surface point at p to the character's speed
-  // along -n, at most maxPushForce * dt, once per body per Update.
+  // along -n's part across the plane of up, at most maxPushForce * dt, once per body per
+  // Update; none for a body met as walkable ground.
   void Push(RBodyHandle h, const RVec3& p, const RVec3& n, const RVec3& vChar);
   // The character's shape in its body frame, and that frame's pose.
   RConvexShape Shape() const;
