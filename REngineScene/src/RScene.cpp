@@ -35,7 +35,7 @@ RScalar ReadStepSize(const json& j, const std::string& path) {
 RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   const Object root(doc, "",
                     {"format", "gravity", "dt", "steps", "restitution_combine",
-                     "friction_combine", "solver", "bodies", "joints", "actions", "rays"});
+                     "friction_combine", "solver", "bodies", "joints", "actions", "rays", "characters"});
   RScene scene;
   if (root.Has("format")) {
     const json& format = root.Required("format");
@@ -98,6 +98,7 @@ RScene ReadScene(const json& doc, const RSceneLimits& limits) {
   if (root.Has("joints")) ReadJoints(root.Required("joints"), scene, limits);
   if (root.Has("actions")) ReadActions(root.Required("actions"), scene, limits);
   if (root.Has("rays")) ReadRays(root.Required("rays"), scene, limits);
+  if (root.Has("characters")) ReadCharacters(root.Required("characters"), scene, limits);
   return scene;
 }
 

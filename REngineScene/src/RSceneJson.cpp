@@ -397,7 +397,7 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
                     {"name", "shape", "static", "kind", "mass", "density", "position",
                      "orientation", "velocity", "angular_velocity", "restitution", "friction",
                      "responds", "ignore", "category", "mask", "linear_damping",
-                     "angular_damping", "gravity_scale", "locks"});
+                     "angular_damping", "gravity_scale", "locks", "one_way"});
   RBodyDef def;
   def.name = ReadName(body.Required("name"), body.PathOf("name"));
   def.shape = ReadShape(body.Required("shape"), body.PathOf("shape"), limits);
@@ -433,6 +433,7 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   def.restitution = body.Get("restitution", RScene::kDefaultRestitution, ReadUnitInterval);
   def.friction = body.Get("friction", def.friction, ReadNonNegative);
   def.responds = body.Get("responds", def.responds, ReadBool);
+  def.oneWay = body.Get("one_way", def.oneWay, ReadBool);
   def.category = body.Get("category", def.category, ReadBits);
   def.mask = body.Get("mask", def.mask, ReadBits);
   if (body.Has("ignore")) {

@@ -154,6 +154,10 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
 // each step (scene.bodies must be read already), sorted by step.
 void ReadActions(const json& j, RScene& scene, const RSceneLimits& limits);
 
+// The scene's "characters" (RSceneCharacters.cpp): read and checked (scene.bodies, the
+// settings and the bodies' names must be read already; a character's name is unique among
+// the bodies' and characters'), in file order.
+void ReadCharacters(const json& j, RScene& scene, const RSceneLimits& limits);
 // The scene's "rays" (RSceneRays.cpp): read, checked, sorted by step.
 void ReadRays(const json& j, RScene& scene, const RSceneLimits& limits);
 

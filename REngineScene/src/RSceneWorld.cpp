@@ -18,6 +18,26 @@ RSceneWorld::RSceneWorld(const RScene& scene) : m_scene(&scene) {
   }
   // The joints, as the bodies stand at the start.
   for (const RSceneJoint& j : scene.joints) AddJoint(j, "");
+  // The characters (their definitions were checked at load).
+  m_characters.reserve(scene.characters.size());
+  for (const RSceneCharacter& c : scene.characters) {
+    try {
+      m_characters.emplace_back(c.def);
+    } catch (const RCharacterError& e) {
+      throw RSceneError(m_scene->fileName, c.path + "." + e.Field(), e.Problem());
+    }
+  }
+  m_nextInput.assign(scene.characters.size(), 0);
+}
+
+void RSceneWorld::UpdateCharacters(RScalar dt, const RVec3& gravity_W) {
+  for (std::size_t i = 0; i < m_characters.size(); ++i) {
+    try {
+      m_characters[i].Update(m_bodies, m_queries, dt, gravity_W);
+    } catch (const RCharacterError& e) {
+      throw RSceneError(m_scene->fileName, m_scene->characters[i].path + "." + e.Field(), e.Problem());
+    }
+  }
 }
 
 RBodyHandle RSceneWorld::Find(const std::string& name) const {
@@ -70,6 +90,13 @@ void RSceneWorld::RemoveBody(RBodyHandle h) {
 }
 
 void RSceneWorld::ApplyActions(std::uint64_t stepsRun) {
+  for (std::size_t i = 0; i < m_characters.size(); ++i) {
+    const std::vector<RSceneCharacter::Input>& inputs = m_scene->characters[i].inputs;
+    for (std::size_t& k = m_nextInput[i]; k < inputs.size() && inputs[k].step <= stepsRun; ++k) {
+      m_characters[i].SetDesiredVelocity(inputs[k].velocity_W);
+      if (inputs[k].jump > 0) m_characters[i].Jump(inputs[k].jump);
+    }
+  }
   const std::vector<RSceneAction>& actions = m_scene->actions;
   for (; m_nextAction < actions.size() && actions[m_nextAction].step <= stepsRun; ++m_nextAction) {
     const RSceneAction& a = actions[m_nextAction];

@@ -62,6 +62,45 @@ void EventWriter::Write(std::uint64_t step, double dt, const std::vector<RContac
   if (m_buffer.size() >= (std::size_t(1) << 20)) Flush();
 }
 
+void EventWriter::WriteCharacters(std::uint64_t step, double dt, const std::vector<RCharacter>& characters,
+                                  const RBodies& bodies) {
+  m_touching.resize(characters.size());
+  const std::string stepText = std::to_string(step);
+  const double time = static_cast<double>(step) * dt;
+  const auto row = [&](const char* type, const RCharacter& c, const RCharacterContact& k) {
+    m_buffer += stepText;
+    AppendNumber(m_buffer, time);
+    m_buffer += ',';
+    m_buffer += type;
+    m_buffer += ',';
+    m_buffer += CsvField(c.Name());
+    m_buffer += ',';
+    m_buffer += Body(k.body, bodies).name;
+    for (int a = 0; a < 3; ++a) AppendNumber(m_buffer, k.point_W[a]);
+    for (int a = 0; a < 3; ++a) AppendNumber(m_buffer, -k.normal_W[a]);
+    AppendNumber(m_buffer, 0.0);
+    AppendNumber(m_buffer, 0.0);
+    m_buffer += '\n';
+  };
+  for (std::size_t i = 0; i < characters.size(); ++i) {
+    const std::vector<RCharacterContact>& now = characters[i].Contacts();
+    std::vector<RCharacterContact>& before = m_touching[i];
+    // Both in handle order (RCharacter::Contacts): a merge.
+    std::size_t a = 0, b = 0;
+    while (a < before.size() || b < now.size()) {
+      if (b == now.size() || (a < before.size() && before[a].body < now[b].body)) {
+        row("end", characters[i], before[a++]);
+      } else if (a == before.size() || now[b].body < before[a].body) {
+        row("begin", characters[i], now[b++]);
+      } else {
+        ++a, ++b;
+      }
+    }
+    before = now;
+  }
+  if (m_buffer.size() >= (std::size_t(1) << 20)) Flush();
+}
+
 bool EventWriter::Flush() {
   if (std::fwrite(m_buffer.data(), 1, m_buffer.size(), m_out) != m_buffer.size()) m_failed = true;
   m_buffer.clear();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RCharacter.h>
 #include <REnginePhysics/RContactEvents.h>
 
 #include <cstdint>
@@ -24,6 +25,12 @@ class EventWriter {
   // first (the scene's order, then the order of `add` actions: RRigidBody::Id), the normal
   // points from it to body_b, and rows are sorted by body_a, body_b, begin before end.
   void Write(std::uint64_t step, double dt, const std::vector<RContactEvent>& events, const RBodies& bodies);
+  // The begin and end rows of the characters' contacts in step `step` (after its Update and
+  // their Updates): body_a is the character, body_b the body, the normal points from the
+  // character to the body, the impulses are 0 (a character is moved, not solved). Rows
+  // follow the bodies' rows of the step, by character, then by body.
+  void WriteCharacters(std::uint64_t step, double dt, const std::vector<RCharacter>& characters,
+                       const RBodies& bodies);
   // Learns the names of every body in the container now: a run loaded from a state
   // (--load-state) may end a pair that began before it, of a body removed since.
   void Know(const RBodies& bodies);
@@ -48,6 +55,9 @@ class EventWriter {
   std::FILE* m_out;
   std::unordered_map<std::uint64_t, Known> m_known;
   std::vector<Row> m_rows;
+  // Per character, the bodies it touched after the last step (handle order) with the
+  // contact each had.
+  std::vector<std::vector<RCharacterContact>> m_touching;
   std::string m_buffer;
   bool m_failed = false;
 };

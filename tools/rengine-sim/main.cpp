@@ -369,6 +369,14 @@ int Run(int argc, char** argv) {
     running = step;
     if (watchdog) watchdog->BeginStep();
     integrator.Update(world->Bodies(), scene.dt);
+    try {
+      world->UpdateCharacters(scene.dt, integrator.Settings().gravity_W);
+    } catch (const RSceneError& e) {
+      progress.Clear();
+      finishOutput();
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return kExitBadInput;
+    }
     if (watchdog) watchdog->EndStep();
     const Clock::time_point t1 = Clock::now();
     stepping += t1 - t0;
@@ -377,7 +385,10 @@ int Run(int argc, char** argv) {
     profileSum.updateObjects += p.updateObjects, profileSum.contactEvents += p.contactEvents;
     profileSum.total += p.total;
     // The events of step k, before its actions (a body removed after it is still named).
-    if (eventWriter) eventWriter->Write(step, scene.dt, integrator.Events(), world->Bodies());
+    if (eventWriter) {
+      eventWriter->Write(step, scene.dt, integrator.Events(), world->Bodies());
+      eventWriter->WriteCharacters(step, scene.dt, world->Characters(), world->Bodies());
+    }
     // What the game does after step k, before step k + 1; the rows of step k show it (a body
     // added has its first row, a body removed had its last in step k - 1).
     try {

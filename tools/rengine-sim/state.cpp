@@ -208,6 +208,7 @@ std::uint64_t LoadSceneState(const std::string& path, const RScene& scene, std::
   }
   RLoadOptions options;
   options.worldTag = tag;
+  options.characters = &world.Characters();
   try {
     LoadState(integrator, world.Bodies(), data, file.size(), options);
   } catch (const RStateError& e) {
@@ -247,7 +248,8 @@ std::uint64_t LoadSceneState(const std::string& path, const RScene& scene, std::
 
 bool WriteSceneState(std::FILE* file, const RIntegrator& integrator, const RSceneWorld& world,
                      std::uint64_t tag) {
-  const std::vector<std::uint8_t> bytes = SaveState(integrator, world.Bodies(), tag);
+  std::vector<std::uint8_t> bytes;
+  SaveState(integrator, world.Bodies(), world.Characters(), bytes, tag);
   return std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size() && std::fflush(file) == 0;
 }
 

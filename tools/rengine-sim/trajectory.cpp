@@ -17,14 +17,22 @@ std::array<RScalar, 13> BodyState(const RRigidBody& b) {
           v.x(), v.y(), v.z(), w.x(), w.y(), w.z()};
 }
 
+std::array<RScalar, 13> CharacterState(const RCharacter& c) {
+  const RVec3& x = c.Position_W();
+  const RQuat& q = c.Orientation_WS();
+  const RVec3& v = c.MovedVelocity_W();
+  return {x.x(), x.y(), x.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(), 0, 0, 0};
+}
+
 std::uint64_t StateHash(const RSceneWorld& world) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (RBodyHandle handle : world.Live()) {
-    const std::array<RScalar, 13> state = BodyState(world.Bodies()[handle]);
+  const auto add = [&h](const std::array<RScalar, 13>& state) {
     unsigned char bytes[sizeof state];
     std::memcpy(bytes, state.data(), sizeof state);
     for (unsigned char byte : bytes) h = (h ^ byte) * 0x100000001b3ULL;
-  }
+  };
+  for (RBodyHandle handle : world.Live()) add(BodyState(world.Bodies()[handle]));
+  for (const RCharacter& c : world.Characters()) add(CharacterState(c));
   return h;
 }
 
@@ -49,6 +57,20 @@ void TrajectoryWriter::Rows(std::uint64_t step, RScalar dt, const RSceneWorld& w
     m_buffer += '\n';
     if (m_buffer.size() >= kChunk) Flush();
   }
+  const std::vector<RCharacter>& characters = world.Characters();
+  if (m_characterNames.size() != characters.size()) {
+    m_characterNames.clear();
+    for (const RCharacter& c : characters) m_characterNames.push_back(CsvField(c.Name()));
+  }
+  for (std::size_t i = 0; i < characters.size(); ++i) {
+    m_buffer.append(stepText, stepLength);
+    AppendNumber(m_buffer, time);
+    m_buffer += ',';
+    m_buffer += m_characterNames[i];
+    for (RScalar value : CharacterState(characters[i])) AppendNumber(m_buffer, value);
+    m_buffer += '\n';
+  }
+  if (m_buffer.size() >= kChunk) Flush();
 }
 
 bool TrajectoryWriter::Flush() {

@@ -15,9 +15,13 @@ namespace REngine::sim {
 // What the CSV reports of a body, in its column order: the pose of the shape frame S
 // (x, y, z, qw, qx, qy, qz), then the world velocity and angular velocity.
 std::array<RScalar, 13> BodyState(const RRigidBody& b);
+// The same columns for a character: its shape frame's pose, the velocity it moved with over
+// the last step (RCharacter::MovedVelocity_W) and a zero angular velocity.
+std::array<RScalar, 13> CharacterState(const RCharacter& c);
 
 // FNV-1a, 64 bit, over the raw bytes (native byte order) of each live body's BodyState in
-// order of creation: equal for bit-identical states, and cheap enough to print on every run.
+// order of creation, then each character's CharacterState: equal for bit-identical states,
+// and cheap enough to print on every run.
 std::uint64_t StateHash(const RSceneWorld& world);
 
 // The trajectory CSV, formatted into one large buffer written in large chunks. Rows are the
@@ -33,6 +37,7 @@ class TrajectoryWriter {
  private:
   static constexpr std::size_t kChunk = std::size_t(1) << 20;
 
+  std::vector<std::string> m_characterNames;
   // The body's name as a CSV field, kept per slot (and generation) once made.
   const std::string& CsvName(RBodyHandle h, const RRigidBody& b);
 

@@ -23,6 +23,8 @@
 //     integrator keeps its own), the step count, the warm starts, the manifold memory of
 //     contact reuse (with its cached block inverses), sleeping's bookkeeping, the pairs that
 //     touched at the end of the last step (contact events) and NonFinite().
+//   - the world's characters, when saved with them (RCharacter::RState: pose, velocities,
+//     commands, ground and the place on it, the last contacts).
 // What it does not hold: the last step's outputs (Contacts(), Events(), PairStats(),
 // Profile(), NonFiniteInLastStep() are empty after a load: the next Update fills them), the
 // broad phase's trees and pair list (they change no result: the pairs found are exactly the
@@ -58,12 +60,12 @@
 // enabled body sleeps or names an island) and every handle a remembered pair names one the
 // container issued (a body it holds, or held before a removal).
 //
-// Format (version 2). Little-endian; doubles as their IEEE 754 bits. A 32-byte header: the
+// Format (version 3). Little-endian; doubles as their IEEE 754 bits. A 32-byte header: the
 // magic "\x89RSTATE\n", the format version (u32), 0 (u32), the payload's length (u64), and
 // its checksum (u64, a 64-bit hash that detects corruption, not tampering); then the
 // payload: the world tag, the settings, the integrator's memory, the container and the
-// bodies (src/state/RStateRecords.cpp writes and reads every record in one place). A plain binary
-// writer rather than a general format (CBOR through nlohmann_json, which the scene loader
+// bodies, the characters (src/state/RStateRecords.cpp writes and reads the bodies' records,
+// RStateCharacters.cpp the characters'). A plain binary writer rather than a general format (CBOR through nlohmann_json, which the scene loader
 // uses): the engine proper does not depend on a JSON library, every double must come back
 // bit for bit, and a rollback game saves every frame, so a save is a copy of each field and
 // nothing else.
@@ -71,6 +73,7 @@
 
 #include <REnginePhysics/RAbi.h>
 #include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RCharacter.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RRigidBody.h>
 
@@ -94,6 +97,9 @@ struct RLoadOptions {
   // Prepared shapes for bodies the loading container does not hold ("Shapes" above), matched
   // by their RShape: the shapes a game spawns from.
   std::vector<std::shared_ptr<const RPreparedShape>> shapes;
+  // The world's characters (RCharacter.h), when its state was saved with them: the same
+  // count, in the same order, with the same names; their states are restored with the rest.
+  std::vector<RCharacter>* characters = nullptr;
 };
 
 // What a state's header and first fields say, checked (magic, version, length, checksum) but
@@ -120,6 +126,10 @@ std::vector<std::uint8_t> SaveState(const RIntegrator& integrator, const RBodies
                                     std::uint64_t worldTag = 0);
 void SaveState(const RIntegrator& integrator, const RBodies& bodies, std::vector<std::uint8_t>& out,
                std::uint64_t worldTag = 0);
+// With the world's characters (RCharacter.h), whose states are saved after the bodies
+// (about 0.5 KB a character and 0.1 KB a contact of it); load with RLoadOptions::characters.
+void SaveState(const RIntegrator& integrator, const RBodies& bodies, const std::vector<RCharacter>& characters,
+               std::vector<std::uint8_t>& out, std::uint64_t worldTag = 0);
 // A plain vector of bodies (identity by position).
 std::vector<std::uint8_t> SaveState(const RIntegrator& integrator, const std::vector<RRigidBody>& bodies,
                                     std::uint64_t worldTag = 0);

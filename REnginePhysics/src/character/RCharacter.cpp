@@ -272,7 +272,8 @@ void RCharacter::Restore(const RState& s) {
   Require(AllFinite(s.up) && std::abs(s.up.norm() - 1) <= RScalar(1e-6), "up", "must be a unit vector");
   Require(std::isfinite(s.jump) && s.jump >= 0, "jump", "must be finite and >= 0 (m/s)");
   Require(static_cast<int>(s.ground.state) <= 2, "ground.state", "must be 0, 1 or 2");
-  Require(finite(s.groundLocal) && AllFinite(s.groundQ), "ground", "must be finite");
+  Require(finite(s.groundLocal) && AllFinite(s.groundQ) && std::abs(s.groundQ.norm() - 1) <= RScalar(1e-6),
+          "ground", "must be finite, its orientation a unit quaternion");
   m_position = s.position, m_q = s.q;
   m_velocity = s.velocity, m_desired = s.desired, m_moved = s.moved, m_up = s.up;
   m_jump = s.jump, m_airCarry = s.airCarry, m_ground = s.ground;

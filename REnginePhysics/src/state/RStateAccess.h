@@ -184,7 +184,8 @@ struct RStateAccess {
   // ---- save -----------------------------------------------------------------------------
   template <class Container, class SerialOwned>
   static void Save(const RIntegrator& integrator, const Container& bodies, std::vector<std::uint8_t>& out,
-                   std::uint64_t worldTag, const SerialOwned& serialOwned);
+                   std::uint64_t worldTag, const SerialOwned& serialOwned,
+                   const std::vector<RCharacter>* characters = nullptr);
 
   // ---- load -----------------------------------------------------------------------------
   static RReader Open(const std::uint8_t* data, std::size_t size);

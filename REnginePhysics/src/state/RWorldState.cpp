@@ -3,6 +3,7 @@
 // RStateRecords.cpp).
 #include "state/RStateAccess.h"
 #include "body/RBodyAccess.h"
+#include "state/RStateCharacters.h"
 
 #include <algorithm>
 #include <cstring>
@@ -15,13 +16,15 @@ using namespace state;
 
 template <class Container, class SerialOwned>
 void RStateAccess::Save(const RIntegrator& integrator, const Container& bodies, std::vector<std::uint8_t>& out,
-                 std::uint64_t worldTag, const SerialOwned& serialOwned) {
+                 std::uint64_t worldTag, const SerialOwned& serialOwned,
+                 const std::vector<RCharacter>* characters) {
   out.clear();
   out.resize(state::kHeaderBytes);
   RWriter w(out);
   w.U64(worldTag);
   WriteStep(w, *Core(integrator).m_w, serialOwned);
   WriteContainer(w, *Core(integrator).m_w, bodies);
+  WriteCharacters(w, characters);
   state::Seal(out);
 }
 
@@ -82,8 +85,9 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   RWorldStep& w = *Core(integrator).m_w;
   const std::uint64_t foreignId = NextCacheStamp();
   RSavedBodies saved = ReadContainer(r, Catalog(target, options), w.m_sleep.WorldId(), foreignId);
+  std::vector<RCharacter> characters = ReadCharacters(r, options.characters);
   if (r.Left() != 0) {
-    throw RStateError("payload", std::to_string(r.Left()) + " bytes follow the last body (corrupt)");
+    throw RStateError("payload", std::to_string(r.Left()) + " bytes follow the last character (corrupt)");
   }
   if (saved.plainVector != plainVector) {
     throw RStateError("container.kind",
@@ -103,6 +107,7 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
     m.serialB = (step.manifoldSerials[k] & 2) ? SerialAt(saved, m.handleB) : 0;
   }
   commit(saved);
+  if (options.characters) options.characters->swap(characters);
   // The integrator, now that nothing can throw: its settings (but its own threads), memory
   // and step count; its last step's outputs and the broad phase's lists emptied; a new
   // cache stamp, since every body's world form is to be recomputed.
@@ -202,6 +207,17 @@ void SaveState(const RIntegrator& integrator, const RBodies& bodies, std::vector
     const RRigidBody* b = bodies.Find(h);
     return b && b->Serial() == serial;
   });
+}
+
+void SaveState(const RIntegrator& integrator, const RBodies& bodies, const std::vector<RCharacter>& characters,
+               std::vector<std::uint8_t>& out, std::uint64_t worldTag) {
+  RStateAccess::Save(
+      integrator, bodies, out, worldTag,
+      [&bodies](RBodyHandle h, std::uint64_t serial) {
+        const RRigidBody* b = bodies.Find(h);
+        return b && b->Serial() == serial;
+      },
+      &characters);
 }
 
 std::vector<std::uint8_t> SaveState(const RIntegrator& integrator, const std::vector<RRigidBody>& bodies,

@@ -10,8 +10,10 @@
 
 #include <REngineMath/RMath.h>
 #include <REnginePhysics/RBodies.h>
+#include <REnginePhysics/RCharacter.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RJoint.h>
+#include <REnginePhysics/RQueries.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <cstddef>
@@ -92,6 +94,24 @@ struct RSceneRay {
   bool all = false;                   // every body hit, nearest first; false: the nearest
 };
 
+// A character of the scene (docs/scene-format.md, "Characters"): an RCharacter made as the
+// scene starts, driven by its inputs, a row of the trajectory like a body.
+struct RSceneCharacter {
+  // What a game's controls say from `step` on (applied when that many steps have run,
+  // before the next, as actions are): the desired velocity along the ground (m/s, world)
+  // holds until the next input; a jump (m/s along up, > 0) is asked once, at this step.
+  struct Input {
+    std::uint64_t step = 0;
+    RVec3 velocity_W = RVec3::Zero();
+    RScalar jump = 0;  // 0: none
+  };
+  std::string path;  // "characters[2]", for messages
+  // The definition as RCharacter takes it (name, shape, pose, up, slopes, steps, pushing,
+  // filters; ignore holds the ids of the scene bodies it names), checked at load.
+  RCharacterDef def;
+  std::vector<Input> inputs;  // sorted by step, one per step
+};
+
 struct RScene {
   // A body's restitution when its entry gives none: the scene format's contract
   // (docs/scene-format.md), kept apart from RBodyDef's own default of 0 so that a scene file
@@ -111,6 +131,8 @@ struct RScene {
   std::vector<RSceneRay> rays;
   // In file order, which is the order RSceneWorld adds them in.
   std::vector<RSceneJoint> joints;
+  // In file order, which is their rows' order in the trajectory (after the bodies').
+  std::vector<RSceneCharacter> characters;
   // The name the scene was loaded under, for CreateBodies' messages.
   std::string fileName;
 };
@@ -140,6 +162,8 @@ struct RSceneLimits {
   // block each pass. (New limits go last, so the fields above keep their places in aggregate
   // initialisation.)
   std::uint64_t maxJoints = 1000000;
+  std::uint64_t maxCharacters = 10000;   // entries of "characters"
+  std::uint64_t maxInputs = 1000000;     // inputs of every character together
 };
 
 // Reads and validates a scene file. Throws RSceneError (also when the file cannot be read).
@@ -174,7 +198,13 @@ class RSceneWorld {
   // Applies the actions of step `stepsRun` (0 before the first step, then k after the k-th):
   // each must come at or after the last step applied. Throws RSceneError naming the action
   // when game code could not do what it says (an impulse that overflows the body's sum).
+  // The characters' inputs of that step are given to them too.
   void ApplyActions(std::uint64_t stepsRun);
+  // Moves the characters by dt under gravity_W (RCharacter::Update), in scene order: call
+  // after each RIntegrator::Update of the bodies.
+  void UpdateCharacters(RScalar dt, const RVec3& gravity_W);
+  std::vector<RCharacter>& Characters() { return m_characters; }
+  const std::vector<RCharacter>& Characters() const { return m_characters; }
   RBodies& Bodies() { return m_bodies; }
   const RBodies& Bodies() const { return m_bodies; }
   const std::vector<RBodyHandle>& Live() const { return m_live; }
@@ -202,6 +232,9 @@ class RSceneWorld {
   // joints are forgotten by name.
   std::vector<std::string> m_jointNameOfSlot;
   std::size_t m_nextAction = 0;
+  std::vector<RCharacter> m_characters;
+  std::vector<std::size_t> m_nextInput;  // per character
+  RQueries m_queries;
   std::uint32_t m_nextId = 0;
 };
 
