@@ -35,6 +35,7 @@ struct CharacterWorld {
     def.kind = kind;
     def.position_W = centre;
     def.q_WS = q;
+    def.density = 200;  // a wooden crate's, not water's thousandth: 25 kg for a 0.5 m cube
     return bodies.Add(def);
   }
   // A floor of n tiles 1 m long along x, side by side, top at y = 0.

@@ -256,7 +256,7 @@ TEST_F(Cli, ReferenceScenesKeepTheirPinnedHashes) {
       {"box_stack_10", "15c7e33cb50b3227"},       {"box_stack_20", "f5ff07194df8205d"},
       {"debris_cloud_1000", "4795c2fcfe674f96"},  {"dzhanibekov", "b63229bbe454cb51"},
       {"head_on_elastic", "0faffadb61f4169c"},    {"newtons_cradle", "35de15fdaada2f98"},
-      {"character_walk", "8402a507fb56ab1e"},
+      {"character_walk", "97a65051ad1e02ae"},
   };
   for (const auto& pin : pins) {
     const std::string scene = Quote(std::string(RENGINE_SCENES) + "/" + pin.scene + ".json");

@@ -210,7 +210,7 @@ class RCharacter {
   std::uint64_t m_updates = 0;
   std::vector<RCharacterContact> m_contacts;
   // Scratch, kept for its capacity.
-  std::vector<RBodyHandle> m_near, m_passed, m_pushed;
+  std::vector<RBodyHandle> m_near, m_passed, m_pushed, m_leaving;
   std::vector<RCharacterContact> m_scratch;
 };
 

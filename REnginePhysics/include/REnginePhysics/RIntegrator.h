@@ -164,6 +164,29 @@ struct RContact {
   RScalar timeOfImpact = 0;
 };
 
+// A contact's material, as RIntegrator::SetContactCallback shows it to the game for a new
+// contact and takes it back: what the solver uses for the pair while it stays in contact.
+struct RContactSettings {
+  RScalar friction = 0;     // Coulomb coefficient, finite, >= 0 (given: the bodies' combined)
+  RScalar restitution = 0;  // in [0, 1] (given: the bodies' combined)
+  // The velocity friction drives b's surface to relative to a's at the contact, m/s, world;
+  // its part in the contact plane acts (given: zero). A conveyor belt a under a crate b:
+  // the belt's speed along its length.
+  RVec3 relativeSurfaceVelocity_W = RVec3::Zero();
+  // false: the pair is found and reported (RContact::resolved false), not resolved: bodies
+  // pass through each other while the pair stays in contact (given: true; false for a body
+  // meeting a one-way body otherwise than from above, RBodyDef::oneWay).
+  bool enabled = true;
+};
+
+// Game code's say on a new contact: a pair in contact (within the step's speculative
+// margin) that was not in the last step. `contact` is as Contacts() will report it (normal
+// from a to b, world). It may change `settings`. Called on the stepping thread, in the
+// contacts' order (the same on any thread count), before the solver; it must not change the
+// bodies. A plain function pointer with a user pointer: no virtual call per pair.
+using RContactCallback = void (*)(const RRigidBody& a, const RRigidBody& b, const RContact& contact,
+                                  RContactSettings& settings, void* user);
+
 // Game code's veto on a pair (a missile leaving its own launch tube): return false to skip
 // it. A plain function pointer with a user pointer: no virtual call per pair.
 using RPairFilter = bool (*)(const RRigidBody& a, const RRigidBody& b, void* user);
@@ -279,6 +302,14 @@ class RIntegrator : private RIntegratorCore {
   // filter is called from several threads at once (for different pairs): it must only read,
   // and must not throw (an exception on a worker thread ends the program).
   void SetPairFilter(RPairFilter filter, void* user);
+  // The game's contact callback (RContactCallback; null: none). A pair's settings are kept
+  // while it stays in contact, step after step; a pair that wakes from sleep, or comes back
+  // into contact, is new again. One-way bodies (RBodyDef::oneWay) are decided first: a
+  // contact with one is enabled when its normal, from the one-way body to the other, is
+  // within 45 degrees of up (opposite gravity; with zero gravity a one-way body is solid).
+  // Update throws RError ("contact_callback.friction", ...) for settings out of their
+  // ranges, before any body moves.
+  void SetContactCallback(RContactCallback callback, void* user);
   // Runs the step's parallel stages on the game's job system instead of the integrator's
   // own threads (RWorldSettings::threads); null goes back to those. The job system must
   // outlive its use here; a copy of the integrator uses the same one.
@@ -312,6 +343,7 @@ std::uint64_t NextCacheStamp();
   X(RIntegratorCore) \
   X(RStepProfile) \
   X(RContact) \
+  X(RContactSettings) \
   X(RPairStats) \
   X(RIntegrator)
 RENGINE_ABI_CHECK(kIntegrator, RENGINE_ABI_TYPES_INTEGRATOR)

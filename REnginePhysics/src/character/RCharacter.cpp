@@ -18,11 +18,10 @@ namespace {
 constexpr RScalar kHalfPi = RScalar(1.5707963267948966);
 constexpr std::uint32_t kNoId = 0xFFFFFFFFu;
 
-void Require(bool ok, const char* field, const char* problem) {
+void RequireCharacter(bool ok, const char* field, const char* problem) {
   if (!ok) throw RCharacterError(field, problem);
 }
 
-RVec3 Across(const RVec3& v, const RVec3& up) { return v - up * v.dot(up); }
 
 // The rotation of q about up (its twist): what a turning platform turns the character by.
 RQuat TwistAbout(const RQuat& q, const RVec3& up) {
@@ -47,32 +46,32 @@ RCharacter::RCharacter(const RCharacterDef& def) : m_def(def) {
     }
   }
   const RShapeType type = m_shape->shape.type;
-  Require(type != RShapeType::kCompound && type != RShapeType::kMesh, "shape",
+  RequireCharacter(type != RShapeType::kCompound && type != RShapeType::kMesh, "shape",
           "must be convex: a sphere, box, capsule, cylinder or hull");
-  Require(AllFinite(def.position_W) && def.position_W.cwiseAbs().maxCoeff() <= kMaxPosition, "position",
+  RequireCharacter(AllFinite(def.position_W) && def.position_W.cwiseAbs().maxCoeff() <= kMaxPosition, "position",
           "must be finite and within 1e15 m of the origin");
   const std::optional<RQuat> q = QuatNormalized(def.q_WS);
-  Require(q.has_value(), "orientation", "must be a finite quaternion of non-zero length");
-  Require(AllFinite(def.up_W), "up", "must be finite");
+  RequireCharacter(q.has_value(), "orientation", "must be a finite quaternion of non-zero length");
+  RequireCharacter(AllFinite(def.up_W), "up", "must be finite");
   if (def.up_W != RVec3::Zero()) {
     const RScalar n = def.up_W.norm();
-    Require(std::abs(n - 1) <= RScalar(1e-3), "up", "must be a unit vector (or zero: opposite gravity)");
+    RequireCharacter(std::abs(n - 1) <= RScalar(1e-3), "up", "must be a unit vector (or zero: opposite gravity)");
     m_def.up_W = def.up_W / n;
     m_up = m_def.up_W;
   }
-  Require(std::isfinite(def.mass) && def.mass > 0 && def.mass <= RScalar(1e30), "mass",
+  RequireCharacter(std::isfinite(def.mass) && def.mass > 0 && def.mass <= RScalar(1e30), "mass",
           "must be finite and > 0 (kg)");
-  Require(std::isfinite(def.maxSlope) && def.maxSlope >= 0 && def.maxSlope < kHalfPi, "max_slope",
+  RequireCharacter(std::isfinite(def.maxSlope) && def.maxSlope >= 0 && def.maxSlope < kHalfPi, "max_slope",
           "must be at least 0 and below 90 degrees");
-  Require(std::isfinite(def.stepHeight) && def.stepHeight >= 0 && def.stepHeight <= RScalar(1e12), "step_height",
+  RequireCharacter(std::isfinite(def.stepHeight) && def.stepHeight >= 0 && def.stepHeight <= RScalar(1e12), "step_height",
           "must be finite and >= 0 (m)");
-  Require(std::isfinite(def.maxPushForce) && def.maxPushForce >= 0 && def.maxPushForce <= RScalar(1e30),
+  RequireCharacter(std::isfinite(def.maxPushForce) && def.maxPushForce >= 0 && def.maxPushForce <= RScalar(1e30),
           "max_push_force", "must be finite and >= 0 (N)");
-  Require(std::isfinite(def.contactOffset) && def.contactOffset > 0 &&
+  RequireCharacter(std::isfinite(def.contactOffset) && def.contactOffset > 0 &&
               def.contactOffset <= RScalar(0.1) * m_shape->boundingRadius,
           "contact_offset", "must be > 0 and at most a tenth of the shape's bounding radius (m)");
-  Require(!def.id || *def.id != kNoId, "id", "must be 0 to 2^32 - 2");
-  for (std::uint32_t id : def.ignore) Require(id != kNoId, "ignore", "ids must be 0 to 2^32 - 2");
+  RequireCharacter(!def.id || *def.id != kNoId, "id", "must be 0 to 2^32 - 2");
+  for (std::uint32_t id : def.ignore) RequireCharacter(id != kNoId, "ignore", "ids must be 0 to 2^32 - 2");
   std::sort(m_def.ignore.begin(), m_def.ignore.end());
   m_def.ignore.erase(std::unique(m_def.ignore.begin(), m_def.ignore.end()), m_def.ignore.end());
   m_def.prepared = m_shape;
@@ -83,17 +82,17 @@ RCharacter::RCharacter(const RCharacterDef& def) : m_def(def) {
 }
 
 void RCharacter::SetDesiredVelocity(const RVec3& v_W) {
-  Require(AllFinite(v_W) && v_W.cwiseAbs().maxCoeff() <= RScalar(1e15), "velocity", "must be finite (m/s)");
+  RequireCharacter(AllFinite(v_W) && v_W.cwiseAbs().maxCoeff() <= RScalar(1e15), "velocity", "must be finite (m/s)");
   m_desired = v_W;
 }
 
 void RCharacter::Jump(RScalar speed) {
-  Require(std::isfinite(speed) && speed > 0 && speed <= RScalar(1e15), "jump", "must be finite and > 0 (m/s)");
+  RequireCharacter(std::isfinite(speed) && speed > 0 && speed <= RScalar(1e15), "jump", "must be finite and > 0 (m/s)");
   m_jump = speed;
 }
 
 void RCharacter::SetPosition(const RVec3& p) {
-  Require(AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition, "position",
+  RequireCharacter(AllFinite(p) && p.cwiseAbs().maxCoeff() <= kMaxPosition, "position",
           "must be finite and within 1e15 m of the origin");
   m_position = p;
   m_ground = RCharacterGround{};
@@ -101,21 +100,21 @@ void RCharacter::SetPosition(const RVec3& p) {
 }
 
 void RCharacter::SetVelocity(const RVec3& v) {
-  Require(AllFinite(v) && v.cwiseAbs().maxCoeff() <= RScalar(1e15), "velocity", "must be finite (m/s)");
+  RequireCharacter(AllFinite(v) && v.cwiseAbs().maxCoeff() <= RScalar(1e15), "velocity", "must be finite (m/s)");
   m_velocity = v;
   m_airCarry = RVec3::Zero();
   if (v.dot(m_up) > 0) m_ground.state = RGroundState::kInAir;
 }
 
 void RCharacter::Update(RBodies& bodies, RQueries& queries, RScalar dt, const RVec3& gravity_W) {
-  Require(std::isfinite(dt) && dt > 0 && dt <= RIntegrator::kMaxDt, "dt", "must be finite, > 0 and at most 1 s");
-  Require(AllFinite(gravity_W), "gravity", "must be finite");
+  RequireCharacter(std::isfinite(dt) && dt > 0 && dt <= RIntegrator::kMaxDt, "dt", "must be finite, > 0 and at most 1 s");
+  RequireCharacter(AllFinite(gravity_W), "gravity", "must be finite");
   if (m_def.up_W == RVec3::Zero()) {
     const RScalar g = gravity_W.norm();
-    Require(g > 0, "up", "is opposite gravity by default: with zero gravity give RCharacterDef::up_W");
+    RequireCharacter(g > 0, "up", "is opposite gravity by default: with zero gravity give RCharacterDef::up_W");
     m_up = -gravity_W / g;
   }
-  RCharacterMover mv{*this, bodies, queries, dt, gravity_W, RBodyHandle{}, m_scratch};
+  RCharacterMover mv{*this, bodies, queries, dt, gravity_W, RBodyHandle{}, nullptr, m_scratch};
   const RScalar offset = m_def.contactOffset;
   const RVec3 start = m_position;
   const RScalar gUp = gravity_W.dot(m_up);
@@ -133,7 +132,9 @@ void RCharacter::Update(RBodies& bodies, RQueries& queries, RScalar dt, const RV
       carrier = m_ground.contact.body;
       const RVec3 target = g->Position_W() + g->Orientation_WB() * m_groundLocal;
       mv.skip = carrier;
+      mv.carrier = g;
       mv.Slide(target - m_position, false, RVec3::Zero(), false);
+      mv.carrier = nullptr;
       mv.skip = RBodyHandle{};
       m_q = (TwistAbout(g->Orientation_WB() * m_groundQ.conjugate(), m_up) * m_q).normalized();
       groundVelocity = SurfaceVelocity(*g, m_position);
@@ -145,7 +146,10 @@ void RCharacter::Update(RBodies& bodies, RQueries& queries, RScalar dt, const RV
     if (k.body == carrier || !bodies.Contains(k.body) || !bodies.IsEnabled(k.body)) continue;
     const RRigidBody& b = bodies[k.body];
     if (!b.IsKinematic()) continue;
-    const RScalar in = SurfaceVelocity(b, k.point_W).dot(k.normal_W);
+    // Relative to what carries it: a wall moving with the deck has carried it already.
+    const RRigidBody* g = carrier.IsValid() ? &bodies[carrier] : nullptr;
+    const RVec3 carried = g ? SurfaceVelocity(*g, k.point_W) : RVec3::Zero();
+    const RScalar in = (SurfaceVelocity(b, k.point_W) - carried).dot(k.normal_W);
     if (in > 0) {
       mv.skip = k.body;
       mv.Slide(k.normal_W * (in * dt), false, RVec3::Zero(), false);
@@ -155,11 +159,12 @@ void RCharacter::Update(RBodies& bodies, RQueries& queries, RScalar dt, const RV
   mv.Depenetrate();
 
   // 3. The motion: along the ground, or in the air under gravity along up.
-  const RVec3 across = Across(m_desired, m_up);
+  const RVec3 across = AcrossUp(m_desired, m_up);
   bool walking = m_ground.state == RGroundState::kOnGround;
-  const bool jumped = m_jump > 0 && m_ground.state != RGroundState::kInAir;
+  const bool startedOnGround = m_ground.state != RGroundState::kInAir;
+  const bool jumped = m_jump > 0 && m_ground.state == RGroundState::kOnGround;
   if (jumped) {
-    m_airCarry = Across(groundVelocity, m_up);
+    m_airCarry = AcrossUp(groundVelocity, m_up);
     m_velocity = across + m_airCarry + m_up * (m_jump + groundVelocity.dot(m_up));
     m_ground.state = RGroundState::kInAir;
     walking = false;
@@ -221,7 +226,10 @@ void RCharacter::Update(RBodies& bodies, RQueries& queries, RScalar dt, const RV
   const RGroundState was = m_ground.state;
   m_ground = RCharacterGround{};
   if (ground) {
-    const RScalar rising = m_velocity.dot(m_up) - ground->surfaceVelocity_W.dot(m_up);
+    // Leaving it (a jump, or still rising in the air): not standing on it. Walking, the
+    // character's vertical motion is the ground's (a descending lift included).
+    const RScalar rising = jumped || !startedOnGround
+                               ? m_velocity.dot(m_up) - ground->surfaceVelocity_W.dot(m_up) : 0;
     if (!(rising > RScalar(1e-6))) {
       m_ground.contact = *ground;
       m_ground.surfaceNormal_W = surface;
@@ -238,16 +246,23 @@ void RCharacter::Update(RBodies& bodies, RQueries& queries, RScalar dt, const RV
     }
   } else if (m_ground.state == RGroundState::kOnSteepGround) {
     // Sliding down: the vertical speed it moved with, not what gravity would have given.
-    m_velocity = Across(m_velocity, m_up) + m_up * std::min(RScalar(0), (m_position - before).dot(m_up) / dt);
+    m_velocity = AcrossUp(m_velocity, m_up) + m_up * std::min(RScalar(0), (m_position - before).dot(m_up) / dt);
   } else if (was != RGroundState::kInAir && !jumped) {
     // Walked off an edge: it leaves with the ground's velocity.
-    m_airCarry = Across(groundVelocity, m_up);
+    m_airCarry = AcrossUp(groundVelocity, m_up);
     m_velocity = across + m_airCarry + m_up * groundVelocity.dot(m_up);
   }
   if (m_ground.state != RGroundState::kInAir) {
     const RRigidBody& g = bodies[m_ground.contact.body];
     m_groundLocal = g.Orientation_WB().conjugate() * (m_position - g.Position_W());
     m_groundQ = g.Orientation_WB();
+  }
+  // Never past the world's edge (1e15 m), never NaN: back where it was, at rest.
+  if (!(AllFinite(m_position) && m_position.cwiseAbs().maxCoeff() <= kMaxPosition)) {
+    m_position = start;
+    m_velocity = m_airCarry = RVec3::Zero();
+    m_ground = RCharacterGround{};
+    m_contacts.clear();
   }
   m_moved = (m_position - start) / dt;
   ++m_updates;
@@ -265,14 +280,14 @@ RCharacter::RState RCharacter::State() const {
 
 void RCharacter::Restore(const RState& s) {
   const auto finite = [](const RVec3& v) { return AllFinite(v) && v.cwiseAbs().maxCoeff() <= kMaxPosition; };
-  Require(finite(s.position), "position", "must be finite and within 1e15 m of the origin");
-  Require(AllFinite(s.q) && std::abs(s.q.norm() - 1) <= RScalar(1e-6), "orientation", "must be a unit quaternion");
-  Require(finite(s.velocity) && finite(s.desired) && finite(s.moved) && finite(s.airCarry), "velocity",
+  RequireCharacter(finite(s.position), "position", "must be finite and within 1e15 m of the origin");
+  RequireCharacter(AllFinite(s.q) && std::abs(s.q.norm() - 1) <= RScalar(1e-6), "orientation", "must be a unit quaternion");
+  RequireCharacter(finite(s.velocity) && finite(s.desired) && finite(s.moved) && finite(s.airCarry), "velocity",
           "must be finite (m/s)");
-  Require(AllFinite(s.up) && std::abs(s.up.norm() - 1) <= RScalar(1e-6), "up", "must be a unit vector");
-  Require(std::isfinite(s.jump) && s.jump >= 0, "jump", "must be finite and >= 0 (m/s)");
-  Require(static_cast<int>(s.ground.state) <= 2, "ground.state", "must be 0, 1 or 2");
-  Require(finite(s.groundLocal) && AllFinite(s.groundQ) && std::abs(s.groundQ.norm() - 1) <= RScalar(1e-6),
+  RequireCharacter(AllFinite(s.up) && std::abs(s.up.norm() - 1) <= RScalar(1e-6), "up", "must be a unit vector");
+  RequireCharacter(std::isfinite(s.jump) && s.jump >= 0, "jump", "must be finite and >= 0 (m/s)");
+  RequireCharacter(static_cast<int>(s.ground.state) <= 2, "ground.state", "must be 0, 1 or 2");
+  RequireCharacter(finite(s.groundLocal) && AllFinite(s.groundQ) && std::abs(s.groundQ.norm() - 1) <= RScalar(1e-6),
           "ground", "must be finite, its orientation a unit quaternion");
   m_position = s.position, m_q = s.q;
   m_velocity = s.velocity, m_desired = s.desired, m_moved = s.moved, m_up = s.up;

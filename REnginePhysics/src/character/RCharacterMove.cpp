@@ -2,6 +2,7 @@
 // pushes.
 #include "character/RCharacterMove.h"
 
+#include <REnginePhysics/RLimits.h>
 #include <REnginePhysics/RRigidBody.h>
 
 #include <algorithm>
@@ -25,8 +26,6 @@ bool AcceptBody(RBodyHandle h, const RRigidBody& b, void* user) {
   return static_cast<const RCharacterMover*>(user)->Solid(h, b);
 }
 
-// The part of v across the plane of the unit vector up.
-RVec3 Across(const RVec3& v, const RVec3& up) { return v - up * v.dot(up); }
 
 }  // namespace
 
@@ -59,10 +58,14 @@ RVec3 RCharacterMover::x_B() const { return c.m_position - R_WB() * c.m_shape->p
 bool RCharacterMover::Solid(RBodyHandle h, const RRigidBody& b) const {
   const RCharacterDef& d = c.m_def;
   if (h == skip || (b.Category() & d.mask) == 0 || (d.category & b.Mask()) == 0) return false;
+  if (carrier && !b.IsStatic() && b.Velocity_W() == carrier->Velocity_W() &&
+      b.AngularVelocity_W() == carrier->AngularVelocity_W()) {
+    return false;
+  }
   if (d.id && Contains(b.IgnoredIds(), *d.id)) return false;
   const std::optional<std::uint32_t> id = b.Id();
   if (id && Contains(d.ignore, *id)) return false;
-  return !(b.OneWay() && Listed(c.m_passed, h));
+  return !(b.OneWay() && Listed(c.m_passed, h)) && !Listed(c.m_leaving, h);
 }
 
 std::optional<RShapeCastHit> RCharacterMover::Cast(const RVec3& d) {
@@ -97,10 +100,10 @@ void RCharacterMover::Push(RBodyHandle h, const RVec3& p, const RVec3& n, const 
   // weight (RCharacter::Update), not the speed of its fall, which on a light crate would be a
   // blow far beyond any force the game set.
   if (Walkable(n)) return;
-  const RVec3 level = Across(-n, c.m_up);
+  const RVec3 level = AcrossUp(-n, c.m_up);
   if (!(level.norm() > RScalar(1e-9))) return;
   const RVec3 u = level.normalized();  // the way the character pushes it
-  const RScalar target = Across(vChar, c.m_up).dot(u);
+  const RScalar target = AcrossUp(vChar, c.m_up).dot(u);
   const RScalar now = SurfaceVelocity(b, p).dot(u);
   if (!(target > now)) return;
   // The body's effective mass at p along u: 1/m + (r x u) . I_W^-1 (r x u).
@@ -117,6 +120,14 @@ void RCharacterMover::Slide(RVec3 d, bool walking, const RVec3& vChar, bool push
   const RScalar offset = c.m_def.contactOffset;
   RVec3 planes[2];
   int planeCount = 0;
+  // Bodies it starts this move overlapping (or within the casts' touching band of: a floor
+  // a million metres wide) and moves away from or along: not in its way (a wall carried with
+  // the deck it stands on, which the deck's motion has already brought into it).
+  c.m_leaving.clear();
+  struct RClear {
+    std::vector<RBodyHandle>& list;
+    ~RClear() { list.clear(); }
+  } clear{c.m_leaving};
   for (int k = 0; k < kSlideCasts; ++k) {
     // Below a billionth of the character's size the motion is rounding: done.
     if (!(d.norm() > RScalar(1e-9) * c.m_shape->boundingRadius)) return;
@@ -127,6 +138,10 @@ void RCharacterMover::Slide(RVec3 d, bool walking, const RVec3& vChar, bool push
     }
     RVec3 n = hit->normal_W;
     const RScalar approach = -d.dot(n);
+    if (hit->fraction == 0 && !(approach > 0)) {
+      c.m_leaving.push_back(hit->body);
+      continue;
+    }
     // Stop where the gap along the normal is the offset: back along d from the touch.
     RScalar f = hit->fraction;
     if (approach > 0) f = std::max(RScalar(0), f - offset / approach);
@@ -135,18 +150,23 @@ void RCharacterMover::Slide(RVec3 d, bool walking, const RVec3& vChar, bool push
     d *= (1 - f);
     if (push) Push(hit->body, hit->point_W, n, vChar);
     const RScalar rise = n.dot(c.m_up);
-    if (rise < c.m_cosSlope && rise > -RScalar(1e-6)) {
+    if (rise >= c.m_cosSlope) {
+      // Walkable: a fall ends here (no sliding downhill on landing), and the motion across
+      // the plane of up goes on along the ground, its horizontal part kept.
+      const RVec3 level = AcrossUp(d, c.m_up);
+      d = level - c.m_up * (level.dot(n) / rise);
+    } else if (rise > -RScalar(1e-6)) {
       if (steep) *steep = true;
       // Steep ground or a wall: what walks into it is blocked across the plane of up,
       // and only that; motion down it still slides along its true normal below.
       if (walking) {
-        const RVec3 h = Across(n, c.m_up);
+        const RVec3 h = AcrossUp(n, c.m_up);
         if (h.norm() > RScalar(1e-9)) n = h.normalized();
       } else if (rise > 0) {
-        const RVec3 h = Across(n, c.m_up);
+        const RVec3 h = AcrossUp(n, c.m_up);
         if (h.norm() > RScalar(1e-9)) {
           const RVec3 hn = h.normalized();
-          const RVec3 across = Across(d, c.m_up);
+          const RVec3 across = AcrossUp(d, c.m_up);
           const RScalar into = across.dot(hn);
           if (into < 0) d -= hn * into;
         }
@@ -168,7 +188,7 @@ void RCharacterMover::Slide(RVec3 d, bool walking, const RVec3& vChar, bool push
 }
 
 void RCharacterMover::TryStep(RVec3 start, RVec3 d, RVec3 slid) {
-  const RVec3 across = Across(d, c.m_up);
+  const RVec3 across = AcrossUp(d, c.m_up);
   const RScalar length = across.norm();
   if (!(c.m_def.stepHeight > 0) || !(length > 0)) return;
   const RVec3 dir = across / length;
@@ -178,20 +198,21 @@ void RCharacterMover::TryStep(RVec3 start, RVec3 d, RVec3 slid) {
   Slide(c.m_up * c.m_def.stepHeight, false, RVec3::Zero(), false);
   const RScalar risen = (c.m_position - start).dot(c.m_up);
   Slide(across, true, RVec3::Zero(), false);
-  const std::optional<RShapeCastHit> down = Cast(-c.m_up * (risen + c.m_def.contactOffset));
+  const std::optional<RShapeCastHit> down = Cast(-c.m_up * (risen + 2 * c.m_def.contactOffset));
   bool keep = false;
   if (down && down->normal_W.dot(c.m_up) > 0 &&
       Walkable(SurfaceNormal(down->body, down->point_W, down->normal_W))) {
-    const RScalar fall = down->fraction * (risen + c.m_def.contactOffset) -
+    const RScalar fall = down->fraction * (risen + 2 * c.m_def.contactOffset) -
                          c.m_def.contactOffset / down->normal_W.dot(c.m_up);
     const RVec3 landed = c.m_position - c.m_up * std::max(RScalar(0), fall);
-    // Further along than sliding got, up on something (not back on the floor), and on a
-    // point no more than stepHeight above the ground it stood on (a round bottom could
-    // otherwise lever itself up any edge a little at a time).
+    // Further along than sliding got, no lower than it started (going down is the ground
+    // keeping's), and on a point no more than stepHeight above the ground it stood on (a
+    // round bottom could otherwise lever itself up any edge a little at a time). Over a
+    // sill narrower than the step it lands on the floor beyond: kept too.
     keep = (landed - start).dot(dir) > (slid - start).dot(dir) + RScalar(1e-9) * length &&
-           (landed - start).dot(c.m_up) > RScalar(0.5) * c.m_def.contactOffset &&
+           (landed - start).dot(c.m_up) > -RScalar(0.5) * c.m_def.contactOffset &&
            (down->point_W - c.m_ground.contact.point_W).dot(c.m_up) <=
-               c.m_def.stepHeight + c.m_def.contactOffset;
+               c.m_def.stepHeight + RScalar(1e-9) * c.m_shape->boundingRadius;
     if (keep) c.m_position = landed;
   }
   if (!keep) {
@@ -206,7 +227,11 @@ void RCharacterMover::Collect(RScalar probe, std::vector<RCharacterContact>& out
   const RMat3 R = R_WB();
   const RVec3 x = x_B();
   const RScalar reach = c.m_shape->boundingRadius + probe;
-  queries.OverlapBox(bodies, x - RVec3::Constant(reach), x + RVec3::Constant(reach), c.m_near);
+  // Within the positions a body can have (a character at the edge of the world).
+  const RVec3 lo = (x - RVec3::Constant(reach)).cwiseMax(RVec3::Constant(-kMaxPosition));
+  const RVec3 hi = (x + RVec3::Constant(reach)).cwiseMin(RVec3::Constant(kMaxPosition));
+  c.m_near.clear();
+  if ((hi - lo).minCoeff() > RScalar(1e-4) * (hi - lo).maxCoeff()) queries.OverlapBox(bodies, lo, hi, c.m_near);
   for (RBodyHandle h : c.m_near) {
     const RRigidBody& b = bodies[h];
     if (!Solid(h, b)) continue;
@@ -233,7 +258,7 @@ void RCharacterMover::Collect(RScalar probe, std::vector<RCharacterContact>& out
 
 RVec3 RCharacterMover::SurfaceNormal(RBodyHandle body, const RVec3& point, const RVec3& normal) {
   if (Walkable(normal)) return normal;
-  const RVec3 level = Across(normal, c.m_up);
+  const RVec3 level = AcrossUp(normal, c.m_up);
   if (!(normal.dot(c.m_up) > 0) || !(level.norm() > RScalar(1e-9))) return normal;
   const RScalar e = c.m_def.contactOffset;
   RRay ray;
@@ -262,7 +287,16 @@ void RCharacterMover::Depenetrate() {
       if (q.distance < RScalar(0.5) * offset && (!deepest || q.distance < deepest->distance)) deepest = &q;
     }
     if (!deepest) return;
-    c.m_position += deepest->normal_W * (offset - deepest->distance);
+    // Out along the normal by a cast, the overlapped body skipped: pressed against another
+    // (a kinematic wall pushing it into a static one) it stays where it is rather than pass
+    // through that one.
+    const RVec3 out = deepest->normal_W * (offset - deepest->distance);
+    const RBodyHandle was = skip;
+    skip = deepest->body;
+    const RVec3 before = c.m_position;
+    Slide(out, false, RVec3::Zero(), false);
+    skip = was;
+    if (c.m_position == before) return;
   }
 }
 

@@ -18,6 +18,10 @@ struct RCharacterMover {
   RVec3 gravity;
   // A body no cast of this move sees (the ground while it carries the character).
   RBodyHandle skip;
+  // While carrying: the carrier, whose rigid motion the bodies that share it (a wall of the
+  // same ship, moving with the deck) share too: they keep their places relative to the
+  // character and are not in its way.
+  const RRigidBody* carrier = nullptr;
   std::vector<RCharacterContact>& m_probe;  // scratch (the character's)
 
   // Whether a body is solid to the character: the filter rules both ways and the ignore
@@ -55,6 +59,9 @@ struct RCharacterMover {
   RMat3 R_WB() const;
   RVec3 x_B() const;
 };
+
+// The part of v across the plane of the unit vector up.
+inline RVec3 AcrossUp(const RVec3& v, const RVec3& up) { return v - up * v.dot(up); }
 
 // A body's velocity at a world point, m/s.
 RVec3 SurfaceVelocity(const RRigidBody& b, const RVec3& p_W);

@@ -79,8 +79,13 @@ void RContactSolver::BuildImpactRow(const RStepBodies& bodies, std::uint32_t ci,
   OrthonormalBasis(normal, r.tangent[0], r.tangent[1]);
   r.rA = rA, r.rB = rB;
   r.gap = c.manifold.points[lead.deepest].separation;
-  r.restitution = Combine(m_in->settings.restitutionCombine, A.m_restitution, B.m_restitution);
-  r.friction = Combine(m_in->settings.frictionCombine, A.m_friction, B.m_friction);
+  if (m_in->materials.Active()) {
+    r.restitution = m_in->materials.At(ci).restitution;
+    r.friction = m_in->materials.At(ci).friction;
+  } else {
+    r.restitution = Combine(m_in->settings.restitutionCombine, A.m_restitution, B.m_restitution);
+    r.friction = Combine(m_in->settings.frictionCombine, A.m_friction, B.m_friction);
+  }
   r.lambdaN = r.lambdaT1 = r.lambdaT2 = 0;
   r.impulse.setZero(), r.angularA.setZero(), r.angularB.setZero();
   r.frictionImpulse.setZero(), r.point_W.setZero(), r.normal_W = normal;
@@ -110,7 +115,9 @@ std::uint32_t RContactSolver::BuildContactRows(const RStepBodies& bodies, std::u
   std::uint32_t warmStarted = 0;
   const RSolverBody& sa = m_solverBodies[c.a];
   const RSolverBody& sb = m_solverBodies[c.b];
-  const RScalar mu = Combine(m_in->settings.frictionCombine, A.m_friction, B.m_friction);
+  const bool material = m_in->materials.Active();
+  const RScalar mu = material ? m_in->materials.At(ci).friction
+                              : Combine(m_in->settings.frictionCombine, A.m_friction, B.m_friction);
   const RVec3& normal = c.manifold.normal;
   RVec3 t1, t2;
   OrthonormalBasis(normal, t1, t2);
@@ -206,11 +213,13 @@ std::uint32_t RContactSolver::BuildContactRows(const RStepBodies& bodies, std::u
     m_rows[firstRow + k].lever = (c.manifold.points[k].position - centroid).norm();
   }
   blk.friction = mu;
+  // A conveyor's surface velocity (the game's contact callback): b's surface relative to a's.
+  const RVec3 surface = material ? m_in->materials.At(ci).relativeSurfaceVelocity_W : RVec3::Zero();
   for (int ph = 0; ph < 2; ++ph) {
-    blk.targetT[ph][0] = blk.targetT[ph][1] = 0;
+    blk.targetT[ph][0] = surface.dot(t1), blk.targetT[ph][1] = surface.dot(t2);
     if (!(A.m_isKinematic || B.m_isKinematic)) continue;
     const RVec3 drift = RMotion::ContactDrift_W(A.m_isKinematic ? A.m_w_W : B.m_w_W, blk.rA, blk.rB, dt, ph == 1);
-    blk.targetT[ph][0] = drift.dot(t1), blk.targetT[ph][1] = drift.dot(t2);
+    blk.targetT[ph][0] += drift.dot(t1), blk.targetT[ph][1] += drift.dot(t2);
   }
   for (int ph = 0; ph < 2; ++ph) blk.lambdaT1[ph] = blk.lambdaT2[ph] = blk.lambdaTwist[ph] = 0;
   if (patchWarm) {

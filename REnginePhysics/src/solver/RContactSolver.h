@@ -24,6 +24,7 @@
 #include <REnginePhysics/RIntegrator.h>
 
 #include "joints/RJointSolver.h"
+#include "solver/RContactMaterials.h"
 #include "solver/RIslandScratch.h"
 #include "solver/RSolverTypes.h"
 #include "world/RUnionFind.h"
@@ -53,6 +54,9 @@ class RContactSolver {
     RWeldGroups& welds;
     RJobSystem* jobs;    // null: one thread
     std::size_t tasks;   // how many tasks a parallel stage is cut into
+    // Each contact's material when Active() (one-way bodies, the game's callback); else the
+    // bodies' coefficients combined.
+    const RContactMaterials& materials;
   };
   // Solves the contacts found this step for impulses and accumulates them on the bodies;
   // called from CollisionDetection. Sequential impulses, warm-started, with each manifold's

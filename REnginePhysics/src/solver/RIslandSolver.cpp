@@ -104,7 +104,8 @@ void RContactSolver::LayOutIslands(const RStepBodies& bodies) {
       // its impact point and centroid would be 0/0; nor do separations that are not
       // numbers (see ImpactGeometry), which leave no point within the slop of the deepest.
       c.resolved = m_in->sweep.RespondsAt(c.a) && m_in->sweep.RespondsAt(c.b) && !(m_in->sweep.ImmovableAt(c.a) && m_in->sweep.ImmovableAt(c.b)) &&
-                   c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0;
+                   c.manifold.pointCount > 0 && LeadingPoints(c.manifold).count > 0 &&
+                   (!m_in->materials.Active() || m_in->materials.At(static_cast<std::uint32_t>(ci)).enabled);
       if (!c.resolved) continue;
       warmFrom = FindWarmStarts(m_warm, PairKey(c.handleA.index, c.handleB.index), warmFrom);
       m_rowStart[ci].warmFound = static_cast<std::uint32_t>(warmFrom);

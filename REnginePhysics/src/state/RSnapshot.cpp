@@ -72,7 +72,8 @@ std::size_t RSnapshotData::FrameBytes() const {
   return (frames ? frames->size() * sizeof(RBodyFrame) : 0) + deltaBodies.size() * 4 +
          extras.size() * sizeof(RBodyExtra) + rotations.size() * sizeof(RRotationFrame) +
          warm.size() * sizeof(RWarmStart) + manifolds.size() * sizeof(RManifoldMemory) +
-         touching.size() * sizeof(RContactEventLog::RTouchingPair) + wakeIslands.size() * 4 +
+         touching.size() * sizeof(RContactEventLog::RTouchingPair) +
+         materials.size() * sizeof(RContactMaterials::RRemembered) + wakeIslands.size() * 4 +
          wakeBoxes.size() * sizeof(RVec3) + joints.size() * sizeof(RJoint) + sizeof(RSnapshotData);
 }
 
@@ -213,6 +214,7 @@ void RSnapshotAccess::Save(const RIntegrator& integrator, const RBodies& bodies,
   s.warm = w.m_solver.WarmStarts();
   s.manifolds = w.m_sweep.Manifolds();
   s.touching = w.m_eventLog.Touching();
+  s.materials = w.m_materials.Memory();
   s.wakeIslands = c.m_wakeIslands;
   s.wakeAll = c.m_wakeAll;
   s.wakeBoxes = c.m_wakeBoxes;

@@ -102,6 +102,7 @@ struct RSnapshotData {
   std::vector<RWarmStart> warm;
   std::vector<RManifoldMemory> manifolds;
   std::vector<RContactEventLog::RTouchingPair> touching;
+  std::vector<RContactMaterials::RRemembered> materials;
   // The container's pending wakes and the joints (their impulses are warm starts).
   std::vector<std::uint32_t> wakeIslands;
   bool wakeAll = false;

@@ -136,6 +136,7 @@ void RSnapshotAccess::Restore(RIntegrator& integrator, RBodies& bodies, const RS
   w.m_solver.RestoreForSnapshot(RLoadKey{}, s.warm, static_cast<std::size_t>(s.warmBodyCount));
   w.m_sweep.RestoreForSnapshot(RLoadKey{}, s.manifolds);
   w.m_eventLog.RestoreForSnapshot(RLoadKey{}, s.touching);
+  w.m_materials.Restore(s.materials);
   w.m_cacheStamp = NextCacheStamp();
   w.m_profile = RStepProfile{};
 }

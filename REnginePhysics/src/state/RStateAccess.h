@@ -114,6 +114,7 @@ struct RStateAccess {
     std::vector<RManifoldMemory> manifolds;
     std::vector<std::uint8_t> manifoldSerials;  // per manifold: bit 0 A's serial was its body's, bit 1 B's
     std::vector<RContactEventLog::RTouchingPair> touching;
+    std::vector<RContactMaterials::RRemembered> materials;
   };
 
   static void WriteSettings(RWriter& w, const RWorldSettings& s);

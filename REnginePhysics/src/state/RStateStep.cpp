@@ -147,6 +147,13 @@ void RStateAccess::WriteStep(RWriter& w, const RWorldStep& s, const RSerialOwned
     w.U32(t.a.index), w.U32(t.a.generation), w.U32(t.b.index), w.U32(t.b.generation);
     w.Vec3(t.point_W), w.Vec3(t.normal_W);
   }
+  // The contact materials kept while pairs stay in contact (one-way bodies, the callback's).
+  w.U64(s.m_materials.Memory().size());
+  for (const RContactMaterials::RRemembered& m : s.m_materials.Memory()) {
+    w.U32(m.a.index), w.U32(m.a.generation), w.U32(m.b.index), w.U32(m.b.generation);
+    w.F64(m.settings.friction), w.F64(m.settings.restitution);
+    w.Vec3(m.settings.relativeSurfaceVelocity_W), w.Bool(m.settings.enabled);
+  }
 }
 
 RBodyHandle RStateAccess::ReadHandle(RReader& r, const char* field) {
@@ -248,6 +255,22 @@ RStateAccess::RSavedStep RStateAccess::ReadStep(RReader& r) {
         r.Fail("handle_a", "is out of order (touching pairs are sorted by handles)");
       }
     }
+  }
+  s.materials.resize(r.Count("materials", 16 + 8 * 5 + 1));
+  for (std::size_t k = 0; k < s.materials.size(); ++k) {
+    r.SetRecord(Indexed("materials", k));
+    RContactMaterials::RRemembered& m = s.materials[k];
+    m.a = ReadHandle(r, "handle_a"), m.b = ReadHandle(r, "handle_b");
+    if (!(m.a.index < m.b.index)) r.Fail("handle_b", "must name another body than handle_a, at a higher slot");
+    if (k > 0 && !(s.materials[k - 1].a < m.a || (s.materials[k - 1].a == m.a && s.materials[k - 1].b < m.b))) {
+      r.Fail("handle_a", "is out of order (materials are sorted by handles)");
+    }
+    m.settings.friction = r.Finite("friction");
+    m.settings.restitution = r.Finite("restitution");
+    m.settings.relativeSurfaceVelocity_W = r.FiniteVec3("relative_surface_velocity");
+    m.settings.enabled = r.Bool("enabled");
+    if (m.settings.friction < 0) r.Fail("friction", "must be >= 0");
+    if (m.settings.restitution < 0 || m.settings.restitution > 1) r.Fail("restitution", "must be in [0, 1]");
   }
   r.SetRecord("");
   return s;

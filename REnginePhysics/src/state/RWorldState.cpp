@@ -120,6 +120,7 @@ void RStateAccess::Load(RIntegrator& integrator, const std::vector<RRigidBody>& 
   w.m_solver.RestoreForLoad(RLoadKey{}, std::move(step.warm), static_cast<std::size_t>(step.warmBodyCount));
   w.m_sweep.RestoreForLoad(RLoadKey{}, std::move(step.manifolds));
   w.m_eventLog.RestoreForLoad(RLoadKey{}, std::move(step.touching));
+  w.m_materials.Restore(std::move(step.materials));
   w.m_cacheStamp = NextCacheStamp();
   w.m_profile = RStepProfile{};
   w.m_broad.Invalidate();

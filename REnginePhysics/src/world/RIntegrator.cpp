@@ -143,6 +143,10 @@ void RIntegrator::PrepareJobs() {
   w.m_tasks = threads > 1 ? static_cast<std::size_t>(4 * threads) : 1;
 }
 
+void RIntegrator::SetContactCallback(RContactCallback callback, void* user) {
+  m_w->m_materials.SetCallback(callback, user);
+}
+
 void RIntegrator::SetPairFilter(RPairFilter filter, void* user) {
   m_w->m_sweep.SetPairFilter(filter, user), m_w->m_sleep.WakeAllNextStep();
 }
@@ -242,7 +246,8 @@ void RIntegrator::CollisionDetection(const RStepBodies& bodies, RScalar dt) {
   }
   w.m_sweep.MutableStats().wakeRuns = wakeRuns;
   const auto t0 = Clock::now();
-  const RContactSolver::RSolverInputs solver{w.m_settings, w.m_sweep, w.m_welds, w.m_jobs, w.m_tasks};
+  w.m_materials.Prepare(bodies, w.m_sweep.Contacts(), w.m_settings);
+  const RContactSolver::RSolverInputs solver{w.m_settings, w.m_sweep, w.m_welds, w.m_jobs, w.m_tasks, w.m_materials};
   w.m_solver.FindImpulses(bodies, dt, solver);
   w.m_profile.findImpulses = Ms(Clock::now() - t0);
 }

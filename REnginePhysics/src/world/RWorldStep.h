@@ -23,6 +23,7 @@
 #include "joints/RWeldGroups.h"
 #include "motion/RMotion.h"
 #include "sleep/RSleeping.h"
+#include "solver/RContactMaterials.h"
 #include "solver/RContactSolver.h"
 #include "solver/RSolverTypes.h"
 #include "world/RStepBodies.h"
@@ -59,6 +60,9 @@ class RWorldStep {
   // The contact solver (solver/RContactSolver.h), with the joint solver it drives
   // (joints/RJointSolver.h): FindImpulses, called from CollisionDetection.
   RContactSolver m_solver;
+  // Each contact's material (solver/RContactMaterials.h): one-way bodies and the game's
+  // contact callback, decided for new contacts before the solver.
+  RContactMaterials m_materials;
   RSleeping m_sleep;  // sleeping islands (sleep/RSleeping.h)
   // Contact events (RWorldSettings::contactEvents): poses before the motion, events after.
   RContactEventLog m_eventLog;
