@@ -51,6 +51,8 @@ void Autoplay::Steer(const Game& game, const RVec3& dir_W, ShipInput& in) {
 
 ShipInput Autoplay::Input(int frame, const Game& game) {
   ShipInput in;
+  // Inside the station the crew member walks round the ring the whole time.
+  in.crewWalk = kCrewWalk;
   const SpaceWorld& world = game.World();
   const RBodies& bodies = world.Bodies();
   const RRigidBody& ship = bodies[world.Ship()];

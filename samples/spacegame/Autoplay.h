@@ -20,6 +20,7 @@ class Autoplay {
   static constexpr int kFirstMissile = 20;
   static constexpr int kSecondMissile = 150;
   static constexpr int kHeadHome = 240;
+  static constexpr double kCrewWalk = 1.5;  // m/s
   // Autoplay frames are this long (s), whatever the display does, so the run is the same.
   static constexpr double kFrameSeconds = 1.0 / 60;
 

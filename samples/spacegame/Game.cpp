@@ -7,7 +7,7 @@ namespace spacegame {
 using namespace REngine;
 
 Game::Game(const WorldConfig& config)
-    : m_world(config), m_missiles(m_world), m_lasers(m_world), m_docking(m_world) {
+    : m_world(config), m_missiles(m_world), m_lasers(m_world), m_docking(m_world), m_crew(m_world) {
   m_previous.resize(m_world.Bodies().Size() + 64);
   SavePoses();
   m_initial = m_world.Measure();
@@ -58,6 +58,7 @@ void Game::Step(const ShipInput& input) {
 
   m_missiles.AfterStep();
   m_world.UpdateBayGravity();
+  m_crew.Step(input.crewWalk);
 }
 
 void Game::SavePoses() {

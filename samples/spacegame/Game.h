@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "Crew.h"
 #include "Docking.h"
 #include "Lasers.h"
 #include "Missiles.h"
@@ -50,6 +51,7 @@ class Game {
   const Missiles& MissileSystem() const { return m_missiles; }
   Lasers& LaserSystem() { return m_lasers; }
   const Lasers& LaserSystem() const { return m_lasers; }
+  const Crew& CrewMember() const { return m_crew; }
   Docking& DockingClamp() { return m_docking; }
   const Docking& DockingClamp() const { return m_docking; }
   const StepTiming& Timing() const { return m_timing; }
@@ -72,6 +74,7 @@ class Game {
   Missiles m_missiles;
   Lasers m_lasers;
   Docking m_docking;
+  Crew m_crew;
   double m_accumulator = 0;
   bool m_pendingMissile = false, m_pendingDock = false, m_laserOn = false;
   std::vector<Pose> m_previous;  // by slot index: the pose before the last step

@@ -19,6 +19,7 @@ struct ShipInput {
   bool laser = false;  // the laser fires every step it is held
   bool fireMissile = false;
   bool dockToggle = false;
+  double crewWalk = 0;  // m/s round the station's ring, the crew member's (Crew.h)
 };
 
 struct ShipTuning {

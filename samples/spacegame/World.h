@@ -44,6 +44,7 @@ constexpr std::uint32_t kStation = 1u << 2;
 constexpr std::uint32_t kMissile = 1u << 3;
 constexpr std::uint32_t kDebris = 1u << 4;
 constexpr std::uint32_t kCrate = 1u << 5;
+constexpr std::uint32_t kCrew = 1u << 6;  // a character (Crew.h), not a body
 }  // namespace category
 
 // userData layout: the role in the low byte, the asteroid size class in the next.

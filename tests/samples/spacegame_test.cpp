@@ -392,3 +392,42 @@ TEST(SpaceGame, TheLoopAllocatesOnlyWhileItsContainersGrow) {
   EXPECT_LE(allocatingFrames, 20);
 }
 
+
+// The walkable interior: through the autoplay the crew member walks round the turning ring
+// with the spin as its gravity. Measured in the station's frame, where the ring stands still:
+// each step moves it by exactly the commanded 1.5 m/s times dt across its up (carrying by the
+// ring is its exact pose change, so nothing else moves it), and it stands on the floor of
+// segment 0 (the plane x_S = 42.5, facing -x_S) at the capsule's height along up: its centre
+// 0.3 + 0.001 + 0.6 cos(tilt) from the plane, tilt the angle between up and the floor's normal
+// (the spin's up points at the axis, not square to a flat segment off its middle).
+TEST(SpaceGame, TheAutoplayWalksTheCrewRoundTheTurningRing) {
+  Game game;
+  Autoplay script(game);
+  const SpaceWorld& world = game.World();
+  int onGround = 0, measured = 0;
+  RVec3 last = game.CrewMember().InStation();
+  for (int f = 0; f < 240; ++f) {
+    game.Frame(Autoplay::kFrameSeconds, script.Input(f, game));
+    const REngine::RCharacter& crew = game.CrewMember().Character();
+    const RVec3 now = game.CrewMember().InStation();
+    const RRigidBody& station = world.Bodies()[world.Station()];
+    const RVec3 up_S = station.ShapeOrientation_WS().conjugate() * crew.Up_W();
+    if (crew.OnGround()) {
+      ++onGround;
+      if (f > 30) {
+        const RVec3 step = now - last;
+        const RVec3 across = step - up_S * step.dot(up_S);
+        // Rounding: positions 1e6 m from the origin carry 1e-10 m, a step's difference twice.
+        EXPECT_NEAR(across.norm(), Autoplay::kCrewWalk * world.StepDt(), 1e-8) << f;
+        const double tilt = std::acos(std::min(1.0, -up_S.x()));
+        EXPECT_NEAR(42.5 - now.x(), 0.301 + 0.6 * std::cos(tilt), 1e-6) << f;
+        ++measured;
+      }
+    }
+    last = now;
+  }
+  EXPECT_GT(onGround, 200);
+  EXPECT_GT(measured, 200);
+  // Round the ring the way it turns (-z in the station's frame at +x): about 1.5 m/s for 4 s.
+  EXPECT_LT(game.CrewMember().InStation().z(), -5.0);
+}

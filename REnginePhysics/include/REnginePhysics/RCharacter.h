@@ -93,7 +93,8 @@ struct RCharacterDef {
   RVec3 position_W = RVec3::Zero();  // origin of the shape frame, m, within 1e15 of the origin
   RQuat q_WS = RQuat::Identity();    // orientation of the shape frame
   // Unit (normalised here): the character's up. Zero: opposite the gravity each Update is
-  // given (a station's spin gravity turns it); Update refuses zero gravity then.
+  // given (a station's spin gravity turns it, and the shape turns with it by the least
+  // rotation); Update refuses zero gravity then.
   RVec3 up_W = RVec3::Zero();
   RScalar mass = 80;             // kg, > 0: its weight on what it stands on
   RScalar maxSlope = 0.7853981633974483;  // rad, [0, pi/2): steepest walkable ground (45 deg)

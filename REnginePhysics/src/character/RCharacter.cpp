@@ -112,7 +112,13 @@ void RCharacter::Update(RBodies& bodies, RQueries& queries, RScalar dt, const RV
   if (m_def.up_W == RVec3::Zero()) {
     const RScalar g = gravity_W.norm();
     RequireCharacter(g > 0, "up", "is opposite gravity by default: with zero gravity give RCharacterDef::up_W");
-    m_up = -gravity_W / g;
+    const RVec3 up = -gravity_W / g;
+    // Up turned (a station's spin gravity, seen from a point that moves round): the shape
+    // turns with it, by the least rotation, so that it keeps standing along up.
+    if (m_updates > 0 && up != m_up) {
+      m_q = (RQuat::FromTwoVectors(m_up, up) * m_q).normalized();
+    }
+    m_up = up;
   }
   RCharacterMover mv{*this, bodies, queries, dt, gravity_W, RBodyHandle{}, nullptr, m_scratch};
   const RScalar offset = m_def.contactOffset;

@@ -226,12 +226,12 @@ void RCharacterMover::Collect(RScalar probe, std::vector<RCharacterContact>& out
   const RConvexShape shape = Shape();
   const RMat3 R = R_WB();
   const RVec3 x = x_B();
-  const RScalar reach = c.m_shape->boundingRadius + probe;
-  // Within the positions a body can have (a character at the edge of the world).
-  const RVec3 lo = (x - RVec3::Constant(reach)).cwiseMax(RVec3::Constant(-kMaxPosition));
-  const RVec3 hi = (x + RVec3::Constant(reach)).cwiseMin(RVec3::Constant(kMaxPosition));
+  // The candidates: the bodies that meet the sphere about its centre of mass that holds its
+  // shape grown by the probe (a sphere query builds nothing: no allocation per Update).
   c.m_near.clear();
-  if ((hi - lo).minCoeff() > RScalar(1e-4) * (hi - lo).maxCoeff()) queries.OverlapBox(bodies, lo, hi, c.m_near);
+  if (x.cwiseAbs().maxCoeff() <= kMaxPosition) {
+    queries.OverlapSphere(bodies, x, c.m_shape->boundingRadius + probe, c.m_near);
+  }
   for (RBodyHandle h : c.m_near) {
     const RRigidBody& b = bodies[h];
     if (!Solid(h, b)) continue;

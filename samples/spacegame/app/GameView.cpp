@@ -55,6 +55,17 @@ void GameView::Build(const Game& game, const DebugDraw& debug, DrawList& out) {
     out.items.push_back(item);
   }
 
+  // The crew member inside the ring, bright so that it shows against the hull.
+  {
+    const REngine::RCharacter& crew = game.CrewMember().Character();
+    DrawItem item;
+    item.shape = &crew.Shape();
+    item.position_W = crew.Position_W();
+    item.q_WS = crew.Orientation_WS();
+    item.colour = Eigen::Vector3f(1.0f, 0.55f, 0.1f);
+    out.items.push_back(item);
+  }
+
   // Explosion flashes: a hot ball that grows and fades over 0.6 s of game time (counted in
   // steps, so a paused game holds its flashes). Explosions are the last step's: those of
   // earlier steps of the same frame are not seen.
