@@ -26,7 +26,10 @@ if [ -x build/bin/rengine-spacegame ] && [ -x build/bin/rengine-view ]; then
     --screenshot build/demo/view.png
   "${display[@]}" build/bin/rengine-spacegame --autoplay --frames 900 \
     --screenshot build/demo/spacegame.png
-  echo "wrote build/demo/view.png and build/demo/spacegame.png"
+  # The same autoplay seen from behind the crew member walking round the station's ring.
+  "${display[@]}" build/bin/rengine-spacegame --autoplay --frames 300 --crew \
+    --screenshot build/demo/crew.png
+  echo "wrote build/demo/view.png, build/demo/spacegame.png and build/demo/crew.png"
   # The animation: the same autoplay (the same hash) without the HUD, every 6th frame kept
   # (10 a second of its 60), then a looping GIF of them. ImageMagick is for the demo only.
   rengine_install_deps imagemagick

@@ -126,6 +126,16 @@ void GameView::Build(const Game& game, const DebugDraw& debug, DrawList& out) {
 }
 
 void GameView::Aim(Camera& camera, CameraMode mode, const Game& game) {
+  if (mode == CameraMode::kCrew) {
+    // Inside the ring, behind and above the crew member, its up as the camera's: the floor
+    // below, the ring curving up ahead.
+    const REngine::RCharacter& crew = game.CrewMember().Character();
+    const RVec3 up = crew.Up_W();
+    const RVec3 walk = crew.DesiredVelocity_W().norm() > 0 ? RVec3(crew.DesiredVelocity_W().normalized())
+                                                           : RVec3(up.unitOrthogonal());
+    camera.LookAt(crew.Position_W() - 7.0 * walk + 2.5 * up, crew.Position_W() + 6.0 * walk, up);
+    return;
+  }
   const RBodies& bodies = game.World().Bodies();
   RVec3 ship = RVec3::Zero();
   RQuat q = RQuat::Identity();

@@ -19,7 +19,7 @@ struct DebugDraw {
   bool joints = true;     // joints as lines between the anchor and the bodies' centres
 };
 
-enum class CameraMode { kChase, kWide };
+enum class CameraMode { kChase, kWide, kCrew };
 
 class GameView {
  public:

@@ -3,7 +3,9 @@
 //   rengine-spacegame                       play (keys on the HUD)
 //   rengine-spacegame --autoplay --frames 900 --screenshot shot.png
 //   rengine-spacegame --autoplay --frames 900 --record frames/ --record-every 6
+//   rengine-spacegame --autoplay --frames 300 --crew --screenshot crew.png
 //
+// --crew watches from behind the crew member walking round the station's ring (Crew.h).
 // The autoplay feeds scripted input (Autoplay.h) for N frames of exactly 1/60 s, writes the
 // last frame as a PNG, and ends with one line on stderr:
 //   frames=N steps=S physics_ms_per_step=X hash=H
@@ -52,6 +54,7 @@ struct Options {
   bool hud = true;
   bool wide = false;   // the wide camera instead of the chase camera (autoplay: the default)
   bool chase = false;  // the chase camera in the autoplay
+  bool crew = false;   // the camera behind the crew member walking inside the station's ring
   bool debug = false;  // contacts and joints drawn
   spacegame::WorldConfig world;
 };
@@ -61,7 +64,7 @@ struct Options {
   std::fprintf(stderr,
                "usage: rengine-spacegame [--autoplay] [--frames N] [--screenshot FILE.png]\n"
                "         [--record DIR [--record-every K]]\n"
-               "         [--width W] [--height H] [--no-hud] [--wide | --chase] [--debug]\n"
+               "         [--width W] [--height H] [--no-hud] [--wide | --chase | --crew] [--debug]\n"
                "         [--asteroids N] [--seed S] [--origin X]\n");
   std::exit(problem ? 2 : 0);
 }
@@ -103,6 +106,8 @@ Options Parse(int argc, char** argv) {
       o.wide = true;
     else if (a == "--chase")
       o.chase = true;
+    else if (a == "--crew")
+      o.crew = true;
     else if (a == "--debug")
       o.debug = true;
     else if (a == "--asteroids")
@@ -230,7 +235,8 @@ int Run(const Options& o) {
       int w = 0, h = 0;
       window.DrawableSize(w, h);
       spacegame::GameView::Aim(
-          camera, hud.wideCamera ? spacegame::CameraMode::kWide : spacegame::CameraMode::kChase,
+          camera, o.crew ? spacegame::CameraMode::kCrew
+                         : hud.wideCamera ? spacegame::CameraMode::kWide : spacegame::CameraMode::kChase,
           game);
       view.Build(game, debug, drawList);
       renderer.Draw(drawList, camera, w, h);
