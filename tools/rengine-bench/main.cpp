@@ -100,6 +100,7 @@
 #include "report.h"
 #include "scaling.h"
 #include "scenes.h"
+#include "characters.h"
 #include "shortcuts.h"
 
 #include <algorithm>
@@ -294,7 +295,7 @@ int Run(int argc, char** argv) {
                "rengine-bench"};
   std::string scenesText, csvPath = "build/bench/bench.csv", repeatsText = "5";
   std::string stepsText, broadPhaseText = "on", sceneDir = RENGINE_SCALING_SCENES;
-  bool quick = false, shortcuts = false, scaling = false, generateScenes = false;
+  bool quick = false, shortcuts = false, scaling = false, generateScenes = false, characters = false;
   app.add_option("--scenes", scenesText,
                  "Comma-separated scenes (default all): " + KnownScenes() +
                      "; with --scaling: " + ScalingSceneNames());
@@ -337,6 +338,9 @@ int Run(int argc, char** argv) {
   app.add_option("--model-csv", modelCsvPath, "--scaling --model-threads: its CSV")
       ->needs(scalingFlag)
       ->capture_default_str();
+  app.add_flag("--characters", characters,
+               "The character controller: microseconds per character update and its error "
+               "against closed forms (tiles, a turning deck, stairs, crates)");
   app.add_flag("--generate-scenes", generateScenes,
                "--scaling: make the missing scene files, then exit")
       ->needs(scalingFlag);
@@ -348,6 +352,24 @@ int Run(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
 
+  if (characters) {
+    int repeats = 5;
+    try {
+      if (app.count("--repeats")) repeats = ParseRepeats(repeatsText);
+    } catch (const UsageError& e) {
+      std::fprintf(stderr, "error: %s\n", e.message.c_str());
+      return kExitBadInput;
+    }
+    const std::string path = app.count("--csv") ? csvPath : "build/bench/characters.csv";
+    if (!ProbeCsv(path)) return kExitBadInput;
+    const std::vector<rbench::CharacterRow> rows = rbench::RunCharacters(quick, quick ? 1 : repeats);
+    rbench::PrintCharacterTable(rows);
+    if (!rbench::WriteCharacterCsv(path, rows)) {
+      std::fprintf(stderr, "error: %s: write failed: %s\n", path.c_str(), std::strerror(errno));
+      return kExitBadInput;
+    }
+    return kExitOk;
+  }
   if (scaling) {
     ScalingOptions opt;
     try {
