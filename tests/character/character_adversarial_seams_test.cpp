@@ -18,7 +18,12 @@ namespace {
 
 RQuat Rot0(int kind, std::mt19937& rng) {
   std::normal_distribution<RScalar> n(0, 1);
-  const RVec3 axis = RVec3(n(rng), n(rng), n(rng)).normalized();
+  // One statement each: the order a constructor's arguments are evaluated in is the
+  // compiler's (gcc right to left, clang left to right), and the cases must be the same.
+  const RScalar ax = n(rng);
+  const RScalar ay = n(rng);
+  const RScalar az = n(rng);
+  const RVec3 axis = RVec3(ax, ay, az).normalized();
   switch (kind) {
     case 0: return RQuat::Identity();
     case 1: return RQuat(-1, 0, 0, 0);                                 // the same rotation

@@ -47,8 +47,15 @@ bool ShapeCastShape(const RConvexShape& a, const RConvexShape& b, const RRelativ
     out.iterations = k;
     out.fraction = fraction;
     out.point = r.witnessA;
+    if (r.separation <= band) {
+      // Touching, the closest points are a rounding error apart, and for two flat faces their
+      // direction is noise: it can point the wrong way, B moving away from A along it. A
+      // touch reached by advancing was approached along the last normal of a clear gap: that
+      // one, then. (A normal that agrees with the approach is kept, bit for bit.)
+      if (k == 1 || -translation_A.dot(r.normal) > 0) out.normal = r.normal;
+      return (out.converged = true);
+    }
     out.normal = r.normal;
-    if (r.separation <= band) return (out.converged = true);
     // The plane through A's closest point, normal r.normal, has all of A behind it and B at
     // r.separation in front: B, moving along the translation, cannot touch A before it has
     // closed that gap along the normal. Not closing it at all (moving parallel or away), it
