@@ -180,8 +180,9 @@ struct RContactSettings {
 };
 
 // Game code's say on a new contact: a pair in contact (within the step's speculative
-// margin) that was not in the last step. `contact` is as Contacts() will report it (normal
-// from a to b, world). It may change `settings`. Called on the stepping thread, in the
+// margin) that was not in the last step. `contact` holds the pair and its manifold (normal
+// from a to b, world); its impulses and `resolved` are not known yet. It may change
+// `settings`. Called on the stepping thread, in the
 // contacts' order (the same on any thread count), before the solver; it must not change the
 // bodies. A plain function pointer with a user pointer: no virtual call per pair.
 using RContactCallback = void (*)(const RRigidBody& a, const RRigidBody& b, const RContact& contact,
