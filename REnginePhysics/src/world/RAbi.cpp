@@ -5,6 +5,7 @@
 #include <REnginePhysics/RCollision.h>
 #include <REnginePhysics/RContactEvents.h>
 #include <REnginePhysics/RConvexPolyhedron.h>
+#include <REnginePhysics/RFracture.h>
 #include <REnginePhysics/RFreeRotation.h>
 #include <REnginePhysics/RIntegrator.h>
 #include <REnginePhysics/RJoint.h>
@@ -32,6 +33,7 @@ const RAbiLayout* LibraryLayouts(std::size_t& count) {
       RENGINE_ABI_TYPES_COLLISION(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_CONTACT_EVENTS(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_CONVEX_POLYHEDRON(RENGINE_ABI_LAYOUT)
+      RENGINE_ABI_TYPES_FRACTURE(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_FREE_ROTATION(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_INTEGRATOR(RENGINE_ABI_LAYOUT)
       RENGINE_ABI_TYPES_JOINT(RENGINE_ABI_LAYOUT)
