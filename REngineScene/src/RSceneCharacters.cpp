@@ -71,13 +71,10 @@ RSceneCharacter ReadCharacter(const json& j, const std::string& path, const RSce
   def.category = ch.Get("category", def.category, ReadBits);
   def.mask = ch.Get("mask", def.mask, ReadBits);
   if (ch.Has("ignore")) {
-    const json& names = ch.Required("ignore");
-    const std::string ignorePath = ch.PathOf("ignore");
-    if (!names.is_array()) Fail(ignorePath, "must be an array of body names" + Got(names));
+    const std::vector<std::string> names = ReadNames(ch.Required("ignore"), ch.PathOf("ignore"));
     for (std::size_t i = 0; i < names.size(); ++i) {
-      const std::string name = ReadName(names[i], Element(ignorePath, i));
-      const auto it = bodyIds.find(name);
-      if (it == bodyIds.end()) Fail(Element(ignorePath, i), "no body of the scene is named \"" + name + "\"");
+      const auto it = bodyIds.find(names[i]);
+      if (it == bodyIds.end()) Fail(Element(ch.PathOf("ignore"), i), "no body of the scene is named \"" + names[i] + "\"");
       def.ignore.push_back(it->second);
     }
   }

@@ -436,15 +436,15 @@ RBodyDef ReadBody(const json& j, const std::string& path, std::vector<std::strin
   def.oneWay = body.Get("one_way", def.oneWay, ReadBool);
   def.category = body.Get("category", def.category, ReadBits);
   def.mask = body.Get("mask", def.mask, ReadBits);
-  if (body.Has("ignore")) {
-    const json& names = body.Required("ignore");
-    const std::string ignorePath = body.PathOf("ignore");
-    if (!names.is_array()) Fail(ignorePath, "must be an array of body names" + Got(names));
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      ignore.push_back(ReadName(names[i], Element(ignorePath, i)));
-    }
-  }
+  if (body.Has("ignore")) ignore = ReadNames(body.Required("ignore"), body.PathOf("ignore"));
   return def;
+}
+
+std::vector<std::string> ReadNames(const json& j, const std::string& path) {
+  if (!j.is_array()) Fail(path, "must be an array of body names" + Got(j));
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < j.size(); ++i) names.push_back(ReadName(j[i], Element(path, i)));
+  return names;
 }
 
 }  // namespace REngine::scenejson

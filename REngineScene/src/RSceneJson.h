@@ -78,6 +78,8 @@ bool ReadBool(const json& j, const std::string& path);
 std::uint32_t ReadBits(const json& j, const std::string& path);
 // A non-empty name without control characters.
 std::string ReadName(const json& j, const std::string& path);
+// An array of names (an ignore list), each read with ReadName.
+std::vector<std::string> ReadNames(const json& j, const std::string& path);
 // One of a fixed set of strings, mapped to its value.
 template <class T>
 T ReadChoice(const json& j, const std::string& path,

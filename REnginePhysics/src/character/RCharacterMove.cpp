@@ -5,6 +5,8 @@
 #include <REnginePhysics/RLimits.h>
 #include <REnginePhysics/RRigidBody.h>
 
+#include "queries/RQueryState.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -34,18 +36,7 @@ RVec3 SurfaceVelocity(const RRigidBody& b, const RVec3& p_W) {
   return b.Velocity_W() + b.AngularVelocity_W().cross(p_W - b.Position_W());
 }
 
-RConvexShape RCharacterMover::Shape() const {
-  const RPreparedShape& p = *c.m_shape;
-  RConvexShape s;
-  s.polyhedron = p.polyhedron_B.get();
-  const bool capsule = p.shape.type == RShapeType::kCapsule;
-  const bool cylinder = p.shape.type == RShapeType::kCylinder;
-  s.radius = s.polyhedron || cylinder ? 0 : capsule ? p.shape.radius : p.boundingRadius;
-  s.halfHeight = capsule || cylinder ? p.shape.halfHeight : 0;
-  s.cylinderRadius = cylinder ? p.shape.radius : 0;
-  s.boundingRadius = p.boundingRadius;
-  return s;
-}
+RConvexShape RCharacterMover::Shape() const { return ConvexShapeOf(*c.m_shape); }
 
 RMat3 RCharacterMover::R_WB() const {
   RQuat q = c.m_q * c.m_shape->q_BS.conjugate();

@@ -60,22 +60,7 @@ Posed Pose(const RPreparedShape& prepared, const RVec3& position_W, const RQuat&
   RQuat q_WB = *q_WS * prepared.q_BS.conjugate();
   q_WB.normalize();
   Posed p;
-  p.shape.polyhedron = prepared.polyhedron_B.get();
-  const bool capsule = prepared.shape.type == RShapeType::kCapsule;
-  const bool cylinder = prepared.shape.type == RShapeType::kCylinder;
-  p.shape.radius = p.shape.polyhedron || cylinder ? 0 : capsule ? prepared.shape.radius : prepared.boundingRadius;
-  p.shape.halfHeight = capsule || cylinder ? prepared.shape.halfHeight : 0;
-  p.shape.cylinderRadius = cylinder ? prepared.shape.radius : 0;
-  if (!prepared.children.empty()) {  // a compound: its children, no radius of its own
-    p.shape.radius = 0;
-    p.shape.children = prepared.children.data();
-    p.shape.childCount = static_cast<std::uint32_t>(prepared.children.size());
-  }
-  if (prepared.mesh_B) {  // a mesh: its triangles, no radius of its own
-    p.shape.radius = 0;
-    p.shape.mesh = prepared.mesh_B.get();
-  }
-  p.shape.boundingRadius = prepared.boundingRadius;
+  p.shape = ConvexShapeOf(prepared);
   p.R_WB = q_WB.toRotationMatrix();
   p.x_W = position_W - q_WB * prepared.p_BS;
   p.local = LocalBoxOf(p.shape);

@@ -7,6 +7,27 @@
 
 namespace REngine {
 
+RConvexShape ConvexShapeOf(const RPreparedShape& prepared) {
+  RConvexShape s;
+  s.polyhedron = prepared.polyhedron_B.get();
+  const bool capsule = prepared.shape.type == RShapeType::kCapsule;
+  const bool cylinder = prepared.shape.type == RShapeType::kCylinder;
+  s.radius = s.polyhedron || cylinder ? 0 : capsule ? prepared.shape.radius : prepared.boundingRadius;
+  s.halfHeight = capsule || cylinder ? prepared.shape.halfHeight : 0;
+  s.cylinderRadius = cylinder ? prepared.shape.radius : 0;
+  if (!prepared.children.empty()) {  // a compound: its children, no radius of its own
+    s.radius = 0;
+    s.children = prepared.children.data();
+    s.childCount = static_cast<std::uint32_t>(prepared.children.size());
+  }
+  if (prepared.mesh_B) {  // a mesh: its triangles, no radius of its own
+    s.radius = 0;
+    s.mesh = prepared.mesh_B.get();
+  }
+  s.boundingRadius = prepared.boundingRadius;
+  return s;
+}
+
 RLocalBox LocalBoxOf(const RConvexShape& shape) {
   RLocalBox box;
   if (shape.mesh) {

@@ -55,6 +55,9 @@ struct RQueryState {
 
 // The local box of a shape: its polyhedron's vertex bounds, or a sphere's cube.
 RLocalBox LocalBoxOf(const RConvexShape& shape);
+// A prepared shape as the narrow phase sees it, in its body frame B (a query's cast shape, a
+// character's).
+RConvexShape ConvexShapeOf(const RPreparedShape& prepared);
 // The world box of a shape at (R_WB, x_W): the local box turned (|R| times the half
 // extents) and cut by the bounding sphere, then padded by 2e-9 of the bounding radius and
 // 1e-14 of the largest coordinate. The padding is what lets the tree skip a body only when
